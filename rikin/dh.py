@@ -1,0 +1,340 @@
+"""Links and serial arms from Denavit-Hartenberg tables; forward kinematics.
+
+Two conventions (see the book's conventions page):
+
+* ``"standard"`` (distal, Denavit-Hartenberg 1955 as in Corke's ``DHRobot``):
+  ``T_{i-1,i} = Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``; joint i moves about
+  or along ``z_{i-1}``.
+* ``"modified"`` (proximal, Craig): ``T_{i-1,i} = Rx(alpha_{i-1}) Tx(a_{i-1})
+  Rz(theta_i) Tz(d_i)``; joint i moves about or along ``z_i``. A modified
+  link stores ``alpha_{i-1}`` and ``a_{i-1}`` in its ``alpha`` and ``a``.
+
+For a revolute joint ``theta_i = q_i + offset``; for a prismatic joint
+``theta_i`` is the link's fixed ``theta`` and ``d_i = d + q_i + offset``.
+The arm's pose is ``T_world_tcp = base @ T_0_n(q) @ tool``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING, Any, Literal
+
+import numpy as np
+
+from ._validate import FloatArray, as_float_array, as_pose, check_radians
+from .errors import InputError
+from .transforms import _inv_transform
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .ik.result import IKResult
+
+Convention = Literal["standard", "modified"]
+JointType = Literal["R", "P"]
+
+__all__ = ["Link", "SerialArm", "link_transform"]
+
+
+@dataclass(frozen=True)
+class Link:
+    """One row of a DH table.
+
+    Parameters
+    ----------
+    joint : {"R", "P"}
+        Revolute or prismatic.
+    d, a : float
+        Link offset and length, in the arm's length units.
+    alpha : float
+        Link twist, radians. For a modified-DH arm this is ``alpha_{i-1}``.
+    offset : float
+        Added to the joint variable: to theta (revolute, rad) or d (prismatic).
+    theta : float
+        Fixed joint angle of a prismatic joint, radians (ignored if revolute).
+    qlim : (float, float) or None
+        Joint limits (rad or length units), inclusive.
+
+    The fields accept sympy expressions too, so the same table function can
+    build a numeric arm and a symbolic one (see :mod:`rikin.symbolic`).
+    """
+
+    joint: JointType = "R"
+    d: Any = 0.0
+    a: Any = 0.0
+    alpha: Any = 0.0
+    offset: Any = 0.0
+    theta: Any = 0.0
+    qlim: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        if self.joint not in ("R", "P"):
+            raise InputError(f"joint must be 'R' or 'P', got {self.joint!r}")
+        if self.qlim is not None:
+            lo, hi = self.qlim
+            if not lo <= hi:
+                raise InputError(f"qlim must be (lower, upper) with lower <= upper, got {self.qlim}")
+
+    @property
+    def is_revolute(self) -> bool:
+        """True for a revolute joint."""
+        return self.joint == "R"
+
+
+def link_transform(link: Link, q: FloatArray, convention: Convention) -> FloatArray:
+    """Transform ``T_{i-1,i}`` of one link for joint values ``q`` of shape ``(...)``.
+
+    Returns an array of shape ``(..., 4, 4)``. Inputs are trusted (already validated).
+    """
+    if link.is_revolute:
+        theta = q + link.offset
+        d = np.full_like(q, link.d)
+    else:
+        theta = np.full_like(q, link.theta)
+        d = q + link.d + link.offset
+    ct, st = np.cos(theta), np.sin(theta)
+    ca, sa = np.cos(link.alpha), np.sin(link.alpha)
+    a = link.a
+    T = np.zeros(q.shape + (4, 4))
+    if convention == "standard":
+        T[..., 0, 0] = ct
+        T[..., 0, 1] = -st * ca
+        T[..., 0, 2] = st * sa
+        T[..., 0, 3] = a * ct
+        T[..., 1, 0] = st
+        T[..., 1, 1] = ct * ca
+        T[..., 1, 2] = -ct * sa
+        T[..., 1, 3] = a * st
+        T[..., 2, 1] = sa
+        T[..., 2, 2] = ca
+        T[..., 2, 3] = d
+    else:
+        T[..., 0, 0] = ct
+        T[..., 0, 1] = -st
+        T[..., 0, 3] = a
+        T[..., 1, 0] = st * ca
+        T[..., 1, 1] = ct * ca
+        T[..., 1, 2] = -sa
+        T[..., 1, 3] = -sa * d
+        T[..., 2, 0] = st * sa
+        T[..., 2, 1] = ct * sa
+        T[..., 2, 2] = ca
+        T[..., 2, 3] = ca * d
+    T[..., 3, 3] = 1.0
+    return T
+
+
+@dataclass(frozen=True, eq=False)
+class SerialArm:
+    """A serial arm: a DH table, a convention, base and tool transforms, units.
+
+    Parameters
+    ----------
+    links : tuple of Link
+    convention : {"standard", "modified"}
+    base : ndarray, shape (4, 4)
+        ``T_world_0``. Identity by default.
+    tool : ndarray, shape (4, 4)
+        ``T_n_tcp``: the tool centre point in the last link's frame.
+    units : str
+        Name of the length unit ("mm", "cm", "" for unitless lesson arms).
+    name : str
+    solver : object, optional
+        The closed-form IK of this arm's family (set by :mod:`rikin.robots`).
+
+    Examples
+    --------
+    >>> arm = SerialArm((Link(a=1.0), Link(a=1.0)), name="2R")
+    >>> arm.fk([0.0, np.pi / 2])[:3, 3].round(6)
+    array([1., 1., 0.])
+    """
+
+    links: tuple[Link, ...]
+    convention: Convention = "standard"
+    base: FloatArray = field(default_factory=lambda: np.eye(4))
+    tool: FloatArray = field(default_factory=lambda: np.eye(4))
+    units: str = ""
+    name: str = "arm"
+    solver: Any = None
+
+    def __post_init__(self) -> None:
+        if self.convention not in ("standard", "modified"):
+            raise InputError(f"convention must be 'standard' or 'modified', got {self.convention!r}")
+        links = tuple(self.links)
+        if not links:
+            raise InputError("an arm needs at least one link")
+        for i, lk in enumerate(links, 1):
+            if not isinstance(lk, Link):
+                raise InputError(f"link {i} must be a rikin.Link, got {type(lk).__name__}")
+            for fname in ("d", "a", "alpha", "offset", "theta"):
+                val = getattr(lk, fname)
+                try:
+                    fval = float(val)
+                except (TypeError, ValueError) as exc:
+                    raise InputError(
+                        f"link {i} field {fname} must be a number for a numeric arm, got {val!r}; "
+                        "use rikin.symbolic for symbolic tables"
+                    ) from exc
+                if not np.isfinite(fval):
+                    raise InputError(f"link {i} field {fname} is {fval}")
+        object.__setattr__(self, "links", links)
+        object.__setattr__(self, "base", as_pose(self.base, "base").copy())
+        object.__setattr__(self, "tool", as_pose(self.tool, "tool").copy())
+        self.base.setflags(write=False)
+        self.tool.setflags(write=False)
+
+    # ------------------------------------------------------------------ info
+    @property
+    def n(self) -> int:
+        """Number of joints."""
+        return len(self.links)
+
+    @property
+    def revolute(self) -> FloatArray:
+        """Boolean mask, shape ``(n,)``: True where the joint is revolute."""
+        return np.array([lk.is_revolute for lk in self.links])
+
+    @property
+    def qlim(self) -> FloatArray:
+        """Joint limits, shape ``(n, 2)``; ``-inf``/``inf`` where a joint has none."""
+        return np.array([lk.qlim if lk.qlim is not None else (-np.inf, np.inf) for lk in self.links],
+                        dtype=np.float64)
+
+    @property
+    def joint_types(self) -> str:
+        """The joint types as a string, e.g. ``"RRRRRR"`` or ``"PPRRR"``."""
+        return "".join(lk.joint for lk in self.links)
+
+    @property
+    def scale(self) -> float:
+        """A characteristic length of the arm (sum of |a| and |d|), for relative tolerances."""
+        s = sum(abs(float(lk.a)) + abs(float(lk.d)) for lk in self.links)
+        return max(s, 1.0)
+
+    def replace(self, **changes: Any) -> "SerialArm":
+        """A copy with some fields changed, e.g. ``arm.replace(tool=T)``."""
+        return replace(self, **changes)
+
+    def __repr__(self) -> str:
+        return (f"SerialArm(name={self.name!r}, {self.joint_types}, {self.convention} DH, "
+                f"units={self.units!r})")
+
+    def dh_table(self) -> str:
+        """The DH table as aligned text, one row per joint."""
+        head = ("alpha_{i-1}", "a_{i-1}", "theta_i", "d_i") if self.convention == "modified" \
+            else ("theta_i", "d_i", "a_i", "alpha_i")
+        rows = [f"{'j':>2} {'type':>4} " + " ".join(f"{h:>11}" for h in head) + f" {'offset':>9}"]
+        for i, lk in enumerate(self.links, 1):
+            th = f"q{i}" if lk.is_revolute else f"{float(lk.theta):.4g}"
+            d = f"{float(lk.d):.4g}" if lk.is_revolute else f"q{i}+{float(lk.d):.4g}"
+            vals = (f"{float(lk.alpha):.4g}", f"{float(lk.a):.4g}", th, d) \
+                if self.convention == "modified" else (th, d, f"{float(lk.a):.4g}", f"{float(lk.alpha):.4g}")
+            rows.append(f"{i:>2} {lk.joint:>4} " + " ".join(f"{v:>11}" for v in vals)
+                        + f" {float(lk.offset):>9.4g}")
+        return "\n".join(rows)
+
+    # ------------------------------------------------------------------ FK
+    def check_q(self, q: Any, name: str = "q") -> FloatArray:
+        """Validate joint values: shape ``(n,)`` or ``(N, n)``, finite, radians."""
+        arr = as_float_array(q, name)
+        if arr.ndim not in (1, 2) or arr.shape[-1] != self.n:
+            raise InputError(
+                f"{name} must have shape ({self.n},) or (N, {self.n}) for this {self.n}-joint arm "
+                f"({self.joint_types}), got shape {arr.shape}"
+            )
+        rev = self.revolute
+        if rev.any():
+            names = [f"{name}[{i}] (joint {i + 1})" for i in range(self.n)]
+            check_radians(np.where(rev, arr, 0.0), name, names)
+        return arr
+
+    def fk(self, q: Any, *, frames: bool = False) -> FloatArray:
+        """Pose of the tool centre point, ``T_world_tcp = base @ T_0_n(q) @ tool``.
+
+        Parameters
+        ----------
+        q : array_like, shape (n,) or (N, n)
+            Joint values: radians (revolute), length units (prismatic).
+        frames : bool
+            Also return every intermediate frame.
+
+        Returns
+        -------
+        T : ndarray, shape (4, 4) or (N, 4, 4)
+            The TCP pose in the world frame. With ``frames=True``, shape
+            ``(n + 2, 4, 4)`` or ``(N, n + 2, 4, 4)``: frame 0 (the base),
+            frames 1..n, then the TCP, all in world coordinates.
+
+        Raises
+        ------
+        InputError
+            Wrong number of joints, NaN, or angles that look like degrees.
+        """
+        qv = self.check_q(q)
+        return self._fk(qv, frames)
+
+    def _fk(self, q: FloatArray, frames: bool = False) -> FloatArray:
+        T = np.broadcast_to(self.base, q.shape[:-1] + (4, 4)).copy()
+        out = [T] if frames else None
+        for i, lk in enumerate(self.links):
+            T = T @ link_transform(lk, q[..., i], self.convention)
+            if out is not None:
+                out.append(T)
+        T = T @ self.tool
+        if out is not None:
+            out.append(T)
+            return np.stack(out, axis=-3)
+        return T
+
+    def fk_flange(self, q: Any) -> FloatArray:
+        """``T_0_n(q)``: the last link's frame in frame 0 (no base, no tool)."""
+        qv = self.check_q(q)
+        return self.replace(base=np.eye(4), tool=np.eye(4))._fk(qv)
+
+    def joint_axes(self, q: Any) -> tuple[FloatArray, FloatArray]:
+        """World position and direction of every joint axis at ``q``.
+
+        Returns
+        -------
+        origins, axes : ndarray, shape (..., n, 3)
+        """
+        qv = self.check_q(q)
+        F = self._fk(qv, frames=True)
+        if self.convention == "standard":
+            idx = np.arange(self.n)          # joint i moves about z_{i-1}
+        else:
+            idx = np.arange(1, self.n + 1)   # joint i moves about z_i
+        return F[..., idx, :3, 3], F[..., idx, :3, 2]
+
+    def jacobian(self, q: Any) -> FloatArray:
+        """Geometric Jacobian in the world frame at the TCP.
+
+        Returns
+        -------
+        J : ndarray, shape (6, n) or (N, 6, n)
+            Rows 0-2 linear velocity (length units per unit joint rate),
+            rows 3-5 angular velocity (rad per unit joint rate).
+        """
+        qv = self.check_q(q)
+        F = self._fk(qv, frames=True)
+        p_e = F[..., -1, :3, 3]
+        origins, axes = self.joint_axes(qv)
+        rev = self.revolute
+        lin = np.where(rev[:, None], np.cross(axes, p_e[..., None, :] - origins), axes)
+        ang = np.where(rev[:, None], axes, 0.0)
+        return np.swapaxes(np.concatenate([lin, ang], axis=-1), -1, -2)
+
+    # ------------------------------------------------------------------ IK
+    def ik(self, target: Any, **options: Any) -> "IKResult":
+        """Every closed-form IK solution of ``target``; see :func:`rikin.ik.solve`."""
+        from .ik.api import solve
+
+        return solve(self, target, **options)
+
+    def ik_batch(self, T: Any, **options: Any) -> Any:
+        """All solutions for many poses at once; see :func:`rikin.ik.solve_batch`."""
+        from .ik.api import solve_batch
+
+        return solve_batch(self, T, **options)
+
+    def world_to_base(self, T_world: FloatArray) -> FloatArray:
+        """``T_0_n = base^-1 @ T_world_tcp @ tool^-1`` for trusted ``(..., 4, 4)`` input."""
+        return _inv_transform(self.base) @ T_world @ _inv_transform(self.tool)

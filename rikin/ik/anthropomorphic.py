@@ -1,0 +1,155 @@
+"""Position IK of the anthropomorphic (angular) RRR arm: joint 1 vertical, joints 2 and 3 parallel.
+
+The same geometry positions the wrist centre of the 6R arms (Aula 10,
+Barrientos, Epson C4), so it is written once here. In the vertical plane
+that joint 1 turns, with ``u`` horizontal (away from axis 1) and ``w`` up:
+
+* the shoulder (axis 2) sits at ``u = r0``, ``w = z0``;
+* the upper arm, length ``L2``, points at angle ``A = q2 + phi2``;
+* the forearm, length ``L3``, points at ``A + B`` with ``B = q3 + phi3``.
+
+Four slots: (front, B >= 0), (front, B <= 0), (back, B >= 0), (back, B <= 0).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .._validate import FloatArray
+from ..errors import InputError
+from ..tolerances import SINGULAR_TOL
+from .base import RawSolutions, Singularity
+from .kernels import elbow_above, reach_excess, two_link
+from .result import Branch
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..dh import SerialArm
+
+ARM_SLOTS = (("front", 0), ("front", 1), ("back", 0), ("back", 1))
+
+
+@dataclass(frozen=True)
+class RRRGeometry:
+    """The in-plane geometry of an anthropomorphic arm (lengths in the arm's units, angles rad)."""
+
+    z0: float
+    r0: float
+    L2: float
+    L3: float
+    phi2: float = 0.0
+    phi3: float = 0.0
+
+    @property
+    def size(self) -> float:
+        """A length for relative tolerances."""
+        return abs(self.z0) + abs(self.r0) + self.L2 + self.L3
+
+    def forward(self, q: FloatArray) -> FloatArray:
+        """End point of the RRR chain for joints ``q`` of shape ``(..., 3)``, shape ``(..., 3)``."""
+        A = q[..., 1] + self.phi2
+        B = q[..., 2] + self.phi3
+        u = self.r0 + self.L2 * np.cos(A) + self.L3 * np.cos(A + B)
+        w = self.z0 + self.L2 * np.sin(A) + self.L3 * np.sin(A + B)
+        return np.stack([u * np.cos(q[..., 0]), u * np.sin(q[..., 0]), w], axis=-1)
+
+
+@dataclass
+class RRRPosition:
+    """Output of :func:`position_rrr` (N targets, 4 slots)."""
+
+    q: FloatArray            # (N, 4, 3)
+    valid: np.ndarray        # (N, 4)
+    elbow_up: np.ndarray     # (N, 4)
+    shoulder_singular: np.ndarray  # (N, 4)
+    elbow_singular: np.ndarray     # (N, 4)
+
+
+def position_rrr(p: FloatArray, g: RRRGeometry, hint_q1: FloatArray | float = 0.0) -> RRRPosition:
+    """All joint triples putting the RRR end point at ``p`` of shape ``(N, 3)``."""
+    x, y, z = p[:, 0], p[:, 1], p[:, 2]
+    rho = np.hypot(x, y)
+    on_axis = rho < SINGULAR_TOL * g.size
+    q1 = np.where(on_axis, hint_q1, np.arctan2(y, x))
+    w = z - g.z0
+    N = p.shape[0]
+    q = np.empty((N, 4, 3))
+    valid = np.empty((N, 4), dtype=bool)
+    up = np.empty((N, 4), dtype=bool)
+    stretched = np.empty((N, 4), dtype=bool)
+    for k, (side, u) in enumerate(((0, rho - g.r0), (1, -rho - g.r0))):
+        A, B, ok, st = two_link(u, w, g.L2, g.L3)
+        q[:, 2 * k:2 * k + 2, 0] = (q1 + side * np.pi)[:, None]
+        q[:, 2 * k:2 * k + 2, 1] = A - g.phi2
+        q[:, 2 * k:2 * k + 2, 2] = B - g.phi3
+        valid[:, 2 * k:2 * k + 2] = ok[:, None]
+        stretched[:, 2 * k:2 * k + 2] = st[:, None]
+        up[:, 2 * k:2 * k + 2] = elbow_above(u, w, A, g.L2)
+    shoulder = np.broadcast_to(on_axis[:, None], (N, 4))
+    return RRRPosition(q, valid, up, shoulder, stretched)
+
+
+def explain_rrr(p: FloatArray, g: RRRGeometry, units: str, what: str) -> tuple[str, float]:
+    """Why the point ``p (3,)`` is out of reach of the RRR chain, and by how much."""
+    rho = float(np.hypot(p[0], p[1]))
+    w = float(p[2] - g.z0)
+    d_front = float(np.hypot(rho - g.r0, w))
+    d_back = float(np.hypot(-rho - g.r0, w))
+    ex = float(min(reach_excess(np.array(d_front), g.L2, g.L3),
+                   reach_excess(np.array(d_back), g.L2, g.L3)))
+    d = d_front if g.r0 <= 0 or d_front < d_back else d_back
+    u = f" {units}" if units else ""
+    if d > g.L2 + g.L3:
+        return (f"{what} is {ex:.4g}{u} beyond the reach of links 2-3 "
+                f"(it is {d:.6g}{u} from the shoulder axis; links 2-3 reach {g.L2 + g.L3:.6g}{u})",
+                ex)
+    return (f"{what} is {ex:.4g}{u} too close to the shoulder axis for links 2-3 "
+            f"(distance {d:.6g}{u}, the folded arm reaches no closer than {abs(g.L2 - g.L3):.6g}{u})",
+            ex)
+
+
+SHOULDER = Singularity("the wrist centre is on the axis of joint 1, so q1 is free", (1,),
+                       drop_back=True)
+ELBOW = Singularity("the arm is fully stretched or folded (elbow at 0 or pi): the two elbow "
+                    "branches coincide", ())
+
+
+def check_rrr_geometry(arm: "SerialArm", g: RRRGeometry, point_of: "callable", family: str) -> None:
+    """Raise InputError unless the arm's FK matches ``g`` at a few random joint values."""
+    rng = np.random.default_rng(0)
+    q = rng.uniform(-np.pi, np.pi, size=(5, arm.n))
+    flange = arm.replace(base=np.eye(4), tool=np.eye(4))._fk(q)
+    got = point_of(flange)
+    want = g.forward(q[:, :3])
+    if np.abs(got - want).max() > 1e-9 * g.size:
+        raise InputError(f"{arm.name}: its DH table is not of the {family} family this solver "
+                         "handles (its FK does not match the family's geometry)")
+
+
+class Angular3RSolver:
+    """Position IK of the angular 3R arm of Aula 23: up to 4 solutions."""
+
+    target_kind = "position"
+    wrist_middle = None
+    singularities = {"shoulder": Singularity("the target is on the axis of joint 1, so q1 is free",
+                                             (1,), drop_back=True),
+                     "elbow": ELBOW}
+
+    def __init__(self, geometry: RRRGeometry) -> None:
+        self.geometry = geometry
+
+    def check(self, arm: "SerialArm") -> None:
+        if arm.joint_types != "RRR":
+            raise InputError(f"{arm.name}: the angular 3R solver needs an RRR arm, got {arm.joint_types}")
+        check_rrr_geometry(arm, self.geometry, lambda F: F[:, :3, 3], "angular 3R")
+
+    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+        pos = position_rrr(T_0_n[:, :3, 3], self.geometry, 0.0 if hint is None else hint[0])
+        slots = tuple(Branch(side, None, None) for side, _ in ARM_SLOTS)
+        return RawSolutions(q=pos.q, valid=pos.valid, slots=slots, elbow_up=pos.elbow_up,
+                            singular={"shoulder": pos.shoulder_singular, "elbow": pos.elbow_singular})
+
+    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+        return explain_rrr(T_0_n[:3, 3], self.geometry, arm.units, "the target")

@@ -1,0 +1,284 @@
+"""``solve`` and ``solve_batch``: the public IK entry points behind ``arm.ik``.
+
+They read the target, remove base and tool, call the arm family's kernel,
+then wrap, de-duplicate, label, check every solution by FK, and on request
+filter by joint limits and sort by distance to previous joints.
+"""
+
+from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .._validate import FloatArray, as_float_array, as_pose, check_radians
+from ..errors import InputError, UnreachableError
+from ..tolerances import FK_CHECK_TOL, SAME_SOLUTION_TOL
+from ..transforms import homogeneous, rotz, wrap_angle
+from .base import RawSolutions, Solver
+from .result import BatchIKResult, Branch, IKResult
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..dh import SerialArm
+
+__all__ = ["solve", "solve_batch"]
+
+_KIND_HELP = {
+    "pose": "a 4x4 homogeneous transform (the TCP pose in the world frame)",
+    "position": "a position (x, y, z) or a 4x4 pose whose position is used",
+    "planar_pose": "(x, y, phi) with phi the tool angle in radians, or a 4x4 pose in the xy plane",
+    "planar_position": "(x, y) or a 4x4 pose in the xy plane whose position is used",
+}
+
+
+def _solver(arm: "SerialArm") -> Solver:
+    if arm.solver is None:
+        raise InputError(
+            f"{arm.name!r} has no closed-form IK in rikin; build it with a constructor from "
+            "rikin.robots, or use rikin.ik.ik_numerical for a single numerical solution"
+        )
+    return arm.solver
+
+
+def _target_pose(arm: "SerialArm", target: Any, kind: str) -> FloatArray:
+    """The target as a world pose ``(4, 4)``, validated."""
+    arr = as_float_array(target, "target")
+    if arr.shape == (4, 4):
+        return as_pose(arr, "target")
+    has_tool_offset = bool(np.abs(arm.tool[:3, 3]).max() > 0)
+    if kind == "position" and arr.shape == (3,):
+        if has_tool_offset:
+            raise InputError("this arm's tool has an offset, so a position alone does not fix the "
+                             "flange: give the full 4x4 TCP pose")
+        return homogeneous(None, arr)
+    if kind == "planar_pose" and arr.shape == (3,):
+        check_radians(arr[2:], "phi", ["phi (the tool angle, target[2])"])
+        return homogeneous(rotz(arr[2]), np.array([arr[0], arr[1], 0.0]))
+    if kind == "planar_position" and arr.shape == (2,):
+        if has_tool_offset:
+            raise InputError("this arm's tool has an offset: give the full 4x4 TCP pose")
+        return homogeneous(None, np.array([arr[0], arr[1], 0.0]))
+    raise InputError(f"{arm.name!r} takes as target {_KIND_HELP[kind]}; got shape {arr.shape}")
+
+
+def _wrap(q: FloatArray, revolute: FloatArray) -> FloatArray:
+    return np.where(revolute, wrap_angle(q), q)
+
+
+def _fk_error(arm: "SerialArm", q: FloatArray, T: FloatArray, kind: str) -> FloatArray:
+    """Per-solution error of FK(q) against T: max of position error / scale and rotation error."""
+    F = arm._fk(q)
+    pos = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1) / arm.scale
+    if kind in ("position", "planar_position"):
+        return pos
+    rot = np.abs(F[:, :3, :3] - T[:3, :3]).max(axis=(-1, -2))
+    return np.maximum(pos, rot)
+
+
+def _limits_filter(q: FloatArray, arm: "SerialArm", near: FloatArray | None
+                   ) -> tuple[FloatArray, np.ndarray]:
+    """Move each revolute value to an in-limit 2*pi equivalent; mask the rows that fit."""
+    lim = arm.qlim
+    out = q.copy()
+    keep = np.ones(len(q), dtype=bool)
+    shifts = 2 * np.pi * np.arange(-2, 3)
+    for i, row in enumerate(q):
+        for j, v in enumerate(row):
+            lo, hi = lim[j]
+            if not arm.links[j].is_revolute:
+                keep[i] &= bool(lo - SAME_SOLUTION_TOL <= v <= hi + SAME_SOLUTION_TOL)
+                continue
+            cands = v + shifts
+            ok = cands[(cands >= lo - SAME_SOLUTION_TOL) & (cands <= hi + SAME_SOLUTION_TOL)]
+            if ok.size == 0:
+                keep[i] = False
+                break
+            ref = near[j] if near is not None else v
+            out[i, j] = ok[np.argmin(np.abs(ok - ref))]
+    return out, keep
+
+
+def _dedupe(q: FloatArray, revolute: FloatArray) -> list[int]:
+    kept: list[int] = []
+    for i in range(len(q)):
+        if not any(np.abs(_wrap(q[i] - q[j], revolute)).max() <= SAME_SOLUTION_TOL for j in kept):
+            kept.append(i)
+    return kept
+
+
+def solve(arm: "SerialArm", target: Any, *, within_limits: bool = False,
+          near: Any = None) -> IKResult:
+    """Every closed-form IK solution of ``target``, each labelled with its branch.
+
+    Parameters
+    ----------
+    arm : SerialArm
+        An arm built by :mod:`rikin.robots` (it carries its family's solver).
+    target : array_like
+        A 4x4 TCP pose in the world frame, or what the family takes instead:
+        a position ``(3,)`` for position-only arms, ``(x, y, phi)`` for the
+        planar 3R, ``(x, y)`` for the planar 2R. Lengths in ``arm.units``,
+        angles in radians.
+    within_limits : bool
+        Keep only solutions inside the joint limits, moving revolute values
+        to an in-limit ``+-2*pi`` equivalent where one exists.
+    near : array_like, shape (n,), optional
+        Previous joint values: solutions are sorted by distance to them, and
+        at a singularity the free joints take their values from here.
+
+    Returns
+    -------
+    IKResult
+        ``q`` of shape ``(k, n)``; every row reproduces the target by FK.
+
+    Raises
+    ------
+    UnreachableError
+        The target is outside the workspace; the message says why and by how much.
+    InputError
+        Malformed target or ``near``.
+    """
+    solver = _solver(arm)
+    kind = solver.target_kind
+    T_world = _target_pose(arm, target, kind)
+    hint = None if near is None else arm.check_q(near, "near")
+    if hint is not None and hint.ndim != 1:
+        raise InputError(f"near must have shape ({arm.n},), got shape {hint.shape}")
+    T_0_n = arm.world_to_base(T_world)
+    raw = solver.solve(arm, T_0_n[None], hint)
+    valid = raw.valid[0]
+    if not valid.any():
+        message, excess = solver.explain(arm, T_0_n)
+        units = arm.units if np.isfinite(excess) else ""
+        raise UnreachableError(f"{arm.name}: target is unreachable: {message}",
+                               excess=excess, units=units)
+    return _finish(arm, solver, raw, T_world, kind, hint, within_limits)
+
+
+def _finish(arm: "SerialArm", solver: Solver, raw: RawSolutions, T_world: FloatArray, kind: str,
+            hint: FloatArray | None, within_limits: bool) -> IKResult:
+    rev = arm.revolute
+    slots = np.flatnonzero(raw.valid[0])
+    q = _wrap(raw.q[0, slots], rev)
+    masks = {name: m[0, slots] for name, m in raw.singular.items()}
+    mid = solver.wrist_middle
+    keep = np.ones(len(slots), dtype=bool)
+    for name, m in masks.items():
+        spec = solver.singularities[name]
+        if spec.drop_back:
+            keep &= ~(m & np.array([raw.slots[s].shoulder == "back" for s in slots]))
+        if spec.drop_flip:
+            keep &= ~(m & np.array([raw.slots[s].wrist == "flip" for s in slots]))
+    if not keep.any():  # never drop everything: fall back to the first slot
+        keep[0] = True
+    slots, q = slots[keep], q[keep]
+    masks = {name: m[keep] for name, m in masks.items()}
+    order = _dedupe(q, rev)
+    slots, q = slots[order], q[order]
+    masks = {name: m[order] for name, m in masks.items()}
+    active = [name for name, m in masks.items() if m.any()]
+    specs = [solver.singularities[name] for name in active]
+
+    branches = []
+    for i, (row, s) in enumerate(zip(q, slots)):
+        elbow = None
+        if raw.elbow_up is not None:
+            elbow = "up" if raw.elbow_up[0, s] else "down"
+        wrist = None
+        if mid is not None:
+            if "wrist" in masks and masks["wrist"][i]:
+                wrist = "singular"
+            else:
+                wrist = "no-flip" if np.sin(row[mid]) >= 0 else "flip"
+        branches.append(Branch(raw.slots[s].shoulder, elbow, wrist))
+
+    T_check = T_world
+    err = _fk_error(arm, q, T_check, kind)
+    if np.any(err > FK_CHECK_TOL):  # a bug in rikin: never hand back a wrong answer
+        raise RuntimeError(
+            f"rikin bug: IK of {arm.name} produced a solution whose FK misses the target by "
+            f"{float(err.max()):.3g} (relative); please report it with the target pose"
+        )
+
+    discarded = 0
+    if within_limits:
+        q, fits = _limits_filter(q, arm, hint)
+        discarded = int((~fits).sum())
+        q = q[fits]
+        branches = [b for b, f in zip(branches, fits) if f]
+    if hint is not None and len(q):
+        diff = q - hint
+        diff = diff if within_limits else _wrap(diff, rev)
+        order = list(np.argsort(np.linalg.norm(diff, axis=1), kind="stable"))
+        q = q[order]
+        branches = [branches[i] for i in order]
+
+    free = tuple(sorted({j for spec in specs for j in spec.free_joints}))
+    return IKResult(
+        q=q, branches=tuple(branches), target=T_world, singular=bool(specs),
+        singularity="; ".join(spec.description for spec in specs) or None,
+        free_joints=free, discarded=discarded, arm_name=arm.name, revolute=rev,
+    )
+
+
+def solve_batch(arm: "SerialArm", T: Any, *, chunk_size: int = 16384,
+                workers: int | None = None) -> BatchIKResult:
+    """All IK solutions of N poses, vectorised, in fixed branch slots.
+
+    Memory stays bounded: poses are processed ``chunk_size`` at a time (in
+    ``workers`` threads; numpy releases the GIL), and only the output
+    ``(N, k, n)`` grows with N.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    T : array_like, shape (N, 4, 4)
+        TCP poses in the world frame.
+    chunk_size : int
+    workers : int, optional
+        Threads; defaults to the number of CPUs (at most 4).
+
+    Returns
+    -------
+    BatchIKResult
+        ``q (N, k, n)`` with NaN in invalid slots, ``valid (N, k)``,
+        ``singular (N,)``. No de-duplication, no FK check, no labels beyond
+        the slot's branch.
+    """
+    solver = _solver(arm)
+    Tw = as_pose(T, "T")
+    if Tw.ndim != 3:
+        raise InputError(f"T must have shape (N, 4, 4), got shape {Tw.shape}")
+    if chunk_size < 1:
+        raise InputError(f"chunk_size must be positive, got {chunk_size}")
+    N = Tw.shape[0]
+    probe = solver.solve(arm, arm.world_to_base(np.eye(4))[None], None)
+    k = probe.q.shape[1]
+    q_out = np.empty((N, k, arm.n))
+    valid_out = np.empty((N, k), dtype=bool)
+    sing_out = np.empty(N, dtype=bool)
+    rev = arm.revolute
+
+    def run(start: int) -> None:
+        stop = min(start + chunk_size, N)
+        raw = solver.solve(arm, arm.world_to_base(Tw[start:stop]), None)
+        qq = _wrap(raw.q, rev)
+        qq[~raw.valid] = np.nan
+        q_out[start:stop] = qq
+        valid_out[start:stop] = raw.valid
+        s = np.zeros(stop - start, dtype=bool)
+        for mask in raw.singular.values():
+            s |= (mask & raw.valid).any(axis=1)
+        sing_out[start:stop] = s
+
+    starts = range(0, N, chunk_size)
+    n_workers = workers if workers is not None else min(4, os.cpu_count() or 1)
+    if n_workers <= 1 or N <= chunk_size:
+        for st in starts:
+            run(st)
+    else:
+        with ThreadPoolExecutor(n_workers) as pool:
+            list(pool.map(run, starts))
+    return BatchIKResult(q=q_out, valid=valid_out, singular=sing_out, branches=probe.slots)

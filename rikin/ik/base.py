@@ -1,0 +1,63 @@
+"""The interface every closed-form solver implements, and what it hands back."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Literal, Protocol
+
+import numpy as np
+
+from .._validate import FloatArray
+from .result import Branch
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..dh import SerialArm
+
+TargetKind = Literal["pose", "position", "planar_pose", "planar_position"]
+
+
+@dataclass
+class RawSolutions:
+    """Fixed-slot solutions of N targets, as the kernels compute them.
+
+    q : (N, k, n) joint values (not yet wrapped); invalid slots hold NaN.
+    valid : (N, k) bool.
+    slots : tuple of Branch, one per slot: the slot's shoulder and wrist branch
+        (the elbow label is geometric and comes from ``elbow_up``).
+    elbow_up : (N, k) bool or None: elbow above the shoulder-wrist line.
+    singular : name -> (N,) bool mask (e.g. "wrist", "shoulder", "elbow").
+    """
+
+    q: FloatArray
+    valid: np.ndarray
+    slots: tuple[Branch, ...]
+    elbow_up: np.ndarray | None = None
+    singular: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Singularity:
+    """How one kind of singularity is reported: its words and its free joints."""
+
+    description: str
+    free_joints: tuple[int, ...]
+    drop_flip: bool = False      # one member per family: keep the no-flip slots only
+    drop_back: bool = False      # front and back are the same family
+
+
+class Solver(Protocol):
+    """A closed-form IK of one arm family, working on ``T_0_n`` (no base, no tool)."""
+
+    target_kind: TargetKind
+    #: index (0-based) of the middle wrist joint, for the flip label; None if no wrist
+    wrist_middle: int | None
+    singularities: dict[str, Singularity]
+
+    def check(self, arm: "SerialArm") -> None:
+        """Raise InputError if ``arm`` is not of this family."""
+
+    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+        """All solutions of N targets ``(N, 4, 4)``; trusted input."""
+
+    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+        """Why one target ``(4, 4)`` has no solution: a sentence, and by how much."""

@@ -1,0 +1,184 @@
+"""IK from the DH product for the 5-DOF PPRRR and RPRRR arms of the handwritten notes.
+
+Both end in a spherical wrist (joints 3-5), so the problem decouples: the
+wrist centre ``p_w = p - a_tool z_5`` fixes joints 1-2, and
+``R_2_5 = R_0_2^T R_0_5`` fixes joints 3-5 (two wrist branches).
+
+A 5-DOF arm cannot reach every pose: the wrist centre must lie where joints
+1-2 can put it. For the PPRRR that is a plane (the notes' constraint
+``t_y = a3 a_y``), for the RPRRR the plane ``z = d_1`` outside the cylinder of
+radius ``a_2`` (constraint ``t_z = a4 a_z``). Targets off it raise
+:class:`~rikin.errors.UnreachableError` with the distance.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .._validate import FloatArray
+from ..errors import InputError
+from ..tolerances import REACH_TOL, SINGULAR_TOL
+from .base import RawSolutions, Singularity
+from .decoupled import wrist_angles, wrist_model, wrist_slot_labels
+from .result import Branch
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..dh import SerialArm
+
+_WRIST = Singularity("wrist singularity: q4 is 0 or pi, axes 3 and 5 line up, so only "
+                     "q3 + q5 (or q3 - q5) is fixed", (3, 5), drop_flip=True)
+
+
+def _origin_2(arm: "SerialArm", q: FloatArray) -> FloatArray:
+    """World-free position of the wrist centre for joint values ``q (..., 5)``."""
+    W = wrist_model(arm, 2)
+    F = arm.replace(base=np.eye(4), tool=np.eye(4))._fk(q)
+    return F[..., :3, :3] @ W.centre + F[..., :3, 3]
+
+
+def _w(arm: "SerialArm") -> float:
+    return abs(float(arm.links[2].d))
+
+
+class PPRRRSolver:
+    """Two prismatic joints then a spherical wrist: 2 solutions (wrist no-flip/flip)."""
+
+    target_kind = "pose"
+    wrist_middle = 3
+    singularities = {"wrist": _WRIST}
+
+    def check(self, arm: "SerialArm") -> None:
+        if arm.joint_types != "PPRRR":
+            raise InputError(f"{arm.name}: the PPRRR solver needs a PPRRR arm, got {arm.joint_types}")
+        wrist_model(arm, 2)
+
+    def _affine(self, arm: "SerialArm") -> tuple[FloatArray, FloatArray, FloatArray]:
+        """``p_w(d1, d2) = c0 + [u1 u2] @ (d1, d2)`` and the constant ``R_0_2``."""
+        q = np.zeros((3, 5))
+        q[1, 0] = 1.0
+        q[2, 1] = 1.0
+        p = _origin_2(arm, q)
+        U = np.stack([p[1] - p[0], p[2] - p[0]], axis=-1)  # (3, 2)
+        R_0_2 = arm.replace(base=np.eye(4), tool=np.eye(4))._fk(np.zeros(5), frames=True)[2, :3, :3]
+        return p[0], U, R_0_2
+
+    def _wrist_centre(self, arm: "SerialArm", T: FloatArray) -> FloatArray:
+        W = wrist_model(arm, 2)
+        return T[..., :3, :3] @ W.centre + T[..., :3, 3]
+
+    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+        c0, U, R_0_2 = self._affine(arm)
+        pw = self._wrist_centre(arm, T_0_n)
+        d, *_ = np.linalg.lstsq(U, (pw - c0).T, rcond=None)
+        d = d.T                                                    # (N, 2)
+        resid = np.linalg.norm(pw - c0 - d @ U.T, axis=-1)
+        ok = resid <= REACH_TOL * arm.scale * 10
+        W = wrist_model(arm, 2)
+        q345, sing = wrist_angles(W, R_0_2.T @ T_0_n[:, :3, :3], 0.0 if hint is None else hint[2])
+        N = T_0_n.shape[0]
+        q = np.empty((N, 2, 5))
+        q[..., :2] = d[:, None, :]
+        q[..., 2:] = q345
+        labels = wrist_slot_labels(W)
+        k2 = lambda m: np.repeat(m[:, None], 2, axis=1)  # noqa: E731
+        return RawSolutions(q=q, valid=k2(ok), slots=(Branch(None, None, labels[0]),
+                                                      Branch(None, None, labels[1])),
+                            singular={"wrist": k2(sing & ok)})
+
+    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+        c0, U, _ = self._affine(arm)
+        pw = self._wrist_centre(arm, T_0_n)
+        d, *_ = np.linalg.lstsq(U, pw - c0, rcond=None)
+        r = float(np.linalg.norm(pw - c0 - U @ d))
+        u = f" {arm.units}" if arm.units else ""
+        return (f"a 5-DOF arm cannot reach every pose: the wrist centre (target minus "
+                f"{_w(arm):.4g}{u} along z_5) is {r:.4g}{u} off the plane joints 1-2 can reach", r)
+
+
+class RPRRRSolver:
+    """Revolute, prismatic, then a spherical wrist: 4 solutions."""
+
+    target_kind = "pose"
+    wrist_middle = 3
+    singularities = {
+        "wrist": _WRIST,
+        "radial": Singularity("the wrist centre is at distance a2 from axis 1: the two roots "
+                              "of the prismatic joint coincide (d2 + a1 + a3 = 0)", ()),
+    }
+
+    def check(self, arm: "SerialArm") -> None:
+        if arm.joint_types != "RPRRR":
+            raise InputError(f"{arm.name}: the RPRRR solver needs an RPRRR arm, got {arm.joint_types}")
+        l1, l2 = arm.links[:2]
+        if arm.convention != "standard" or abs(abs(np.sin(float(l1.alpha))) - 1) > 1e-12 \
+                or float(l2.alpha) != 0 or float(l2.a) != 0 or float(l2.theta) != 0:
+            raise InputError(f"{arm.name}: not of the notes' RPRRR family")
+        wrist_model(arm, 2)
+        rng = np.random.default_rng(0)
+        q = rng.uniform(-1, 1, size=(5, 5))
+        want = _origin_2(arm, q)
+        got = self._forward_12(arm, q[:, 0], q[:, 1])
+        if np.abs(got - want).max() > 1e-9 * arm.scale:
+            raise InputError(f"{arm.name}: not of the notes' RPRRR family (geometry check failed)")
+
+    @staticmethod
+    def _params(arm: "SerialArm") -> tuple[float, float, float, float, float]:
+        l1, l2 = arm.links[:2]
+        sa = float(np.sign(np.sin(float(l1.alpha))))
+        return float(l1.a), float(l1.d), float(l1.offset), float(l2.d) + float(l2.offset), sa
+
+    def _forward_12(self, arm: "SerialArm", q1: FloatArray, d2: FloatArray) -> FloatArray:
+        a2, d1, off1, l1, sa = self._params(arm)
+        t = q1 + off1
+        rho = d2 + l1
+        c, s = np.cos(t), np.sin(t)
+        v = -sa * rho
+        return np.stack([a2 * c - v * s, a2 * s + v * c, np.full_like(t, d1)], axis=-1)
+
+    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+        from ..dh import link_transform
+
+        a2, d1, off1, l1, sa = self._params(arm)
+        W = wrist_model(arm, 2)
+        pw = T_0_n[:, :3, :3] @ W.centre + T_0_n[:, :3, 3]
+        x, y, z = pw[:, 0], pw[:, 1], pw[:, 2]
+        r2 = x * x + y * y - a2 * a2
+        size = arm.scale
+        ok = (np.abs(z - d1) <= REACH_TOL * size * 10) & (r2 >= -REACH_TOL * size * size)
+        rho0 = np.sqrt(np.maximum(r2, 0.0))
+        N = T_0_n.shape[0]
+        q = np.empty((N, 2, 2, 5))
+        for k, rho in enumerate((rho0, -rho0)):
+            t = np.arctan2(y, x) - np.arctan2(-sa * rho, a2)
+            q1 = t - off1
+            d2 = rho - l1
+            R_0_2 = link_transform(arm.links[0], q1, "standard")[..., :3, :3] @ \
+                link_transform(arm.links[1], d2, "standard")[..., :3, :3]
+            q345, sing = wrist_angles(W, np.swapaxes(R_0_2, -1, -2) @ T_0_n[:, :3, :3],
+                                      0.0 if hint is None else hint[2])
+            q[:, k, :, 0] = q1[:, None]
+            q[:, k, :, 1] = d2[:, None]
+            q[:, k, :, 2:] = q345
+        labels = wrist_slot_labels(W)
+        slots = tuple(Branch(side, None, labels[b]) for side in ("front", "back") for b in (0, 1))
+        k4 = lambda m: np.repeat(m[:, None], 4, axis=1)  # noqa: E731
+        return RawSolutions(q=q.reshape(N, 4, 5), valid=k4(ok), slots=slots,
+                            singular={"wrist": k4(sing & ok),
+                                      "radial": k4((rho0 < SINGULAR_TOL * size) & ok)})
+
+    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+        a2, d1, *_ = self._params(arm)
+        W = wrist_model(arm, 2)
+        pw = T_0_n[:3, :3] @ W.centre + T_0_n[:3, 3]
+        u = f" {arm.units}" if arm.units else ""
+        dz = float(pw[2] - d1)
+        if abs(dz) > REACH_TOL * arm.scale * 10:
+            return (f"a 5-DOF arm cannot reach every pose: the wrist centre (target minus "
+                    f"{_w(arm):.4g}{u} along z_5) is {abs(dz):.4g}{u} "
+                    f"{'above' if dz > 0 else 'below'} the plane z = {d1:.4g} joints 1-2 move it in",
+                    abs(dz))
+        r = float(np.hypot(pw[0], pw[1]))
+        return (f"the wrist centre is {a2 - r:.4g}{u} inside the cylinder of radius a2 = {a2:.4g}{u} "
+                "around axis 1, which joints 1-2 cannot enter", a2 - r)

@@ -1,0 +1,145 @@
+"""What IK returns: every solution with its branch, and singularity flags."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Any, Iterator, NamedTuple
+
+import numpy as np
+
+from .._validate import FloatArray
+
+__all__ = ["Branch", "IKResult", "BatchIKResult"]
+
+
+class Branch(NamedTuple):
+    """Which branch of the IK a solution lies on.
+
+    Each field is ``None`` when the arm has no such choice.
+
+    shoulder : "front" or "back"
+        Front: joint 1 turns the arm towards the target (the wrist centre is
+        on the arm's forward side); back: joint 1 turned by pi, the arm
+        reaching over its own axis.
+    elbow : "up" or "down"
+        Up: the elbow lies above the straight line from the shoulder to the
+        wrist centre (for planar arms: on the +y side when reaching along +x).
+    wrist : "no-flip", "flip" or "singular"
+        No-flip when the middle wrist joint's variable has sin >= 0.
+    """
+
+    shoulder: str | None = None
+    elbow: str | None = None
+    wrist: str | None = None
+
+    @property
+    def label(self) -> str:
+        """The branch as text, e.g. ``"front/up/no-flip"``."""
+        parts = [p for p in self if p is not None]
+        return "/".join(parts) if parts else "unique"
+
+
+@dataclass(frozen=True)
+class IKResult:
+    """All IK solutions of one target.
+
+    Attributes
+    ----------
+    q : ndarray, shape (k, n)
+        One solution per row; revolute values in radians wrapped to
+        (-pi, pi] (or the in-limit 2*pi equivalent when filtered by limits),
+        prismatic values in the arm's length units.
+    branches : tuple of Branch, length k
+    target : ndarray, shape (4, 4)
+        The target pose in the world frame (the TCP pose every row of ``q``
+        reaches).
+    singular : bool
+        True when the target is at a singularity; then ``q`` holds one
+        representative per family of solutions.
+    singularity : str or None
+        What is singular, in words.
+    free_joints : tuple of int
+        Joints (numbered from 1) whose values can change along the family
+        without moving the TCP; empty at a boundary singularity (arm stretched).
+    discarded : int
+        How many solutions the joint-limit filter removed.
+    """
+
+    q: FloatArray
+    branches: tuple[Branch, ...]
+    target: FloatArray
+    singular: bool = False
+    singularity: str | None = None
+    free_joints: tuple[int, ...] = ()
+    discarded: int = 0
+    arm_name: str = ""
+    revolute: FloatArray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+
+    def __len__(self) -> int:
+        return int(self.q.shape[0])
+
+    def __iter__(self) -> Iterator[FloatArray]:
+        return iter(self.q)
+
+    def __getitem__(self, i: int) -> FloatArray:
+        return self.q[i]
+
+    @property
+    def labels(self) -> tuple[str, ...]:
+        """Branch labels as text, one per solution."""
+        return tuple(b.label for b in self.branches)
+
+    def degrees(self) -> FloatArray:
+        """``q`` with revolute columns in degrees, shape ``(k, n)``."""
+        return np.where(self.revolute, np.degrees(self.q), self.q)
+
+    def table(self, decimals: int = 4) -> str:
+        """The solutions as text, revolute joints in degrees, one row each."""
+        k, n = self.q.shape
+        head = f"{'#':>2}  {'branch':<22}" + "".join(f"{'q' + str(j + 1):>11}" for j in range(n))
+        rows = [head]
+        qd = self.degrees()
+        for i in range(k):
+            rows.append(f"{i + 1:>2}  {self.labels[i]:<22}"
+                        + "".join(f"{v:>11.{decimals}f}" for v in qd[i]))
+        if self.singular:
+            rows.append(f"singular: {self.singularity}; free joints {self.free_joints}")
+        return "\n".join(rows)
+
+    def __repr__(self) -> str:
+        extra = f", singular={self.singularity!r}" if self.singular else ""
+        return f"IKResult({len(self)} solutions of {self.arm_name!r}{extra})\n{self.table()}"
+
+    def _take(self, idx: Any, q: FloatArray | None = None, **changes: Any) -> "IKResult":
+        idx = list(idx)
+        qq = self.q[idx] if q is None else q
+        return replace(self, q=qq, branches=tuple(self.branches[i] for i in idx), **changes)
+
+
+@dataclass(frozen=True)
+class BatchIKResult:
+    """IK solutions of many poses at once (no dedupe, fixed slots).
+
+    Attributes
+    ----------
+    q : ndarray, shape (N, k, n)
+        Slot ``j`` of every pose is the same branch, ``branches[j]``.
+        Revolute values in radians, wrapped to (-pi, pi]. Slots that are not
+        valid hold NaN: always read ``valid`` first.
+    valid : ndarray of bool, shape (N, k)
+        The slot holds a real solution.
+    singular : ndarray of bool, shape (N,)
+        The pose is at a singularity (some slots are then representatives
+        of an infinite family, and may repeat).
+    branches : tuple of Branch, length k
+    """
+
+    q: FloatArray
+    valid: Any
+    singular: Any
+    branches: tuple[Branch, ...]
+
+    @property
+    def counts(self) -> Any:
+        """Number of valid solutions per pose, shape ``(N,)``."""
+        return self.valid.sum(axis=1)

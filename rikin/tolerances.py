@@ -1,0 +1,34 @@
+"""Named numerical tolerances, so no magic number sits in the middle of the code.
+
+All are absolute unless said otherwise. See the conventions page of the book.
+"""
+
+from __future__ import annotations
+
+#: How far ``R.T @ R`` may be from the identity (max abs entry) for ``R`` to be
+#: accepted as a rotation matrix at the public boundary. Lessons print
+#: matrices with 4 decimals, so a looser check would accept garbage and a
+#: tighter one would reject the lessons' own numbers.
+ORTHONORMAL_TOL = 1e-3
+
+#: A sine below this (in absolute value) counts as zero: the wrist (sin q5),
+#: the elbow (sin of the elbow angle) or the shoulder (distance of the wrist
+#: centre from axis 1, relative to the arm's size) is singular there.
+SINGULAR_TOL = 1e-9
+
+#: Relative slack on a reach limit: a target this close (times the arm's
+#: size) beyond the boundary is clamped onto it instead of rejected, so that
+#: FK of a stretched arm is solved and not refused for rounding.
+REACH_TOL = 1e-9
+
+#: Two solutions closer than this (max abs difference of wrapped joint
+#: values, rad or length units) are one solution.
+SAME_SOLUTION_TOL = 1e-9
+
+#: Every solution the single-pose IK returns is put back through FK; a
+#: position error above this (times the arm's size) or a rotation error above
+#: it means a bug in rikin, and raises instead of returning a wrong answer.
+FK_CHECK_TOL = 1e-8
+
+#: |q| above this for a revolute joint (rad) is taken as degrees by mistake.
+DEGREES_SUSPECT = 2 * 3.141592653589793 + 1e-9
