@@ -21,6 +21,12 @@ SINGULAR_TOL = 1e-9
 #: FK of a stretched arm is solved and not refused for rounding.
 REACH_TOL = 1e-9
 
+#: When 1 - |cos(elbow)| is below this, the elbow is taken as exactly stretched or
+#: folded. acos turns the ~1e-16 rounding of a stretched arm's cosine into an
+#: angle error of ~1e-8 rad, enough to hide a wrist singularity behind it;
+#: snapping moves the TCP by at most ~1e-13 of the arm's size.
+STRETCH_TOL = 1e-13
+
 #: Two solutions closer than this (max abs difference of wrapped joint
 #: values, rad or length units) are one solution.
 SAME_SOLUTION_TOL = 1e-9

@@ -45,20 +45,20 @@ def _solver(arm: "SerialArm") -> Solver:
 def _target_pose(arm: "SerialArm", target: Any, kind: str) -> FloatArray:
     """The target as a world pose ``(4, 4)``, validated."""
     arr = as_float_array(target, "target")
+    if kind in ("position", "planar_position") and np.abs(arm.tool[:3, 3]).max() > 0:
+        raise InputError(
+            f"{arm.name!r} solves for a position only, so its tool may rotate but not offset the "
+            "TCP (the offset would depend on an orientation the arm does not choose); use a tool "
+            "without translation"
+        )
     if arr.shape == (4, 4):
         return as_pose(arr, "target")
-    has_tool_offset = bool(np.abs(arm.tool[:3, 3]).max() > 0)
     if kind == "position" and arr.shape == (3,):
-        if has_tool_offset:
-            raise InputError("this arm's tool has an offset, so a position alone does not fix the "
-                             "flange: give the full 4x4 TCP pose")
         return homogeneous(None, arr)
     if kind == "planar_pose" and arr.shape == (3,):
         check_radians(arr[2:], "phi", ["phi (the tool angle, target[2])"])
         return homogeneous(rotz(arr[2]), np.array([arr[0], arr[1], 0.0]))
     if kind == "planar_position" and arr.shape == (2,):
-        if has_tool_offset:
-            raise InputError("this arm's tool has an offset: give the full 4x4 TCP pose")
         return homogeneous(None, np.array([arr[0], arr[1], 0.0]))
     raise InputError(f"{arm.name!r} takes as target {_KIND_HELP[kind]}; got shape {arr.shape}")
 
@@ -146,6 +146,8 @@ def solve(arm: "SerialArm", target: Any, *, within_limits: bool = False,
     hint = None if near is None else arm.check_q(near, "near")
     if hint is not None and hint.ndim != 1:
         raise InputError(f"near must have shape ({arm.n},), got shape {hint.shape}")
+    if kind in ("position", "planar_position"):   # the target's rotation plays no part
+        T_world = homogeneous(None, T_world[:3, 3])
     T_0_n = arm.world_to_base(T_world)
     raw = solver.solve(arm, T_0_n[None], hint)
     valid = raw.valid[0]

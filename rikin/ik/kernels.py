@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from .._validate import FloatArray
-from ..tolerances import REACH_TOL, SINGULAR_TOL
+from ..tolerances import REACH_TOL, SINGULAR_TOL, STRETCH_TOL
 
 
 def two_link(u: FloatArray, w: FloatArray, L2: float, L3: float
@@ -36,12 +36,14 @@ def two_link(u: FloatArray, w: FloatArray, L2: float, L3: float
         ``|L2 - L3| <= sqrt(u^2 + w^2) <= L2 + L3`` (with a relative slack of
         ``REACH_TOL`` that is clamped onto the boundary).
     stretched : ndarray of bool, shape (...)
-        ``sin B = 0``: the chain is fully stretched or folded (both slots equal).
+        ``sin B = 0`` (within ``STRETCH_TOL`` on the cosine): the chain is fully
+        stretched or folded, and both slots are equal.
     """
     c = (u * u + w * w - L2 * L2 - L3 * L3) / (2.0 * L2 * L3)
     slack = REACH_TOL * (L2 + L3) / min(L2, L3)
     reachable = np.abs(c) <= 1.0 + slack
     c = np.clip(c, -1.0, 1.0)
+    c = np.where(1.0 - np.abs(c) < STRETCH_TOL, np.sign(c), c)
     s = np.sqrt(1.0 - c * c)
     B0 = np.arctan2(s, c)
     base = np.arctan2(w, u)
@@ -49,7 +51,7 @@ def two_link(u: FloatArray, w: FloatArray, L2: float, L3: float
     A1 = base + np.arctan2(L3 * s, L2 + L3 * c)
     A = np.stack([A0, A1], axis=-1)
     B = np.stack([B0, -B0], axis=-1)
-    return A, B, reachable, s < SINGULAR_TOL
+    return A, B, reachable, s == 0.0
 
 
 def reach_excess(dist: FloatArray, L2: float, L3: float) -> FloatArray:
@@ -94,12 +96,20 @@ def spherical_wrist(M: FloatArray, hint_phi: FloatArray | float = 0.0
     singular = s < SINGULAR_TOL
     theta = np.arctan2(s, m22)
     phi = np.arctan2(m12, m02)
-    psi = np.arctan2(M[..., 2, 1], -M[..., 2, 0])
+    # psi from the rotation left after Rz(phi) Ry(theta), not from m31/m32 directly: near
+    # the singularity phi carries a rounding error of ~eps/s, and this psi absorbs it, so
+    # Rz(phi) Ry(theta) Rz(psi) reproduces M to ~eps instead of ~eps/s.
+    safe = np.where(singular, 1.0, s)
+    cp, sp = m02 / safe, m12 / safe
+    a00 = cp * M[..., 0, 0] + sp * M[..., 1, 0]
+    a10 = -sp * M[..., 0, 0] + cp * M[..., 1, 0]
+    psi = np.arctan2(a10, m22 * a00 - s * M[..., 2, 0])
     if np.any(singular):
         hp = np.broadcast_to(np.asarray(hint_phi, dtype=np.float64), s.shape)
         up = m22 > 0  # theta = 0: M = Rz(phi + psi); theta = pi: M = Rz(phi - psi) Ry(pi)
+        # Rz(a) Ry(pi) = [[-cos a, -sin a, 0], [-sin a, cos a, 0], [0, 0, -1]]
         total = np.where(up, np.arctan2(M[..., 1, 0], M[..., 0, 0]),
-                         np.arctan2(M[..., 1, 0], -M[..., 0, 0]))
+                         np.arctan2(-M[..., 1, 0], -M[..., 0, 0]))
         phi = np.where(singular, hp, phi)
         psi = np.where(singular, np.where(up, total - hp, hp - total), psi)
         theta = np.where(singular, np.where(up, 0.0, np.pi), theta)

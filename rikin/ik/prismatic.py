@@ -150,6 +150,7 @@ class RPRRRSolver:
         rho0 = np.sqrt(np.maximum(r2, 0.0))
         N = T_0_n.shape[0]
         q = np.empty((N, 2, 2, 5))
+        wrist_sing = np.empty((N, 2, 2), dtype=bool)
         for k, rho in enumerate((rho0, -rho0)):
             t = np.arctan2(y, x) - np.arctan2(-sa * rho, a2)
             q1 = t - off1
@@ -161,11 +162,12 @@ class RPRRRSolver:
             q[:, k, :, 0] = q1[:, None]
             q[:, k, :, 1] = d2[:, None]
             q[:, k, :, 2:] = q345
+            wrist_sing[:, k, :] = sing[:, None]
         labels = wrist_slot_labels(W)
         slots = tuple(Branch(side, None, labels[b]) for side in ("front", "back") for b in (0, 1))
         k4 = lambda m: np.repeat(m[:, None], 4, axis=1)  # noqa: E731
         return RawSolutions(q=q.reshape(N, 4, 5), valid=k4(ok), slots=slots,
-                            singular={"wrist": k4(sing & ok),
+                            singular={"wrist": wrist_sing.reshape(N, 4) & ok[:, None],
                                       "radial": k4((rho0 < SINGULAR_TOL * size) & ok)})
 
     def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
