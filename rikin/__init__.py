@@ -15,12 +15,46 @@ from . import robots, transforms
 from .dh import Link, SerialArm
 from .errors import IKError, InputError, RikinError, UnreachableError
 from .ik import BatchIKResult, Branch, IKResult
-from .transforms import (deg, homogeneous, inv_transform, r_to_rpy, r_to_zyz, rad, rotx, roty,
-                         rotz, rpy_to_r, transl, wrap_angle, zyz_to_r)
+from .transforms import (
+    deg,
+    homogeneous,
+    inv_transform,
+    r_to_rpy,
+    r_to_zyz,
+    rad,
+    rotx,
+    roty,
+    rotz,
+    rpy_to_r,
+    transl,
+    wrap_angle,
+    zyz_to_r,
+)
 
 __all__ = [
-    "__version__", "robots", "transforms", "Link", "SerialArm", "IKResult", "BatchIKResult",
-    "Branch", "RikinError", "InputError", "IKError", "UnreachableError", "rotx", "roty", "rotz",
-    "transl", "homogeneous", "inv_transform", "rpy_to_r", "r_to_rpy", "zyz_to_r", "r_to_zyz",
-    "wrap_angle", "deg", "rad",
+    "__version__",
+    "robots",
+    "transforms",
+    "Link",
+    "SerialArm",
+    "IKResult",
+    "BatchIKResult",
+    "Branch",
+    "RikinError",
+    "InputError",
+    "IKError",
+    "UnreachableError",
+    "rotx",
+    "roty",
+    "rotz",
+    "transl",
+    "homogeneous",
+    "inv_transform",
+    "rpy_to_r",
+    "r_to_rpy",
+    "zyz_to_r",
+    "r_to_zyz",
+    "wrap_angle",
+    "deg",
+    "rad",
 ]

@@ -31,7 +31,7 @@ def as_float_array(x: Any, name: str) -> FloatArray:
 
 def check_shape_tail(arr: FloatArray, tail: tuple[int, ...], name: str, what: str) -> None:
     """Raise InputError unless ``arr.shape`` ends with ``tail``."""
-    if arr.ndim < len(tail) or arr.shape[arr.ndim - len(tail):] != tail:
+    if arr.ndim < len(tail) or arr.shape[arr.ndim - len(tail) :] != tail:
         shape = "(..., " + ", ".join(map(str, tail)) + ")"
         raise InputError(f"{name} must be {what} of shape {shape}, got shape {arr.shape}")
 

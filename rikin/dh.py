@@ -71,7 +71,9 @@ class Link:
         if self.qlim is not None:
             lo, hi = self.qlim
             if not lo <= hi:
-                raise InputError(f"qlim must be (lower, upper) with lower <= upper, got {self.qlim}")
+                raise InputError(
+                    f"qlim must be (lower, upper) with lower <= upper, got {self.qlim}"
+                )
 
     @property
     def is_revolute(self) -> bool:
@@ -157,7 +159,9 @@ class SerialArm:
 
     def __post_init__(self) -> None:
         if self.convention not in ("standard", "modified"):
-            raise InputError(f"convention must be 'standard' or 'modified', got {self.convention!r}")
+            raise InputError(
+                f"convention must be 'standard' or 'modified', got {self.convention!r}"
+            )
         links = tuple(self.links)
         if not links:
             raise InputError("an arm needs at least one link")
@@ -195,8 +199,10 @@ class SerialArm:
     @property
     def qlim(self) -> FloatArray:
         """Joint limits, shape ``(n, 2)``; ``-inf``/``inf`` where a joint has none."""
-        return np.array([lk.qlim if lk.qlim is not None else (-np.inf, np.inf) for lk in self.links],
-                        dtype=np.float64)
+        return np.array(
+            [lk.qlim if lk.qlim is not None else (-np.inf, np.inf) for lk in self.links],
+            dtype=np.float64,
+        )
 
     @property
     def joint_types(self) -> str:
@@ -209,26 +215,37 @@ class SerialArm:
         s = sum(abs(float(lk.a)) + abs(float(lk.d)) for lk in self.links)
         return max(s, 1.0)
 
-    def replace(self, **changes: Any) -> "SerialArm":
+    def replace(self, **changes: Any) -> SerialArm:
         """A copy with some fields changed, e.g. ``arm.replace(tool=T)``."""
         return replace(self, **changes)
 
     def __repr__(self) -> str:
-        return (f"SerialArm(name={self.name!r}, {self.joint_types}, {self.convention} DH, "
-                f"units={self.units!r})")
+        return (
+            f"SerialArm(name={self.name!r}, {self.joint_types}, {self.convention} DH, "
+            f"units={self.units!r})"
+        )
 
     def dh_table(self) -> str:
         """The DH table as aligned text, one row per joint."""
-        head = ("alpha_{i-1}", "a_{i-1}", "theta_i", "d_i") if self.convention == "modified" \
+        head = (
+            ("alpha_{i-1}", "a_{i-1}", "theta_i", "d_i")
+            if self.convention == "modified"
             else ("theta_i", "d_i", "a_i", "alpha_i")
+        )
         rows = [f"{'j':>2} {'type':>4} " + " ".join(f"{h:>11}" for h in head) + f" {'offset':>9}"]
         for i, lk in enumerate(self.links, 1):
             th = f"q{i}" if lk.is_revolute else f"{float(lk.theta):.4g}"
             d = f"{float(lk.d):.4g}" if lk.is_revolute else f"q{i}+{float(lk.d):.4g}"
-            vals = (f"{float(lk.alpha):.4g}", f"{float(lk.a):.4g}", th, d) \
-                if self.convention == "modified" else (th, d, f"{float(lk.a):.4g}", f"{float(lk.alpha):.4g}")
-            rows.append(f"{i:>2} {lk.joint:>4} " + " ".join(f"{v:>11}" for v in vals)
-                        + f" {float(lk.offset):>9.4g}")
+            vals = (
+                (f"{float(lk.alpha):.4g}", f"{float(lk.a):.4g}", th, d)
+                if self.convention == "modified"
+                else (th, d, f"{float(lk.a):.4g}", f"{float(lk.alpha):.4g}")
+            )
+            rows.append(
+                f"{i:>2} {lk.joint:>4} "
+                + " ".join(f"{v:>11}" for v in vals)
+                + f" {float(lk.offset):>9.4g}"
+            )
         return "\n".join(rows)
 
     # ------------------------------------------------------------------ FK
@@ -299,9 +316,9 @@ class SerialArm:
         qv = self.check_q(q)
         F = self._fk(qv, frames=True)
         if self.convention == "standard":
-            idx = np.arange(self.n)          # joint i moves about z_{i-1}
+            idx = np.arange(self.n)  # joint i moves about z_{i-1}
         else:
-            idx = np.arange(1, self.n + 1)   # joint i moves about z_i
+            idx = np.arange(1, self.n + 1)  # joint i moves about z_i
         return F[..., idx, :3, 3], F[..., idx, :3, 2]
 
     def jacobian(self, q: Any) -> FloatArray:
@@ -323,7 +340,7 @@ class SerialArm:
         return np.swapaxes(np.concatenate([lin, ang], axis=-1), -1, -2)
 
     # ------------------------------------------------------------------ IK
-    def ik(self, target: Any, **options: Any) -> "IKResult":
+    def ik(self, target: Any, **options: Any) -> IKResult:
         """Every closed-form IK solution of ``target``; see :func:`rikin.ik.solve`."""
         from .ik.api import solve
 

@@ -34,9 +34,23 @@ from .ik.prismatic import PPRRRSolver, RPRRRSolver
 from .transforms import homogeneous, rotx
 
 __all__ = [
-    "planar_2r", "planar_3r", "angular_3r", "aula10_6r", "barrientos_6r", "pprrr", "rprrr",
-    "epson_c4", "planar_2r_links", "planar_3r_links", "angular_3r_links", "aula10_6r_links",
-    "barrientos_6r_links", "pprrr_links", "rprrr_links", "epson_c4_links", "LESSON_ROBOTS",
+    "planar_2r",
+    "planar_3r",
+    "angular_3r",
+    "aula10_6r",
+    "barrientos_6r",
+    "pprrr",
+    "rprrr",
+    "epson_c4",
+    "planar_2r_links",
+    "planar_3r_links",
+    "angular_3r_links",
+    "aula10_6r_links",
+    "barrientos_6r_links",
+    "pprrr_links",
+    "rprrr_links",
+    "epson_c4_links",
+    "LESSON_ROBOTS",
     "EPSON_C4_LIMITS_DEG",
 ]
 
@@ -50,11 +64,25 @@ def _pi(*values: Any) -> Any:
     return np.pi
 
 
-def _arm(links: list[Link], solver: Any, *, name: str, convention: str = "standard",
-         base: Any = None, tool: Any = None, units: str = "") -> SerialArm:
-    arm = SerialArm(tuple(links), convention=convention,  # type: ignore[arg-type]
-                    base=np.eye(4) if base is None else base,
-                    tool=np.eye(4) if tool is None else tool, units=units, name=name, solver=solver)
+def _arm(
+    links: list[Link],
+    solver: Any,
+    *,
+    name: str,
+    convention: str = "standard",
+    base: Any = None,
+    tool: Any = None,
+    units: str = "",
+) -> SerialArm:
+    arm = SerialArm(
+        tuple(links),
+        convention=convention,  # type: ignore[arg-type]
+        base=np.eye(4) if base is None else base,
+        tool=np.eye(4) if tool is None else tool,
+        units=units,
+        name=name,
+        solver=solver,
+    )
     solver.check(arm)
     return arm
 
@@ -73,7 +101,9 @@ def planar_2r_links(l1: Any = 10.0, l2: Any = 10.0) -> list[Link]:
     return [Link(a=l1), Link(a=l2)]
 
 
-def planar_2r(l1: float = 10.0, l2: float = 10.0, *, base: Any = None, tool: Any = None) -> SerialArm:
+def planar_2r(
+    l1: float = 10.0, l2: float = 10.0, *, base: Any = None, tool: Any = None
+) -> SerialArm:
     """The planar 2R arm (the 2R sub-problem of Aula 23), IK of ``(x, y)``: 2 solutions.
 
     Examples
@@ -91,8 +121,9 @@ def planar_3r_links(l1: Any = 10.0, l2: Any = 10.0, l3: Any = 10.0) -> list[Link
     return [Link(a=l1), Link(a=l2), Link(a=l3)]
 
 
-def planar_3r(l1: float = 10.0, l2: float = 10.0, l3: float = 10.0, *, base: Any = None,
-              tool: Any = None) -> SerialArm:
+def planar_3r(
+    l1: float = 10.0, l2: float = 10.0, l3: float = 10.0, *, base: Any = None, tool: Any = None
+) -> SerialArm:
     """The planar 3R arm of Aula 23; IK of ``(x, y, phi)``: 2 solutions.
 
     Examples
@@ -102,8 +133,9 @@ def planar_3r(l1: float = 10.0, l2: float = 10.0, l3: float = 10.0, *, base: Any
     2
     """
     _positive(l1=l1, l2=l2, l3=l3)
-    return _arm(planar_3r_links(l1, l2, l3), Planar3RSolver(), name="planar 3R", base=base,
-                tool=tool)
+    return _arm(
+        planar_3r_links(l1, l2, l3), Planar3RSolver(), name="planar 3R", base=base, tool=tool
+    )
 
 
 # ---------------------------------------------------------------- angular 3R (Aula 23)
@@ -113,45 +145,81 @@ def angular_3r_links(l1: Any = 10.0, l2: Any = 10.0, l3: Any = 10.0) -> list[Lin
     return [Link(d=l1, alpha=pi / 2), Link(a=l2), Link(a=l3)]
 
 
-def angular_3r(l1: float = 10.0, l2: float = 10.0, l3: float = 10.0, *, base: Any = None,
-               tool: Any = None) -> SerialArm:
+def angular_3r(
+    l1: float = 10.0, l2: float = 10.0, l3: float = 10.0, *, base: Any = None, tool: Any = None
+) -> SerialArm:
     """The angular 3R arm of Aula 23; IK of a position: up to 4 solutions."""
     _positive(l1=l1, l2=l2, l3=l3)
     g = RRRGeometry(z0=l1, r0=0.0, L2=l2, L3=l3)
-    return _arm(angular_3r_links(l1, l2, l3), Angular3RSolver(g), name="angular 3R", base=base,
-                tool=tool)
+    return _arm(
+        angular_3r_links(l1, l2, l3), Angular3RSolver(g), name="angular 3R", base=base, tool=tool
+    )
 
 
 # ---------------------------------------------------------------- 6R arms
-def aula10_6r_links(l1: Any = 12.0, l2: Any = 10.0, l3: Any = 10.0, l4: Any = 10.0,
-                    l5: Any = 10.0, l6: Any = 10.0) -> list[Link]:
+def aula10_6r_links(
+    l1: Any = 12.0, l2: Any = 10.0, l3: Any = 10.0, l4: Any = 10.0, l5: Any = 10.0, l6: Any = 10.0
+) -> list[Link]:
     """DH table of the Aula 10 6R (standard DH; d4 = l3 + l4, d6 = l5 + l6)."""
     pi = _pi(l1, l2, l3, l4, l5, l6)
-    return [Link(d=l1, alpha=pi / 2), Link(a=l2), Link(alpha=pi / 2, offset=pi / 2),
-            Link(d=l3 + l4, alpha=-pi / 2, offset=-pi / 2), Link(alpha=pi / 2), Link(d=l5 + l6)]
+    return [
+        Link(d=l1, alpha=pi / 2),
+        Link(a=l2),
+        Link(alpha=pi / 2, offset=pi / 2),
+        Link(d=l3 + l4, alpha=-pi / 2, offset=-pi / 2),
+        Link(alpha=pi / 2),
+        Link(d=l5 + l6),
+    ]
 
 
-def aula10_6r(l1: float = 12.0, l2: float = 10.0, l3: float = 10.0, l4: float = 10.0,
-              l5: float = 10.0, l6: float = 10.0, *, base: Any = None, tool: Any = None) -> SerialArm:
+def aula10_6r(
+    l1: float = 12.0,
+    l2: float = 10.0,
+    l3: float = 10.0,
+    l4: float = 10.0,
+    l5: float = 10.0,
+    l6: float = 10.0,
+    *,
+    base: Any = None,
+    tool: Any = None,
+) -> SerialArm:
     """The 6R arm with a spherical wrist of Aula 10 ("Bumblebee"); up to 8 solutions.
 
     Its wrist centre is ``TCP - (l5 + l6) z_6``.
     """
     _positive(l1=l1, l2=l2, l3=l3, l4=l4, l5=l5, l6=l6)
     g = RRRGeometry(z0=l1, r0=0.0, L2=l2, L3=l3 + l4)
-    return _arm(aula10_6r_links(l1, l2, l3, l4, l5, l6), Decoupled6RSolver(g), name="Aula 10 6R",
-                base=base, tool=tool)
+    return _arm(
+        aula10_6r_links(l1, l2, l3, l4, l5, l6),
+        Decoupled6RSolver(g),
+        name="Aula 10 6R",
+        base=base,
+        tool=tool,
+    )
 
 
 def barrientos_6r_links(l1: Any = 8.0, l2: Any = 10.0, l3: Any = 12.0, l4: Any = 5.0) -> list[Link]:
     """DH table of the slides' 6R (Barrientos type): d1 = l1, a2 = l2, d4 = l3, d6 = l4."""
     pi = _pi(l1, l2, l3, l4)
-    return [Link(d=l1, alpha=pi / 2), Link(a=l2), Link(alpha=pi / 2), Link(d=l3, alpha=-pi / 2),
-            Link(alpha=pi / 2), Link(d=l4)]
+    return [
+        Link(d=l1, alpha=pi / 2),
+        Link(a=l2),
+        Link(alpha=pi / 2),
+        Link(d=l3, alpha=-pi / 2),
+        Link(alpha=pi / 2),
+        Link(d=l4),
+    ]
 
 
-def barrientos_6r(l1: float = 8.0, l2: float = 10.0, l3: float = 12.0, l4: float = 5.0, *,
-                  base: Any = None, tool: Any = None) -> SerialArm:
+def barrientos_6r(
+    l1: float = 8.0,
+    l2: float = 10.0,
+    l3: float = 12.0,
+    l4: float = 5.0,
+    *,
+    base: Any = None,
+    tool: Any = None,
+) -> SerialArm:
     """The slides' 6R with a spherical wrist; up to 8 solutions.
 
     The slides give no lengths: the defaults 8, 10, 12, 5 are rikin's choice
@@ -159,28 +227,55 @@ def barrientos_6r(l1: float = 8.0, l2: float = 10.0, l3: float = 12.0, l4: float
     """
     _positive(l1=l1, l2=l2, l3=l3, l4=l4)
     g = RRRGeometry(z0=l1, r0=0.0, L2=l2, L3=l3, phi3=-np.pi / 2)
-    return _arm(barrientos_6r_links(l1, l2, l3, l4), Decoupled6RSolver(g), name="Barrientos 6R",
-                base=base, tool=tool)
+    return _arm(
+        barrientos_6r_links(l1, l2, l3, l4),
+        Decoupled6RSolver(g),
+        name="Barrientos 6R",
+        base=base,
+        tool=tool,
+    )
 
 
 #: Lower and upper joint limits of the real Epson C4, degrees (J1..J6).
-EPSON_C4_LIMITS_DEG = ((-170.0, 170.0), (-160.0, 65.0), (-51.0, 225.0), (-200.0, 200.0),
-                       (-135.0, 135.0), (-360.0, 360.0))
+EPSON_C4_LIMITS_DEG = (
+    (-170.0, 170.0),
+    (-160.0, 65.0),
+    (-51.0, 225.0),
+    (-200.0, 200.0),
+    (-135.0, 135.0),
+    (-360.0, 360.0),
+)
 
 
-def epson_c4_links(d1: Any = 320.0, a1: Any = 100.0, a2: Any = 250.0, d4: Any = -250.0,
-                   limits: bool = True) -> list[Link]:
+def epson_c4_links(
+    d1: Any = 320.0, a1: Any = 100.0, a2: Any = 250.0, d4: Any = -250.0, limits: bool = True
+) -> list[Link]:
     """Modified-DH table of the Epson C4 (mm): rows ``(alpha_{i-1}, a_{i-1}, d_i, offset)``."""
     pi = _pi(d1, a1, a2, d4)
-    lim = [(float(np.radians(lo)), float(np.radians(hi))) if limits else None
-           for lo, hi in EPSON_C4_LIMITS_DEG]
-    return [Link(d=d1, qlim=lim[0]), Link(alpha=pi / 2, a=a1, offset=pi / 2, qlim=lim[1]),
-            Link(a=a2, qlim=lim[2]), Link(alpha=-pi / 2, d=d4, qlim=lim[3]),
-            Link(alpha=pi / 2, qlim=lim[4]), Link(alpha=-pi / 2, qlim=lim[5])]
+    lim = [
+        (float(np.radians(lo)), float(np.radians(hi))) if limits else None
+        for lo, hi in EPSON_C4_LIMITS_DEG
+    ]
+    return [
+        Link(d=d1, qlim=lim[0]),
+        Link(alpha=pi / 2, a=a1, offset=pi / 2, qlim=lim[1]),
+        Link(a=a2, qlim=lim[2]),
+        Link(alpha=-pi / 2, d=d4, qlim=lim[3]),
+        Link(alpha=pi / 2, qlim=lim[4]),
+        Link(alpha=-pi / 2, qlim=lim[5]),
+    ]
 
 
-def epson_c4(d1: float = 320.0, a1: float = 100.0, a2: float = 250.0, d4: float = -250.0,
-             tool_length: float = 65.0, *, base: Any = None, tool: Any = None) -> SerialArm:
+def epson_c4(
+    d1: float = 320.0,
+    a1: float = 100.0,
+    a2: float = 250.0,
+    d4: float = -250.0,
+    tool_length: float = 65.0,
+    *,
+    base: Any = None,
+    tool: Any = None,
+) -> SerialArm:
     """The Epson C4 of lab 2: modified DH in mm, J2 offset pi/2, tool ``Rx(pi) Tz(65)``.
 
     Carries the real C4's joint limits (``EPSON_C4_LIMITS_DEG``); pass
@@ -196,10 +291,16 @@ def epson_c4(d1: float = 320.0, a1: float = 100.0, a2: float = 250.0, d4: float 
     _positive(d1=d1, a1=a1, a2=a2, tool_length=tool_length)
     if tool is None:
         tool = homogeneous(rotx(np.pi), np.array([0.0, 0.0, -tool_length]))
-    g = RRRGeometry(z0=d1, r0=a1, L2=a2, L3=abs(d4), phi2=np.pi / 2,
-                    phi3=np.sign(d4) * np.pi / 2)
-    return _arm(epson_c4_links(d1, a1, a2, d4), Decoupled6RSolver(g), name="Epson C4",
-                convention="modified", base=base, tool=tool, units="mm")
+    g = RRRGeometry(z0=d1, r0=a1, L2=a2, L3=abs(d4), phi2=np.pi / 2, phi3=np.sign(d4) * np.pi / 2)
+    return _arm(
+        epson_c4_links(d1, a1, a2, d4),
+        Decoupled6RSolver(g),
+        name="Epson C4",
+        convention="modified",
+        base=base,
+        tool=tool,
+        units="mm",
+    )
 
 
 # ---------------------------------------------------------------- handwritten notes
@@ -208,12 +309,24 @@ def pprrr_links(a1: Any = 10.0, a2: Any = 5.0, a3: Any = 8.0, theta1: Any = None
     the table as written; +pi/2 reproduces the notes' 0T_EE, see the errata)."""
     pi = _pi(a1, a2, a3)
     th1 = -pi / 2 if theta1 is None else theta1
-    return [Link("P", theta=th1, d=a1, alpha=-pi / 2), Link("P", theta=-pi / 2, d=a2),
-            Link(alpha=-pi / 2), Link(alpha=pi / 2), Link(d=a3, offset=pi / 2)]
+    return [
+        Link("P", theta=th1, d=a1, alpha=-pi / 2),
+        Link("P", theta=-pi / 2, d=a2),
+        Link(alpha=-pi / 2),
+        Link(alpha=pi / 2),
+        Link(d=a3, offset=pi / 2),
+    ]
 
 
-def pprrr(a1: float = 10.0, a2: float = 5.0, a3: float = 8.0, *, theta1: float = -np.pi / 2,
-          base: Any = None, tool: Any = None) -> SerialArm:
+def pprrr(
+    a1: float = 10.0,
+    a2: float = 5.0,
+    a3: float = 8.0,
+    *,
+    theta1: float = -np.pi / 2,
+    base: Any = None,
+    tool: Any = None,
+) -> SerialArm:
     """The PPRRR arm of the handwritten notes (5 DOF): 2 solutions per reachable pose.
 
     The notes are symbolic; the default lengths (10, 5, 8) are the synthetic
@@ -226,12 +339,24 @@ def pprrr(a1: float = 10.0, a2: float = 5.0, a3: float = 8.0, *, theta1: float =
 def rprrr_links(a1: Any = 4.0, a2: Any = 3.0, a3: Any = 6.0, a4: Any = 8.0) -> list[Link]:
     """DH table of the notes' RPRRR (the prismatic joint's d is d2 + a1 + a3)."""
     pi = _pi(a1, a2, a3, a4)
-    return [Link(a=a2, alpha=pi / 2, offset=pi / 2), Link("P", d=a1 + a3),
-            Link(alpha=-pi / 2), Link(alpha=pi / 2), Link(d=a4, offset=pi / 2)]
+    return [
+        Link(a=a2, alpha=pi / 2, offset=pi / 2),
+        Link("P", d=a1 + a3),
+        Link(alpha=-pi / 2),
+        Link(alpha=pi / 2),
+        Link(d=a4, offset=pi / 2),
+    ]
 
 
-def rprrr(a1: float = 4.0, a2: float = 3.0, a3: float = 6.0, a4: float = 8.0, *,
-          base: Any = None, tool: Any = None) -> SerialArm:
+def rprrr(
+    a1: float = 4.0,
+    a2: float = 3.0,
+    a3: float = 6.0,
+    a4: float = 8.0,
+    *,
+    base: Any = None,
+    tool: Any = None,
+) -> SerialArm:
     """The RPRRR arm of the handwritten notes (5 DOF): 4 solutions per reachable pose.
 
     Default lengths (4, 3, 6, 8) are the synthetic ones of ERRATA.md.
@@ -242,7 +367,12 @@ def rprrr(a1: float = 4.0, a2: float = 3.0, a3: float = 6.0, a4: float = 8.0, *,
 
 #: Every lesson robot constructor by name.
 LESSON_ROBOTS = {
-    "planar_2r": planar_2r, "planar_3r": planar_3r, "angular_3r": angular_3r,
-    "aula10_6r": aula10_6r, "barrientos_6r": barrientos_6r, "pprrr": pprrr, "rprrr": rprrr,
+    "planar_2r": planar_2r,
+    "planar_3r": planar_3r,
+    "angular_3r": angular_3r,
+    "aula10_6r": aula10_6r,
+    "barrientos_6r": barrientos_6r,
+    "pprrr": pprrr,
+    "rprrr": rprrr,
     "epson_c4": epson_c4,
 }

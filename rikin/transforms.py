@@ -20,9 +20,22 @@ from .errors import InputError
 from .tolerances import SINGULAR_TOL
 
 __all__ = [
-    "rotx", "roty", "rotz", "transl", "homogeneous", "trotx", "troty", "trotz",
-    "inv_transform", "rpy_to_r", "r_to_rpy", "zyz_to_r", "r_to_zyz", "wrap_angle",
-    "deg", "rad",
+    "rotx",
+    "roty",
+    "rotz",
+    "transl",
+    "homogeneous",
+    "trotx",
+    "troty",
+    "trotz",
+    "inv_transform",
+    "rpy_to_r",
+    "r_to_rpy",
+    "zyz_to_r",
+    "r_to_zyz",
+    "wrap_angle",
+    "deg",
+    "rad",
 ]
 
 
@@ -105,9 +118,18 @@ def homogeneous(R: Any = None, p: Any = None) -> FloatArray:
 
 def transl(x: Any, y: Any = None, z: Any = None) -> FloatArray:
     """Pure translation ``(..., 4, 4)``: ``transl([x, y, z])`` or ``transl(x, y, z)``."""
-    p = as_float_array(x, "x") if y is None else np.stack(np.broadcast_arrays(
-        as_float_array(x, "x"), as_float_array(y, "y"), as_float_array(0.0 if z is None else z, "z")
-    ), axis=-1)
+    p = (
+        as_float_array(x, "x")
+        if y is None
+        else np.stack(
+            np.broadcast_arrays(
+                as_float_array(x, "x"),
+                as_float_array(y, "y"),
+                as_float_array(0.0 if z is None else z, "z"),
+            ),
+            axis=-1,
+        )
+    )
     return homogeneous(None, p)
 
 
@@ -236,8 +258,11 @@ def _zyz(M: FloatArray, sign: float) -> FloatArray:
     sing = s < SINGULAR_TOL
     phi = np.where(sing, 0.0, np.arctan2(sign * M[..., 1, 2], sign * M[..., 0, 2]))
     # singular: M = Rz(phi + psi) (theta = 0) or Rz(phi - psi) Ry(pi) (theta = pi)
-    psi_sing = np.where(M[..., 2, 2] > 0, np.arctan2(M[..., 1, 0], M[..., 0, 0]),
-                        np.arctan2(M[..., 1, 0], -M[..., 0, 0]))
+    psi_sing = np.where(
+        M[..., 2, 2] > 0,
+        np.arctan2(M[..., 1, 0], M[..., 0, 0]),
+        np.arctan2(M[..., 1, 0], -M[..., 0, 0]),
+    )
     psi = np.where(sing, psi_sing, np.arctan2(sign * M[..., 2, 1], -sign * M[..., 2, 0]))
     return np.stack([phi, theta, psi], axis=-1)
 

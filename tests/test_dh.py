@@ -27,8 +27,9 @@ def test_aula10_pose_of_the_lesson():
     assert np.allclose(T[:3, 3], [-9.4519, 33.8090, 42.7623], atol=1e-4)
     R06 = [[0.6091, -0.7512, -0.2543], [0.7735, 0.4919, 0.3998], [-0.1753, -0.4402, 0.8806]]
     assert np.allclose(T[:3, :3], R06, atol=1e-4)
-    assert np.allclose(T[:3, :3], rikin.rpy_to_r(-26.5610, 10.0935, 51.7776, degrees=True),
-                       atol=1e-4)
+    assert np.allclose(
+        T[:3, :3], rikin.rpy_to_r(-26.5610, 10.0935, 51.7776, degrees=True), atol=1e-4
+    )
 
 
 def test_planar_2r_by_hand():

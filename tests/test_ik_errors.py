@@ -12,7 +12,10 @@ def test_6r_wrist_centre_beyond_reach_says_how_far():
     # R = I, so z6 = +z and the wrist centre is p - 20 z = (100, 0, -20); the shoulder is at
     # height 12 and links 2-3 reach 10 + 20 = 30
     excess = np.hypot(100, -20 - 12) - 30
-    with pytest.raises(UnreachableError, match=r"wrist centre is 75 beyond the reach of links 2-3 \(it is 104\.995 from") as e:
+    with pytest.raises(
+        UnreachableError,
+        match=r"wrist centre is 75 beyond the reach of links 2-3 \(it is 104\.995 from",
+    ) as e:
         arm.ik(rikin.transl(100, 0, 0))
     assert e.value.excess == pytest.approx(excess)
     assert isinstance(e.value, ValueError)
@@ -42,7 +45,7 @@ def test_planar_2r_and_3r_reach():
         robots.planar_2r().ik([30.0, 0.0])
     assert e.value.excess == pytest.approx(10.0)
     with pytest.raises(UnreachableError, match=r"wrist point .* 5 beyond"):
-        robots.planar_3r().ik([35.0, 0.0, 0.0])   # wrist point (25, 0), reach 20
+        robots.planar_3r().ik([35.0, 0.0, 0.0])  # wrist point (25, 0), reach 20
 
 
 def test_planar_3r_pose_out_of_plane():
@@ -80,19 +83,22 @@ def test_rprrr_constraints():
         arm.ik(T)
     # wrist centre inside the cylinder of radius a2 = 3 around axis 1
     R = np.eye(3)
-    T = rikin.homogeneous(R, [1.0, 0.0, 8.0])   # z5 = +z, so wrist centre = (1, 0, 0)
+    T = rikin.homogeneous(R, [1.0, 0.0, 8.0])  # z5 = +z, so wrist centre = (1, 0, 0)
     with pytest.raises(UnreachableError, match="inside the cylinder") as e:
         arm.ik(T)
     assert e.value.excess == pytest.approx(2.0)
 
 
-@pytest.mark.parametrize("bad, msg", [
-    (np.zeros(3), r"takes as target a 4x4"),
-    (np.full((4, 4), np.nan), "NaN"),
-    (np.diag([1.0, 2.0, 1.0, 1.0]), "not a rotation matrix"),
-    (np.diag([1.0, 1.0, -1.0, 1.0]), "reflection"),
-    ("pose", "must be numbers"),
-])
+@pytest.mark.parametrize(
+    "bad, msg",
+    [
+        (np.zeros(3), r"takes as target a 4x4"),
+        (np.full((4, 4), np.nan), "NaN"),
+        (np.diag([1.0, 2.0, 1.0, 1.0]), "not a rotation matrix"),
+        (np.diag([1.0, 1.0, -1.0, 1.0]), "reflection"),
+        ("pose", "must be numbers"),
+    ],
+)
 def test_bad_targets(bad, msg):
     with pytest.raises(InputError, match=msg):
         robots.aula10_6r().ik(bad)
@@ -125,7 +131,7 @@ def test_batch_never_returns_nan_in_valid_slots_and_marks_unreachable():
     arm = robots.epson_c4()
     rng = np.random.default_rng(11)
     T = arm.fk(rng.uniform(-np.pi, np.pi, size=(300, 6)))
-    T[::10, 0, 3] += 5000    # every tenth pose out of reach
+    T[::10, 0, 3] += 5000  # every tenth pose out of reach
     res = arm.ik_batch(T)
     assert not res.valid[::10].any()
     assert np.isfinite(res.q[res.valid]).all()

@@ -8,9 +8,9 @@ from hypothesis import strategies as st
 import rikin
 from rikin import robots
 
-POS_TOL = 1e-9   # times arm.scale
-ROT_TOL = 1e-9   # rotation-matrix entries
-SAME_Q = 1e-6    # rad / length units: "the generating q is among the solutions"
+POS_TOL = 1e-9  # times arm.scale
+ROT_TOL = 1e-9  # rotation-matrix entries
+SAME_Q = 1e-6  # rad / length units: "the generating q is among the solutions"
 
 angle = st.floats(-np.pi, np.pi, allow_nan=False)
 length = st.floats(2.0, 20.0, allow_nan=False)
@@ -19,8 +19,9 @@ length = st.floats(2.0, 20.0, allow_nan=False)
 @st.composite
 def transforms(draw, planar=False):
     if planar:
-        return rikin.homogeneous(rikin.rotz(draw(angle)),
-                                 [draw(st.floats(-5, 5)), draw(st.floats(-5, 5)), 0.0])
+        return rikin.homogeneous(
+            rikin.rotz(draw(angle)), [draw(st.floats(-5, 5)), draw(st.floats(-5, 5)), 0.0]
+        )
     rpy = [draw(angle), draw(st.floats(-1.5, 1.5)), draw(angle)]
     p = [draw(st.floats(-5, 5)) for _ in range(3)]
     return rikin.homogeneous(rikin.rpy_to_r(*rpy), p)
@@ -53,7 +54,9 @@ def round_trip(arm, q, target_of=lambda T: T, position_only=False, every_branch=
     res = arm.ik(target_of(T))
     check_solutions(arm, res, T, position_only)
     if not res.singular:
-        assert q_distance(arm, res.q, q).min() <= SAME_Q, "the generating q is not among the solutions"
+        assert q_distance(arm, res.q, q).min() <= SAME_Q, (
+            "the generating q is not among the solutions"
+        )
     if every_branch:
         for sol in res.q:  # each branch, fed back, returns itself
             again = arm.ik(target_of(arm.fk(sol)))
@@ -66,8 +69,11 @@ def round_trip(arm, q, target_of=lambda T: T, position_only=False, every_branch=
 @settings(max_examples=120)
 @given(st.data())
 def test_aula10_6r(data):
-    arm = robots.aula10_6r(*(data.draw(length) for _ in range(6)),
-                           base=data.draw(transforms()), tool=data.draw(transforms()))
+    arm = robots.aula10_6r(
+        *(data.draw(length) for _ in range(6)),
+        base=data.draw(transforms()),
+        tool=data.draw(transforms()),
+    )
     res = round_trip(arm, joint_values(arm, data.draw))
     assert len(res) == 8 or res.singular
 
@@ -75,8 +81,11 @@ def test_aula10_6r(data):
 @settings(max_examples=120)
 @given(st.data())
 def test_barrientos_6r(data):
-    arm = robots.barrientos_6r(*(data.draw(length) for _ in range(4)),
-                               base=data.draw(transforms()), tool=data.draw(transforms()))
+    arm = robots.barrientos_6r(
+        *(data.draw(length) for _ in range(4)),
+        base=data.draw(transforms()),
+        tool=data.draw(transforms()),
+    )
     res = round_trip(arm, joint_values(arm, data.draw))
     assert len(res) == 8 or res.singular
 
@@ -84,8 +93,9 @@ def test_barrientos_6r(data):
 @settings(max_examples=120)
 @given(st.data())
 def test_epson_c4(data):
-    arm = robots.epson_c4(base=data.draw(transforms()),
-                          tool=data.draw(st.one_of(st.none(), transforms())))
+    arm = robots.epson_c4(
+        base=data.draw(transforms()), tool=data.draw(st.one_of(st.none(), transforms()))
+    )
     res = round_trip(arm, joint_values(arm, data.draw))
     assert len(res) in (4, 8) or res.singular
 
@@ -94,8 +104,12 @@ def test_epson_c4(data):
 @given(st.data())
 def test_pprrr(data):
     theta1 = data.draw(st.sampled_from([-np.pi / 2, np.pi / 2]))
-    arm = robots.pprrr(*(data.draw(length) for _ in range(3)), theta1=theta1,
-                       base=data.draw(transforms()), tool=data.draw(transforms()))
+    arm = robots.pprrr(
+        *(data.draw(length) for _ in range(3)),
+        theta1=theta1,
+        base=data.draw(transforms()),
+        tool=data.draw(transforms()),
+    )
     res = round_trip(arm, joint_values(arm, data.draw))
     assert len(res) == 2 or res.singular
 
@@ -103,8 +117,11 @@ def test_pprrr(data):
 @settings(max_examples=120)
 @given(st.data())
 def test_rprrr(data):
-    arm = robots.rprrr(*(data.draw(length) for _ in range(4)),
-                       base=data.draw(transforms()), tool=data.draw(transforms()))
+    arm = robots.rprrr(
+        *(data.draw(length) for _ in range(4)),
+        base=data.draw(transforms()),
+        tool=data.draw(transforms()),
+    )
     res = round_trip(arm, joint_values(arm, data.draw))
     assert len(res) in (2, 4) or res.singular
 
@@ -125,14 +142,16 @@ def test_angular_3r_position_and_pose_targets(data):
 @settings(max_examples=120)
 @given(st.data())
 def test_planar_3r(data):
-    arm = robots.planar_3r(*(data.draw(length) for _ in range(3)),
-                           base=data.draw(transforms(planar=True)),
-                           tool=data.draw(transforms(planar=True)))
+    arm = robots.planar_3r(
+        *(data.draw(length) for _ in range(3)),
+        base=data.draw(transforms(planar=True)),
+        tool=data.draw(transforms(planar=True)),
+    )
     q = joint_values(arm, data.draw)
     res = round_trip(arm, q)
     assert len(res) == 2 or res.singular
     if not np.any(np.abs(arm.tool[:3, 3]) > 0) and np.allclose(arm.base, np.eye(4)):
-        T = arm.fk(q)   # the (x, y, phi) form of the same target
+        T = arm.fk(q)  # the (x, y, phi) form of the same target
         xyphi = [T[0, 3], T[1, 3], np.arctan2(T[1, 0], T[0, 0])]
         check_solutions(arm, arm.ik(xyphi), T)
 
@@ -140,8 +159,9 @@ def test_planar_3r(data):
 @settings(max_examples=120)
 @given(st.data())
 def test_planar_2r(data):
-    arm = robots.planar_2r(data.draw(length), data.draw(length),
-                           base=data.draw(transforms(planar=True)))
+    arm = robots.planar_2r(
+        data.draw(length), data.draw(length), base=data.draw(transforms(planar=True))
+    )
     q = joint_values(arm, data.draw)
     res = round_trip(arm, q, target_of=lambda T: T[:2, 3], position_only=True)
     assert len(res) == 2 or res.singular
@@ -150,8 +170,12 @@ def test_planar_2r(data):
 def test_labels_cover_every_branch_of_the_6r():
     arm = robots.aula10_6r()
     res = arm.ik(arm.fk(rikin.rad([99.6, 9, 26.4, 68.4, 30, 151])))
-    assert sorted(res.labels) == sorted(f"{s}/{e}/{w}" for s in ("front", "back")
-                                        for e in ("up", "down") for w in ("no-flip", "flip"))
+    assert sorted(res.labels) == sorted(
+        f"{s}/{e}/{w}"
+        for s in ("front", "back")
+        for e in ("up", "down")
+        for w in ("no-flip", "flip")
+    )
 
 
 def test_a_quarter_of_random_c4_poses_have_four_solutions():
@@ -164,7 +188,7 @@ def test_a_quarter_of_random_c4_poses_have_four_solutions():
     T = arm.fk(q)
     batch = arm.ik_batch(T)
     flange = arm.world_to_base(T)
-    pw = flange[:, :3, 3]                      # the C4's wrist centre is the flange origin
+    pw = flange[:, :3, 3]  # the C4's wrist centre is the flange origin
     rho = np.hypot(pw[:, 0], pw[:, 1])
     back = np.hypot(rho + 100, pw[:, 2] - 320)
     expected4 = back > 500

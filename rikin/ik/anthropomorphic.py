@@ -13,6 +13,7 @@ Four slots: (front, B >= 0), (front, B <= 0), (back, B >= 0), (back, B <= 0).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -116,7 +117,7 @@ ELBOW = Singularity("the arm is fully stretched or folded (elbow at 0 or pi): th
                     "branches coincide", ())
 
 
-def check_rrr_geometry(arm: "SerialArm", g: RRRGeometry, point_of: "callable", family: str) -> None:
+def check_rrr_geometry(arm: SerialArm, g: RRRGeometry, point_of: Callable[[FloatArray], FloatArray], family: str) -> None:
     """Raise InputError unless the arm's FK matches ``g`` at a few random joint values."""
     rng = np.random.default_rng(0)
     q = rng.uniform(-np.pi, np.pi, size=(5, arm.n))
@@ -140,16 +141,16 @@ class Angular3RSolver:
     def __init__(self, geometry: RRRGeometry) -> None:
         self.geometry = geometry
 
-    def check(self, arm: "SerialArm") -> None:
+    def check(self, arm: SerialArm) -> None:
         if arm.joint_types != "RRR":
             raise InputError(f"{arm.name}: the angular 3R solver needs an RRR arm, got {arm.joint_types}")
         check_rrr_geometry(arm, self.geometry, lambda F: F[:, :3, 3], "angular 3R")
 
-    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+    def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         pos = position_rrr(T_0_n[:, :3, 3], self.geometry, 0.0 if hint is None else hint[0])
         slots = tuple(Branch(side, None, None) for side, _ in ARM_SLOTS)
         return RawSolutions(q=pos.q, valid=pos.valid, slots=slots, elbow_up=pos.elbow_up,
                             singular={"shoulder": pos.shoulder_singular, "elbow": pos.elbow_singular})
 
-    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+    def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         return explain_rrr(T_0_n[:3, 3], self.geometry, arm.units, "the target")

@@ -33,7 +33,7 @@ _KIND_HELP = {
 }
 
 
-def _solver(arm: "SerialArm") -> Solver:
+def _solver(arm: SerialArm) -> Solver:
     if arm.solver is None:
         raise InputError(
             f"{arm.name!r} has no closed-form IK in rikin; build it with a constructor from "
@@ -42,7 +42,7 @@ def _solver(arm: "SerialArm") -> Solver:
     return arm.solver
 
 
-def _target_pose(arm: "SerialArm", target: Any, kind: str) -> FloatArray:
+def _target_pose(arm: SerialArm, target: Any, kind: str) -> FloatArray:
     """The target as a world pose ``(4, 4)``, validated."""
     arr = as_float_array(target, "target")
     if kind in ("position", "planar_position") and np.abs(arm.tool[:3, 3]).max() > 0:
@@ -67,7 +67,7 @@ def _wrap(q: FloatArray, revolute: FloatArray) -> FloatArray:
     return np.where(revolute, wrap_angle(q), q)
 
 
-def _fk_error(arm: "SerialArm", q: FloatArray, T: FloatArray, kind: str) -> FloatArray:
+def _fk_error(arm: SerialArm, q: FloatArray, T: FloatArray, kind: str) -> FloatArray:
     """Per-solution error of FK(q) against T: max of position error / scale and rotation error."""
     F = arm._fk(q)
     pos = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1) / arm.scale
@@ -77,8 +77,9 @@ def _fk_error(arm: "SerialArm", q: FloatArray, T: FloatArray, kind: str) -> Floa
     return np.maximum(pos, rot)
 
 
-def _limits_filter(q: FloatArray, arm: "SerialArm", near: FloatArray | None
-                   ) -> tuple[FloatArray, np.ndarray]:
+def _limits_filter(
+    q: FloatArray, arm: SerialArm, near: FloatArray | None
+) -> tuple[FloatArray, np.ndarray]:
     """Move each revolute value to an in-limit 2*pi equivalent; mask the rows that fit."""
     lim = arm.qlim
     out = q.copy()
@@ -108,8 +109,9 @@ def _dedupe(q: FloatArray, revolute: FloatArray) -> list[int]:
     return kept
 
 
-def solve(arm: "SerialArm", target: Any, *, within_limits: bool = False,
-          near: Any = None) -> IKResult:
+def solve(
+    arm: SerialArm, target: Any, *, within_limits: bool = False, near: Any = None
+) -> IKResult:
     """Every closed-form IK solution of ``target``, each labelled with its branch.
 
     Parameters
@@ -146,7 +148,7 @@ def solve(arm: "SerialArm", target: Any, *, within_limits: bool = False,
     hint = None if near is None else arm.check_q(near, "near")
     if hint is not None and hint.ndim != 1:
         raise InputError(f"near must have shape ({arm.n},), got shape {hint.shape}")
-    if kind in ("position", "planar_position"):   # the target's rotation plays no part
+    if kind in ("position", "planar_position"):  # the target's rotation plays no part
         T_world = homogeneous(None, T_world[:3, 3])
     T_0_n = arm.world_to_base(T_world)
     raw = solver.solve(arm, T_0_n[None], hint)
@@ -154,13 +156,21 @@ def solve(arm: "SerialArm", target: Any, *, within_limits: bool = False,
     if not valid.any():
         message, excess = solver.explain(arm, T_0_n)
         units = arm.units if np.isfinite(excess) else ""
-        raise UnreachableError(f"{arm.name}: target is unreachable: {message}",
-                               excess=excess, units=units)
+        raise UnreachableError(
+            f"{arm.name}: target is unreachable: {message}", excess=excess, units=units
+        )
     return _finish(arm, solver, raw, T_world, kind, hint, within_limits)
 
 
-def _finish(arm: "SerialArm", solver: Solver, raw: RawSolutions, T_world: FloatArray, kind: str,
-            hint: FloatArray | None, within_limits: bool) -> IKResult:
+def _finish(
+    arm: SerialArm,
+    solver: Solver,
+    raw: RawSolutions,
+    T_world: FloatArray,
+    kind: str,
+    hint: FloatArray | None,
+    within_limits: bool,
+) -> IKResult:
     rev = arm.revolute
     slots = np.flatnonzero(raw.valid[0])
     q = _wrap(raw.q[0, slots], rev)
@@ -184,7 +194,7 @@ def _finish(arm: "SerialArm", solver: Solver, raw: RawSolutions, T_world: FloatA
     specs = [solver.singularities[name] for name in active]
 
     branches = []
-    for i, (row, s) in enumerate(zip(q, slots)):
+    for i, (row, s) in enumerate(zip(q, slots, strict=True)):
         elbow = None
         if raw.elbow_up is not None:
             elbow = "up" if raw.elbow_up[0, s] else "down"
@@ -209,7 +219,7 @@ def _finish(arm: "SerialArm", solver: Solver, raw: RawSolutions, T_world: FloatA
         q, fits = _limits_filter(q, arm, hint)
         discarded = int((~fits).sum())
         q = q[fits]
-        branches = [b for b, f in zip(branches, fits) if f]
+        branches = [b for b, f in zip(branches, fits, strict=True) if f]
     if hint is not None and len(q):
         diff = q - hint
         diff = diff if within_limits else _wrap(diff, rev)
@@ -219,14 +229,21 @@ def _finish(arm: "SerialArm", solver: Solver, raw: RawSolutions, T_world: FloatA
 
     free = tuple(sorted({j for spec in specs for j in spec.free_joints}))
     return IKResult(
-        q=q, branches=tuple(branches), target=T_world, singular=bool(specs),
+        q=q,
+        branches=tuple(branches),
+        target=T_world,
+        singular=bool(specs),
         singularity="; ".join(spec.description for spec in specs) or None,
-        free_joints=free, discarded=discarded, arm_name=arm.name, revolute=rev,
+        free_joints=free,
+        discarded=discarded,
+        arm_name=arm.name,
+        revolute=rev,
     )
 
 
-def solve_batch(arm: "SerialArm", T: Any, *, chunk_size: int = 16384,
-                workers: int | None = None) -> BatchIKResult:
+def solve_batch(
+    arm: SerialArm, T: Any, *, chunk_size: int = 16384, workers: int | None = None
+) -> BatchIKResult:
     """All IK solutions of N poses, vectorised, in fixed branch slots.
 
     Memory stays bounded: poses are processed ``chunk_size`` at a time (in

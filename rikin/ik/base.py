@@ -41,8 +41,8 @@ class Singularity:
 
     description: str
     free_joints: tuple[int, ...]
-    drop_flip: bool = False      # one member per family: keep the no-flip slots only
-    drop_back: bool = False      # front and back are the same family
+    drop_flip: bool = False  # one member per family: keep the no-flip slots only
+    drop_back: bool = False  # front and back are the same family
 
 
 class Solver(Protocol):
@@ -53,11 +53,11 @@ class Solver(Protocol):
     wrist_middle: int | None
     singularities: dict[str, Singularity]
 
-    def check(self, arm: "SerialArm") -> None:
+    def check(self, arm: SerialArm) -> None:
         """Raise InputError if ``arm`` is not of this family."""
 
-    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+    def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         """All solutions of N targets ``(N, 4, 4)``; trusted input."""
 
-    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+    def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         """Why one target ``(4, 4)`` has no solution: a sentence, and by how much."""

@@ -21,15 +21,19 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
 
 _ELBOW = Singularity("the arm is fully stretched or folded: both elbow branches coincide", ())
-_ORIGIN = Singularity("the wrist point is on the axis of joint 1 with the arm folded, so q1 is free",
-                      (1,))
+_ORIGIN = Singularity(
+    "the wrist point is on the axis of joint 1 with the arm folded, so q1 is free", (1,)
+)
 
 
-def _lengths(arm: "SerialArm", n: int) -> list[float]:
-    if arm.joint_types != "R" * n or any(float(lk.d) != 0 or float(lk.alpha) != 0
-                                          or float(lk.offset) != 0 for lk in arm.links):
-        raise InputError(f"{arm.name}: the planar {n}R solver needs {n} revolute links with "
-                         "d = alpha = offset = 0")
+def _lengths(arm: SerialArm, n: int) -> list[float]:
+    if arm.joint_types != "R" * n or any(
+        float(lk.d) != 0 or float(lk.alpha) != 0 or float(lk.offset) != 0 for lk in arm.links
+    ):
+        raise InputError(
+            f"{arm.name}: the planar {n}R solver needs {n} revolute links with "
+            "d = alpha = offset = 0"
+        )
     return [float(lk.a) for lk in arm.links]
 
 
@@ -55,23 +59,31 @@ class _PlanarBase:
     singularities = {"elbow": _ELBOW, "origin": _ORIGIN}
     n = 2
 
-    def _two(self, x: FloatArray, y: FloatArray, L1: float, L2: float,
-             hint1: float) -> tuple[FloatArray, FloatArray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    def _two(
+        self, x: FloatArray, y: FloatArray, L1: float, L2: float, hint1: float
+    ) -> tuple[FloatArray, FloatArray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         A, B, ok, st = two_link(x, y, L1, L2)
         at_origin = np.hypot(x, y) <= SINGULAR_TOL * (L1 + L2)
         A = np.where(at_origin[:, None], hint1, A)
         up = elbow_above(x, y, A, L1)
         return A, B, ok, st, at_origin, up
 
-    def _explain_reach(self, d: float, L1: float, L2: float, units: str, what: str) -> tuple[str, float]:
+    def _explain_reach(
+        self, d: float, L1: float, L2: float, units: str, what: str
+    ) -> tuple[str, float]:
         ex = float(reach_excess(np.array(d), L1, L2))
         u = f" {units}" if units else ""
         if d > L1 + L2:
-            return (f"{what} is {ex:.4g}{u} beyond the reach of links 1-2 "
-                    f"(distance {d:.6g}{u} from joint 1, reach {L1 + L2:.6g}{u})", ex)
-        return (f"{what} is {ex:.4g}{u} too close to joint 1 for links 1-2 "
-                f"(distance {d:.6g}{u}, the folded arm reaches no closer than {abs(L1 - L2):.6g}{u})",
-                ex)
+            return (
+                f"{what} is {ex:.4g}{u} beyond the reach of links 1-2 "
+                f"(distance {d:.6g}{u} from joint 1, reach {L1 + L2:.6g}{u})",
+                ex,
+            )
+        return (
+            f"{what} is {ex:.4g}{u} too close to joint 1 for links 1-2 "
+            f"(distance {d:.6g}{u}, the folded arm reaches no closer than {abs(L1 - L2):.6g}{u})",
+            ex,
+        )
 
 
 class Planar2RSolver(_PlanarBase):
@@ -79,26 +91,32 @@ class Planar2RSolver(_PlanarBase):
 
     target_kind = "planar_position"
 
-    def check(self, arm: "SerialArm") -> None:
+    def check(self, arm: SerialArm) -> None:
         _lengths(arm, 2)
 
-    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+    def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         L1, L2 = _lengths(arm, 2)
         x, y = T_0_n[:, 0, 3], T_0_n[:, 1, 3]
         A, B, ok, st, origin, up = self._two(x, y, L1, L2, 0.0 if hint is None else hint[0])
         ok &= _in_plane(T_0_n, L1 + L2, False)
         q = np.stack([A, B], axis=-1)
         k2 = lambda m: np.repeat(m[:, None], 2, axis=1)  # noqa: E731
-        return RawSolutions(q=q, valid=k2(ok), slots=(Branch(), Branch()), elbow_up=up,
-                            singular={"elbow": k2(st), "origin": k2(origin)})
+        return RawSolutions(
+            q=q,
+            valid=k2(ok),
+            slots=(Branch(), Branch()),
+            elbow_up=up,
+            singular={"elbow": k2(st), "origin": k2(origin)},
+        )
 
-    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+    def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         L1, L2 = _lengths(arm, 2)
         plane = _explain_plane(T_0_n, arm.units, L1 + L2, False)
         if plane:
             return plane, abs(float(T_0_n[2, 3]))
-        return self._explain_reach(float(np.hypot(T_0_n[0, 3], T_0_n[1, 3])), L1, L2, arm.units,
-                                   "the target")
+        return self._explain_reach(
+            float(np.hypot(T_0_n[0, 3], T_0_n[1, 3])), L1, L2, arm.units, "the target"
+        )
 
 
 class Planar3RSolver(_PlanarBase):
@@ -106,30 +124,36 @@ class Planar3RSolver(_PlanarBase):
 
     target_kind = "planar_pose"
 
-    def check(self, arm: "SerialArm") -> None:
+    def check(self, arm: SerialArm) -> None:
         _lengths(arm, 3)
 
     @staticmethod
     def wrist_point(T_0_n: FloatArray, L3: float) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """Tool angle ``phi`` and the wrist point ``(x - L3 cos phi, y - L3 sin phi)``, shape (N,)."""
+        """Tool angle ``phi`` and the wrist point ``(x - L3 cos phi, y - L3 sin phi)``, (N,)."""
         phi = np.arctan2(T_0_n[:, 1, 0], T_0_n[:, 0, 0])
         return phi, T_0_n[:, 0, 3] - L3 * np.cos(phi), T_0_n[:, 1, 3] - L3 * np.sin(phi)
 
-    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+    def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         L1, L2, L3 = _lengths(arm, 3)
         phi, e, c = self.wrist_point(T_0_n, L3)
         A, B, ok, st, origin, up = self._two(e, c, L1, L2, 0.0 if hint is None else hint[0])
         ok &= _in_plane(T_0_n, L1 + L2 + L3, True)
         q = np.stack([A, B, phi[:, None] - A - B], axis=-1)
         k2 = lambda m: np.repeat(m[:, None], 2, axis=1)  # noqa: E731
-        return RawSolutions(q=q, valid=k2(ok), slots=(Branch(), Branch()), elbow_up=up,
-                            singular={"elbow": k2(st), "origin": k2(origin)})
+        return RawSolutions(
+            q=q,
+            valid=k2(ok),
+            slots=(Branch(), Branch()),
+            elbow_up=up,
+            singular={"elbow": k2(st), "origin": k2(origin)},
+        )
 
-    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+    def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         L1, L2, L3 = _lengths(arm, 3)
         plane = _explain_plane(T_0_n, arm.units, L1 + L2 + L3, True)
         if plane:
             return plane, abs(float(T_0_n[2, 3]))
         _, e, c = self.wrist_point(T_0_n[None], L3)
-        return self._explain_reach(float(np.hypot(e[0], c[0])), L1, L2, arm.units,
-                                   "the wrist point (target minus link 3)")
+        return self._explain_reach(
+            float(np.hypot(e[0], c[0])), L1, L2, arm.units, "the wrist point (target minus link 3)"
+        )

@@ -27,18 +27,21 @@ from .result import Branch
 if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
 
-_WRIST = Singularity("wrist singularity: q4 is 0 or pi, axes 3 and 5 line up, so only "
-                     "q3 + q5 (or q3 - q5) is fixed", (3, 5), drop_flip=True)
+_WRIST = Singularity(
+    "wrist singularity: q4 is 0 or pi, axes 3 and 5 line up, so only q3 + q5 (or q3 - q5) is fixed",
+    (3, 5),
+    drop_flip=True,
+)
 
 
-def _origin_2(arm: "SerialArm", q: FloatArray) -> FloatArray:
+def _origin_2(arm: SerialArm, q: FloatArray) -> FloatArray:
     """World-free position of the wrist centre for joint values ``q (..., 5)``."""
     W = wrist_model(arm, 2)
     F = arm.replace(base=np.eye(4), tool=np.eye(4))._fk(q)
     return F[..., :3, :3] @ W.centre + F[..., :3, 3]
 
 
-def _w(arm: "SerialArm") -> float:
+def _w(arm: SerialArm) -> float:
     return abs(float(arm.links[2].d))
 
 
@@ -49,12 +52,14 @@ class PPRRRSolver:
     wrist_middle = 3
     singularities = {"wrist": _WRIST}
 
-    def check(self, arm: "SerialArm") -> None:
+    def check(self, arm: SerialArm) -> None:
         if arm.joint_types != "PPRRR":
-            raise InputError(f"{arm.name}: the PPRRR solver needs a PPRRR arm, got {arm.joint_types}")
+            raise InputError(
+                f"{arm.name}: the PPRRR solver needs a PPRRR arm, got {arm.joint_types}"
+            )
         wrist_model(arm, 2)
 
-    def _affine(self, arm: "SerialArm") -> tuple[FloatArray, FloatArray, FloatArray]:
+    def _affine(self, arm: SerialArm) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``p_w(d1, d2) = c0 + [u1 u2] @ (d1, d2)`` and the constant ``R_0_2``."""
         q = np.zeros((3, 5))
         q[1, 0] = 1.0
@@ -64,15 +69,15 @@ class PPRRRSolver:
         R_0_2 = arm.replace(base=np.eye(4), tool=np.eye(4))._fk(np.zeros(5), frames=True)[2, :3, :3]
         return p[0], U, R_0_2
 
-    def _wrist_centre(self, arm: "SerialArm", T: FloatArray) -> FloatArray:
+    def _wrist_centre(self, arm: SerialArm, T: FloatArray) -> FloatArray:
         W = wrist_model(arm, 2)
         return T[..., :3, :3] @ W.centre + T[..., :3, 3]
 
-    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+    def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         c0, U, R_0_2 = self._affine(arm)
         pw = self._wrist_centre(arm, T_0_n)
         d, *_ = np.linalg.lstsq(U, (pw - c0).T, rcond=None)
-        d = d.T                                                    # (N, 2)
+        d = d.T  # (N, 2)
         resid = np.linalg.norm(pw - c0 - d @ U.T, axis=-1)
         ok = resid <= REACH_TOL * arm.scale * 10
         W = wrist_model(arm, 2)
@@ -83,18 +88,24 @@ class PPRRRSolver:
         q[..., 2:] = q345
         labels = wrist_slot_labels(W)
         k2 = lambda m: np.repeat(m[:, None], 2, axis=1)  # noqa: E731
-        return RawSolutions(q=q, valid=k2(ok), slots=(Branch(None, None, labels[0]),
-                                                      Branch(None, None, labels[1])),
-                            singular={"wrist": k2(sing & ok)})
+        return RawSolutions(
+            q=q,
+            valid=k2(ok),
+            slots=(Branch(None, None, labels[0]), Branch(None, None, labels[1])),
+            singular={"wrist": k2(sing & ok)},
+        )
 
-    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+    def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         c0, U, _ = self._affine(arm)
         pw = self._wrist_centre(arm, T_0_n)
         d, *_ = np.linalg.lstsq(U, pw - c0, rcond=None)
         r = float(np.linalg.norm(pw - c0 - U @ d))
         u = f" {arm.units}" if arm.units else ""
-        return (f"a 5-DOF arm cannot reach every pose: the wrist centre (target minus "
-                f"{_w(arm):.4g}{u} along z_5) is {r:.4g}{u} off the plane joints 1-2 can reach", r)
+        return (
+            f"a 5-DOF arm cannot reach every pose: the wrist centre (target minus "
+            f"{_w(arm):.4g}{u} along z_5) is {r:.4g}{u} off the plane joints 1-2 can reach",
+            r,
+        )
 
 
 class RPRRRSolver:
@@ -104,16 +115,26 @@ class RPRRRSolver:
     wrist_middle = 3
     singularities = {
         "wrist": _WRIST,
-        "radial": Singularity("the wrist centre is at distance a2 from axis 1: the two roots "
-                              "of the prismatic joint coincide (d2 + a1 + a3 = 0)", ()),
+        "radial": Singularity(
+            "the wrist centre is at distance a2 from axis 1: the two roots "
+            "of the prismatic joint coincide (d2 + a1 + a3 = 0)",
+            (),
+        ),
     }
 
-    def check(self, arm: "SerialArm") -> None:
+    def check(self, arm: SerialArm) -> None:
         if arm.joint_types != "RPRRR":
-            raise InputError(f"{arm.name}: the RPRRR solver needs an RPRRR arm, got {arm.joint_types}")
+            raise InputError(
+                f"{arm.name}: the RPRRR solver needs an RPRRR arm, got {arm.joint_types}"
+            )
         l1, l2 = arm.links[:2]
-        if arm.convention != "standard" or abs(abs(np.sin(float(l1.alpha))) - 1) > 1e-12 \
-                or float(l2.alpha) != 0 or float(l2.a) != 0 or float(l2.theta) != 0:
+        if (
+            arm.convention != "standard"
+            or abs(abs(np.sin(float(l1.alpha))) - 1) > 1e-12
+            or float(l2.alpha) != 0
+            or float(l2.a) != 0
+            or float(l2.theta) != 0
+        ):
             raise InputError(f"{arm.name}: not of the notes' RPRRR family")
         wrist_model(arm, 2)
         rng = np.random.default_rng(0)
@@ -124,12 +145,12 @@ class RPRRRSolver:
             raise InputError(f"{arm.name}: not of the notes' RPRRR family (geometry check failed)")
 
     @staticmethod
-    def _params(arm: "SerialArm") -> tuple[float, float, float, float, float]:
+    def _params(arm: SerialArm) -> tuple[float, float, float, float, float]:
         l1, l2 = arm.links[:2]
         sa = float(np.sign(np.sin(float(l1.alpha))))
         return float(l1.a), float(l1.d), float(l1.offset), float(l2.d) + float(l2.offset), sa
 
-    def _forward_12(self, arm: "SerialArm", q1: FloatArray, d2: FloatArray) -> FloatArray:
+    def _forward_12(self, arm: SerialArm, q1: FloatArray, d2: FloatArray) -> FloatArray:
         a2, d1, off1, l1, sa = self._params(arm)
         t = q1 + off1
         rho = d2 + l1
@@ -137,7 +158,7 @@ class RPRRRSolver:
         v = -sa * rho
         return np.stack([a2 * c - v * s, a2 * s + v * c, np.full_like(t, d1)], axis=-1)
 
-    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+    def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         from ..dh import link_transform
 
         a2, d1, off1, l1, sa = self._params(arm)
@@ -155,10 +176,13 @@ class RPRRRSolver:
             t = np.arctan2(y, x) - np.arctan2(-sa * rho, a2)
             q1 = t - off1
             d2 = rho - l1
-            R_0_2 = link_transform(arm.links[0], q1, "standard")[..., :3, :3] @ \
-                link_transform(arm.links[1], d2, "standard")[..., :3, :3]
-            q345, sing = wrist_angles(W, np.swapaxes(R_0_2, -1, -2) @ T_0_n[:, :3, :3],
-                                      0.0 if hint is None else hint[2])
+            R_0_2 = (
+                link_transform(arm.links[0], q1, "standard")[..., :3, :3]
+                @ link_transform(arm.links[1], d2, "standard")[..., :3, :3]
+            )
+            q345, sing = wrist_angles(
+                W, np.swapaxes(R_0_2, -1, -2) @ T_0_n[:, :3, :3], 0.0 if hint is None else hint[2]
+            )
             q[:, k, :, 0] = q1[:, None]
             q[:, k, :, 1] = d2[:, None]
             q[:, k, :, 2:] = q345
@@ -166,21 +190,32 @@ class RPRRRSolver:
         labels = wrist_slot_labels(W)
         slots = tuple(Branch(side, None, labels[b]) for side in ("front", "back") for b in (0, 1))
         k4 = lambda m: np.repeat(m[:, None], 4, axis=1)  # noqa: E731
-        return RawSolutions(q=q.reshape(N, 4, 5), valid=k4(ok), slots=slots,
-                            singular={"wrist": wrist_sing.reshape(N, 4) & ok[:, None],
-                                      "radial": k4((rho0 < SINGULAR_TOL * size) & ok)})
+        return RawSolutions(
+            q=q.reshape(N, 4, 5),
+            valid=k4(ok),
+            slots=slots,
+            singular={
+                "wrist": wrist_sing.reshape(N, 4) & ok[:, None],
+                "radial": k4((rho0 < SINGULAR_TOL * size) & ok),
+            },
+        )
 
-    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+    def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         a2, d1, *_ = self._params(arm)
         W = wrist_model(arm, 2)
         pw = T_0_n[:3, :3] @ W.centre + T_0_n[:3, 3]
         u = f" {arm.units}" if arm.units else ""
         dz = float(pw[2] - d1)
         if abs(dz) > REACH_TOL * arm.scale * 10:
-            return (f"a 5-DOF arm cannot reach every pose: the wrist centre (target minus "
-                    f"{_w(arm):.4g}{u} along z_5) is {abs(dz):.4g}{u} "
-                    f"{'above' if dz > 0 else 'below'} the plane z = {d1:.4g} joints 1-2 move it in",
-                    abs(dz))
+            return (
+                f"a 5-DOF arm cannot reach every pose: the wrist centre (target minus "
+                f"{_w(arm):.4g}{u} along z_5) is {abs(dz):.4g}{u} "
+                f"{'above' if dz > 0 else 'below'} the plane z = {d1:.4g} joints 1-2 move it in",
+                abs(dz),
+            )
         r = float(np.hypot(pw[0], pw[1]))
-        return (f"the wrist centre is {a2 - r:.4g}{u} inside the cylinder of radius a2 = {a2:.4g}{u} "
-                "around axis 1, which joints 1-2 cannot enter", a2 - r)
+        return (
+            f"the wrist centre is {a2 - r:.4g}{u} inside the cylinder of radius a2 = {a2:.4g}{u} "
+            "around axis 1, which joints 1-2 cannot enter",
+            a2 - r,
+        )

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
-from typing import Any, Iterator, NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -100,8 +101,9 @@ class IKResult:
         rows = [head]
         qd = self.degrees()
         for i in range(k):
-            rows.append(f"{i + 1:>2}  {self.labels[i]:<22}"
-                        + "".join(f"{v:>11.{decimals}f}" for v in qd[i]))
+            rows.append(
+                f"{i + 1:>2}  {self.labels[i]:<22}" + "".join(f"{v:>11.{decimals}f}" for v in qd[i])
+            )
         if self.singular:
             rows.append(f"singular: {self.singularity}; free joints {self.free_joints}")
         return "\n".join(rows)
@@ -110,7 +112,7 @@ class IKResult:
         extra = f", singular={self.singularity!r}" if self.singular else ""
         return f"IKResult({len(self)} solutions of {self.arm_name!r}{extra})\n{self.table()}"
 
-    def _take(self, idx: Any, q: FloatArray | None = None, **changes: Any) -> "IKResult":
+    def _take(self, idx: Any, q: FloatArray | None = None, **changes: Any) -> IKResult:
         idx = list(idx)
         qq = self.q[idx] if q is None else q
         return replace(self, q=qq, branches=tuple(self.branches[i] for i in idx), **changes)
