@@ -1,0 +1,654 @@
+"""Figures for the book: stick drawings of an arm, every IK solution side by side, workspaces.
+
+Every function draws into matplotlib Axes and returns them (or the Figure);
+none calls ``plt.show()``, so the functions work with the headless ``Agg``
+backend and in notebooks alike. Drawings are deterministic (no random
+sampling). Planar arms (see :func:`is_planar`) are drawn in 2D, spatial
+arms in 3D with equal scale on all three axes.
+
+Artists carry a ``gid`` so that tests and notebooks can find them:
+``"arm"`` (the stick line through the frame origins), ``"joints"``,
+``"tcp"``, ``"frame-x"``/``"frame-y"``/``"frame-z"`` (triads), ``"tool"``
+(a planar arm's tool direction), ``"target"``, ``"link1"``/``"link2"`` and
+``"reach"`` (the triangle) and ``"tcp-region"``/``"wrist-region"``
+(workspaces).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.patches import Arc, PathPatch
+from matplotlib.path import Path
+
+from ._validate import FloatArray, as_float_array
+from .dh import SerialArm
+from .errors import InputError, UnreachableError
+from .ik.kernels import elbow_above, reach_excess, two_link
+from .ik.result import IKResult
+
+__all__ = ["is_planar", "joint_points", "plot_arm", "plot_solutions", "plot_two_link_triangle",
+           "plot_workspace_planar"]
+
+#: Colours of the frame triads' x, y and z axes.
+AXIS_COLOURS = ("tab:red", "tab:green", "tab:blue")
+#: A parameter whose absolute value is below this counts as zero in :func:`is_planar`.
+PLANAR_TOL = 1e-12
+#: Empty space around the drawn points, as a fraction of the view's size.
+MARGIN = 0.12
+#: Default frame-triad length as a fraction of the view's side.
+FRAME_FRACTION = 0.09
+ARM_COLOUR = "0.25"
+#: 3D view: camera elevation, and its azimuth relative to the arm's horizontal direction.
+VIEW_ELEVATION_DEG = 22.0
+VIEW_OFFSET_DEG = 60.0
+
+
+# ------------------------------------------------------------------ helpers
+def _check_arm(arm: Any) -> SerialArm:
+    if not isinstance(arm, SerialArm):
+        raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
+    return arm
+
+
+def is_planar(arm: SerialArm) -> bool:
+    """True when the arm moves in the world's xy plane, so it is drawn in 2D.
+
+    Every joint is revolute with ``alpha = 0`` and ``d = 0`` (all axes
+    parallel to z_0, all links in one plane), and the base keeps z_0 along
+    the world's z axis.
+
+    Parameters
+    ----------
+    arm : SerialArm
+
+    Returns
+    -------
+    bool
+
+    Examples
+    --------
+    >>> from rikin import robots
+    >>> is_planar(robots.planar_3r()), is_planar(robots.angular_3r())
+    (True, False)
+    """
+    _check_arm(arm)
+    links_flat = all(lk.is_revolute and abs(float(lk.alpha)) <= PLANAR_TOL
+                     and abs(float(lk.d)) <= PLANAR_TOL for lk in arm.links)
+    base_z = arm.base[:3, 2]
+    return bool(links_flat and abs(abs(base_z[2]) - 1.0) <= PLANAR_TOL)
+
+
+def _check_q(arm: SerialArm, q: Any) -> FloatArray:
+    qv = arm.check_q(q)
+    if qv.ndim != 1:
+        raise InputError(f"q must be one configuration of shape ({arm.n},), got shape {qv.shape}; "
+                         "use plot_solutions for several")
+    return qv
+
+
+def _units(arm: SerialArm) -> str:
+    return f" ({arm.units})" if arm.units else ""
+
+
+def _square_limits(points: FloatArray, dims: int, min_half: float) -> FloatArray:
+    """Limits ``(dims, 2)`` of a square (cube) view holding every point, with a margin."""
+    pts = points[:, :dims]
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    centre = (lo + hi) / 2
+    half = max(float((hi - lo).max()) / 2, min_half) * (1 + 2 * MARGIN)
+    return np.stack([centre - half, centre + half], axis=1)
+
+
+def _make_axes(three_d: bool, ax: Axes | None, figsize: tuple[float, float] = (5.5, 5.5)) -> Axes:
+    if ax is None:
+        fig = plt.figure(figsize=figsize)
+        return fig.add_subplot(projection="3d" if three_d else None)
+    if three_d and ax.name != "3d":
+        raise InputError("this arm is spatial and needs 3D axes: create them with "
+                         "fig.add_subplot(projection='3d'), or pass ax=None")
+    return ax
+
+
+def _azimuth(arm: SerialArm, points: FloatArray) -> float:
+    """A view azimuth (degrees) that sees the arm's vertical plane obliquely, not edge-on.
+
+    The arm's horizontal direction is that of the point farthest from the
+    base's z axis; the camera sits 60 degrees round from it.
+    """
+    d = points[:, :2] - arm.base[:2, 3]
+    far = d[int(np.argmax(np.hypot(d[:, 0], d[:, 1])))]
+    psi = np.degrees(np.arctan2(far[1], far[0])) if np.hypot(*far) > 0 else 0.0
+    return float(psi - VIEW_OFFSET_DEG)
+
+
+def _apply_limits(ax: Axes, lim: FloatArray, arm: SerialArm, azim: float = -60.0) -> None:
+    u = _units(arm)
+    ax.set_xlim(*lim[0])
+    ax.set_ylim(*lim[1])
+    ax.set_xlabel(f"x{u}")
+    ax.set_ylabel(f"y{u}")
+    if ax.name == "3d":
+        ax.set_zlim(*lim[2])
+        ax.set_zlabel(f"z{u}")
+        ax.set_box_aspect((1.0, 1.0, 1.0))
+        ax.view_init(elev=VIEW_ELEVATION_DEG, azim=azim)
+    else:
+        ax.set_aspect("equal", adjustable="box")
+        ax.grid(True, lw=0.4, alpha=0.5)
+
+
+def _view_points(arm: SerialArm, F: FloatArray, extra: FloatArray | None = None) -> FloatArray:
+    pts = F[..., :3, 3].reshape(-1, 3)
+    if extra is not None:
+        pts = np.vstack([pts, extra.reshape(-1, 3)])
+    return pts
+
+
+def _min_half(arm: SerialArm) -> float:
+    return 0.15 * arm.scale
+
+
+def joint_points(arm: SerialArm, F: FloatArray) -> FloatArray:
+    """Where the joint dots go: on each joint's axis, where the links meet it.
+
+    Standard DH: joint i moves about ``z_{i-1}``; its dot is where the common
+    normal to the next axis leaves it, ``o_{i-1} + d_i z_{i-1}`` (the shoulder
+    of Aula 10 at height l1, not the floor), and for the last joint ``o_{n-1}``
+    (so the three axes of a spherical wrist share the wrist centre).
+    Modified DH: joint i's dot is the origin of frame i, which lies on its axis.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    F : ndarray, shape (n + 2, 4, 4)
+        ``arm.fk(q, frames=True)``.
+
+    Returns
+    -------
+    ndarray, shape (n, 3)
+        World coordinates, length units.
+    """
+    o = F[:, :3, 3]
+    if arm.convention == "modified":
+        return o[1:arm.n + 1].copy()
+    z = F[:arm.n, :3, 2]                     # axis of joint i is z_{i-1}
+    d = np.einsum("ij,ij->i", o[1:arm.n + 1] - o[:arm.n], z)
+    pts = o[:arm.n] + d[:, None] * z
+    pts[-1] = o[arm.n - 1]
+    return pts
+
+
+def _group_joints(origins: FloatArray, tol: float) -> list[tuple[FloatArray, list[int]]]:
+    """Joints (numbered from 1) that sit at the same point share one label."""
+    groups: list[tuple[FloatArray, list[int]]] = []
+    for i, p in enumerate(origins, 1):
+        for g in groups:
+            if np.linalg.norm(g[0] - p) <= tol:
+                g[1].append(i)
+                break
+        else:
+            groups.append((p, [i]))
+    return groups
+
+
+def _draw_arm(ax: Axes, arm: SerialArm, q: FloatArray, *, frames: bool, frame_scale: float,
+              color: Any, label_joints: bool) -> None:
+    three_d = ax.name == "3d"
+    dims = 3 if three_d else 2
+    F = arm._fk(q, frames=True)            # (n + 2, 4, 4): base, frames 1..n, TCP
+    P = F[:, :3, 3]
+    col = ARM_COLOUR if color is None else color
+    ax.plot(*P[:, :dims].T, "-", color=col, lw=3.0, solid_capstyle="round", gid="arm", zorder=2)
+    origins = joint_points(arm, F)
+    rev = arm.revolute
+    for mask, marker in ((rev, "o"), (~rev, "s")):
+        if mask.any():
+            ax.plot(*origins[mask, :dims].T, marker, ms=8, mfc="white", mec=col, mew=2.0,
+                    ls="none", gid="joints", zorder=4)
+    ax.plot(*P[-1, :dims], "*", ms=14, color="tab:orange", mec="k", mew=0.6, ls="none",
+            gid="tcp", zorder=5)
+    if label_joints:
+        for p, idx in _group_joints(origins, 1e-9 * arm.scale):
+            text = "J" + ",".join(map(str, idx))
+            box = {"fc": "white", "ec": "none", "alpha": 0.75, "pad": 1.0}
+            if three_d:
+                ax.text(p[0], p[1], p[2] + 1.1 * frame_scale, text, fontsize=8, zorder=6,
+                        ha="center", va="bottom", bbox=box)
+            else:
+                ax.annotate(text, p[:2], xytext=(6, 6), textcoords="offset points", fontsize=8,
+                            bbox=box)
+    if frames:
+        for T in F:
+            for k in range(dims):
+                seg = np.stack([T[:3, 3], T[:3, 3] + frame_scale * T[:3, k]])
+                ax.plot(*seg[:, :dims].T, "-", color=AXIS_COLOURS[k], lw=1.3,
+                        gid=f"frame-{'xyz'[k]}", zorder=3)
+    if not three_d:
+        # the tool's direction (its x axis): the lessons' wrist angle phi
+        tip = P[-1, :2] + 2.0 * frame_scale * F[-1, :2, 0]
+        ax.annotate("", xy=tip, xytext=P[-1, :2],
+                    arrowprops={"arrowstyle": "->", "color": "tab:orange", "lw": 1.8},
+                    gid="tool")
+
+
+def _q_text(arm: SerialArm, q: FloatArray) -> str:
+    parts = [f"{np.degrees(v):.1f}°" if r else f"{v:.3g}"
+             for v, r in zip(q, arm.revolute, strict=True)]
+    return "(" + ", ".join(parts) + ")"
+
+
+# ------------------------------------------------------------------ one arm
+def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True,
+             frame_scale: float | None = None, title: str | None = None, color: Any = None,
+             label_joints: bool = True, limits: Any = None) -> Axes:
+    """Stick figure of the arm at ``q``: a line through the frame origins.
+
+    The line runs through frame 0 (the base), frames 1..n and the TCP, the
+    points of ``arm.fk(q, frames=True)``. Joints are dots (revolute) or
+    squares (prismatic) on their axes (see :func:`joint_points`), the TCP a
+    star. Planar arms are drawn
+    in 2D with an arrow for the tool direction; spatial arms in 3D.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    q : array_like, shape (n,)
+        Joint values: radians (revolute), length units (prismatic).
+    ax : matplotlib Axes, optional
+        Where to draw (3D axes for a spatial arm). A new figure when None.
+    frames : bool
+        Draw every frame's axes: x red, y green, z blue (z omitted in 2D).
+    frame_scale : float, optional
+        Triad length, length units. Default: 9% of the view's side.
+    title : str, optional
+        Default: the arm's name and q (degrees for revolute joints).
+    color : matplotlib colour, optional
+        Colour of the links.
+    label_joints : bool
+        Write J1..Jn beside the joints (joints at one point share a label,
+        e.g. "J4,5,6" for a spherical wrist).
+    limits : array_like, shape (2, 2) or (3, 2), optional
+        Axis limits ``[[xmin, xmax], [ymin, ymax](, [zmin, zmax])]``, length
+        units. Default: a square (cube) around the drawing, or around the
+        whole reach for a planar arm.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        2D Axes for a planar arm, 3D Axes otherwise (equal scale).
+
+    Raises
+    ------
+    InputError
+        Bad ``q`` (shape, NaN, degrees), or 2D axes for a spatial arm.
+
+    Examples
+    --------
+    >>> from rikin import robots
+    >>> ax = plot_arm(robots.planar_3r(), [0.3, 0.5, -0.2])
+    >>> ax.name
+    'rectilinear'
+    """
+    _check_arm(arm)
+    qv = _check_q(arm, q)
+    three_d = not is_planar(arm) or (ax is not None and ax.name == "3d")
+    ax = _make_axes(three_d, ax)
+    dims = 3 if three_d else 2
+    F = arm._fk(qv, frames=True)
+    azim = _azimuth(arm, F[:, :3, 3])
+    if limits is None:
+        if three_d:
+            lim = _square_limits(_view_points(arm, F), 3, _min_half(arm))
+        else:
+            lim = _planar_limits(arm)
+    else:
+        lim = as_float_array(limits, "limits")
+        if lim.shape != (dims, 2):
+            raise InputError(f"limits must have shape ({dims}, 2), got {lim.shape}")
+    fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0])) if frame_scale is None else frame_scale
+    if not np.isfinite(fs) or fs <= 0:
+        raise InputError(f"frame_scale must be a positive length, got {frame_scale!r}")
+    _draw_arm(ax, arm, qv, frames=frames, frame_scale=fs, color=color, label_joints=label_joints)
+    _apply_limits(ax, lim, arm, azim)
+    ax.set_title(f"{arm.name} at q = {_q_text(arm, qv)}" if title is None else title, fontsize=10)
+    return ax
+
+
+def _planar_reach(arm: SerialArm) -> float:
+    return sum(abs(float(lk.a)) for lk in arm.links) + float(np.linalg.norm(arm.tool[:2, 3]))
+
+
+def _planar_limits(arm: SerialArm) -> FloatArray:
+    c = arm.base[:2, 3]
+    half = _planar_reach(arm) * (1 + MARGIN)
+    return np.stack([c - half, c + half], axis=1)
+
+
+# ------------------------------------------------------------------ all IK solutions
+def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
+                   figsize: tuple[float, float] | None = None, frames: bool = False,
+                   target: Any = None) -> Figure:
+    """Every IK solution side by side: one subplot per solution, same limits in all.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    result : IKResult or array_like, shape (k, n)
+        The solutions. Titles show the branch label (for an IKResult) and
+        the joint values (degrees for revolute joints).
+    ncols : int
+        Subplots per row.
+    figsize : (float, float), optional
+        Inches; default 3.3 x 3.8 per subplot.
+    frames : bool
+        Draw the frame triads too.
+    target : array_like, shape (4, 4), optional
+        The target pose to mark (red ring); default ``result.target`` for
+        an IKResult, none for a plain array.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        With exactly k Axes.
+
+    Raises
+    ------
+    InputError
+        No solutions, wrong shape, or ``ncols < 1``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from rikin import robots
+    >>> arm = robots.planar_2r()
+    >>> fig = plot_solutions(arm, arm.ik([15.0, 5.0]))
+    >>> len(fig.axes)
+    2
+    """
+    _check_arm(arm)
+    if isinstance(result, IKResult):
+        Q = np.asarray(result.q, dtype=np.float64)
+        labels: Sequence[str] = result.labels
+        tgt = result.target if target is None else target
+        note = f"singular: {result.singularity}" if result.singular else None
+    else:
+        Q = arm.check_q(result, "result")
+        Q = Q[None] if Q.ndim == 1 else Q
+        labels = [""] * len(Q)
+        tgt, note = target, None
+    if Q.ndim != 2 or Q.shape[0] == 0:
+        raise InputError("there are no solutions to draw (the IK result is empty)")
+    Q = arm.check_q(Q, "result.q")
+    if isinstance(ncols, bool) or not isinstance(ncols, (int, np.integer)) or ncols < 1:
+        raise InputError(f"ncols must be a positive integer, got {ncols!r}")
+    T_target = None
+    if tgt is not None:
+        T_target = as_float_array(tgt, "target")
+        if T_target.shape != (4, 4):
+            raise InputError(f"target must be a 4x4 pose, got shape {T_target.shape}")
+    k = Q.shape[0]
+    cols = min(int(ncols), k)
+    rows = math.ceil(k / cols)
+    three_d = not is_planar(arm)
+    figsize = (3.3 * cols, 3.8 * rows) if figsize is None else figsize
+    fig = plt.figure(figsize=figsize)
+    F = arm._fk(Q, frames=True)
+    if three_d:
+        extra = None if T_target is None else T_target[:3, 3]
+        lim = _square_limits(_view_points(arm, F, extra), 3, _min_half(arm))
+    else:
+        lim = _planar_limits(arm)
+    fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
+    azim = _azimuth(arm, F[0, :, :3, 3] if T_target is None else T_target[None, :3, 3])
+    for i in range(k):
+        ax = fig.add_subplot(rows, cols, i + 1, projection="3d" if three_d else None)
+        _draw_arm(ax, arm, Q[i], frames=frames, frame_scale=fs, color=None,
+                  label_joints=False)
+        if T_target is not None:
+            p = T_target[:3, 3]
+            ax.plot(*p[:3 if three_d else 2], "o", ms=13, mfc="none", mec="tab:red", mew=1.8,
+                    ls="none", gid="target", zorder=6)
+        _apply_limits(ax, lim, arm, azim)
+        head = f"{i + 1}: {labels[i]}" if labels[i] else f"solution {i + 1}"
+        ax.set_title(f"{head}\n{_q_text(arm, Q[i])}", fontsize=8)
+        ax.tick_params(labelsize=6)
+        if three_d:
+            for label in (ax.xaxis.label, ax.yaxis.label, ax.zaxis.label):
+                label.set_fontsize(7)
+    sup = f"{arm.name}: {k} IK solution{'s' if k != 1 else ''}"
+    fig.suptitle(sup if note is None else f"{sup}\n{note}", fontsize=10)
+    fig.tight_layout()
+    if three_d:
+        # tight_layout ignores the 3D axis labels: leave room for them at both sides
+        fig.subplots_adjust(left=0.04, right=0.96, wspace=0.3)
+    return fig
+
+
+# ------------------------------------------------------------------ the geometric method
+def _positive_length(x: Any, name: str) -> float:
+    try:
+        v = float(x)
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{name} must be a positive length, got {x!r}") from exc
+    if not np.isfinite(v) or v <= 0:
+        raise InputError(f"{name} must be a positive length, got {x!r}")
+    return v
+
+
+def _angle_arc(ax: Axes, centre: FloatArray, radius: float, a0: float, a1: float, label: str,
+               color: str) -> None:
+    """An arc from angle a0 to a1 (radians, either order) with a label at its middle."""
+    lo, hi = sorted((a0, a1))
+    ax.add_patch(Arc(tuple(centre), 2 * radius, 2 * radius, theta1=np.degrees(lo),
+                     theta2=np.degrees(hi), color=color, lw=1.2, gid="angle"))
+    mid = (lo + hi) / 2
+    pos = centre + 1.3 * radius * np.array([np.cos(mid), np.sin(mid)])
+    ax.text(pos[0], pos[1], f"${label}$", color=color, fontsize=11, ha="center", va="center")
+
+
+def plot_two_link_triangle(L1: float, L2: float, target_uv: Any, elbow: str = "both",
+                           ax: Axes | None = None, labels: tuple[str, str] = ("l_1", "l_2"),
+                           angle_labels: tuple[str, str, str] = ("\\alpha", "\\phi",
+                                                                  "\\theta_2")) -> Axes:
+    """The law-of-cosines triangle of a planar two-link chain reaching a point.
+
+    The geometric method of Aula 23 and the slides: the shoulder O, the
+    elbow E and the target P form a triangle with sides ``l_1``, ``l_2`` and
+    ``r = |OP|``. Then ``alpha = atan2(w, u)`` is the direction of OP,
+    ``cos(theta_2) = (r^2 - l_1^2 - l_2^2) / (2 l_1 l_2)`` the elbow angle,
+    ``phi = atan2(l_2 sin(theta_2), l_1 + l_2 cos(theta_2))`` the angle
+    between OP and link 1, and ``theta_1 = alpha -/+ phi``. The numbers come
+    from :func:`rikin.ik.kernels.two_link`.
+
+    Parameters
+    ----------
+    L1, L2 : float
+        Link lengths, length units, positive.
+    target_uv : array_like, shape (2,)
+        The point in the chain's plane, measured from the shoulder.
+    elbow : {"both", "up", "down"}
+        Which solutions to draw. With "both", elbow up is solid and elbow
+        down dashed; angles are annotated on the first one drawn.
+    ax : matplotlib Axes (2D), optional
+    labels : (str, str)
+        LaTeX (without $) for the two sides.
+    angle_labels : (str, str, str)
+        LaTeX names of alpha, phi and the elbow angle.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Raises
+    ------
+    UnreachableError
+        ``|OP|`` outside ``[|l_1 - l_2|, l_1 + l_2]``; ``.excess`` says by how much.
+    InputError
+        Non-positive lengths, a target that is not two finite numbers, or
+        an unknown ``elbow``.
+
+    Examples
+    --------
+    >>> ax = plot_two_link_triangle(10, 10, (15.0, 5.0))
+    >>> len([l for l in ax.lines if l.get_gid() == "link1"])
+    2
+    """
+    l1 = _positive_length(L1, "L1")
+    l2 = _positive_length(L2, "L2")
+    uv = as_float_array(target_uv, "target_uv")
+    if uv.shape != (2,):
+        raise InputError(f"target_uv must be a point (u, w) of shape (2,), got shape {uv.shape}")
+    if elbow not in ("both", "up", "down"):
+        raise InputError(f"elbow must be 'both', 'up' or 'down', got {elbow!r}")
+    u, w = np.array(uv[0]), np.array(uv[1])
+    A, B, reachable, stretched = two_link(u, w, l1, l2)
+    r = float(np.hypot(u, w))
+    if not bool(reachable):
+        ex = float(reach_excess(np.array(r), l1, l2))
+        why = (f"{ex:.4g} beyond the reach l1 + l2 = {l1 + l2:.6g}" if r > l1 + l2 else
+               f"{ex:.4g} too close: the folded chain reaches no closer than |l1 - l2| = "
+               f"{abs(l1 - l2):.6g}")
+        raise UnreachableError(f"the target ({uv[0]:.6g}, {uv[1]:.6g}) is at distance {r:.6g} "
+                               f"from the shoulder, {why}", excess=ex)
+    up = elbow_above(u, w, A, l1)
+    order = [int(np.argmax(up)), int(np.argmin(up))] if up.any() and not up.all() else [0, 1]
+    names = {order[0]: "up", order[1]: "down"}
+    chosen = [s for s in order if elbow in ("both", names[s])]
+    if bool(stretched):
+        chosen = chosen[:1]  # both slots are the same chain
+    if ax is None:
+        ax = plt.figure(figsize=(6, 5.5)).add_subplot()
+    origin = np.zeros(2)
+    P = uv
+    ax.axhline(0, color="0.6", lw=0.6)
+    ax.axvline(0, color="0.6", lw=0.6)
+    ax.plot(*np.stack([origin, P]).T, ":", color="0.35", lw=1.4, gid="reach")
+    mid = P / 2
+    normal = np.array([-P[1], P[0]]) / max(r, 1e-300)
+    ax.text(*(mid - 0.06 * (l1 + l2) * normal), f"$r = {r:.4g}$", color="0.35", fontsize=10,
+            ha="center", va="center")
+    size = l1 + l2
+    for n_drawn, s in enumerate(chosen):
+        a, b = float(A[s]), float(B[s])
+        E = l1 * np.array([np.cos(a), np.sin(a)])
+        style = "-" if n_drawn == 0 else "--"
+        colour = "tab:blue" if names[s] == "up" else "tab:purple"
+        text = (f"elbow {names[s]}: $\\theta_1$ = {np.degrees(a):.2f}°, "
+                f"${angle_labels[2]}$ = {np.degrees(b):.2f}°")
+        ax.plot(*np.stack([origin, E]).T, style, color=colour, lw=2.5, gid="link1", label=text)
+        ax.plot(*np.stack([E, P]).T, style, color=colour, lw=2.5, gid="link2")
+        ax.plot(*E, "o", color=colour, ms=6, gid="elbow")
+        if n_drawn == 0:
+            for p0, p1, lab in ((origin, E, labels[0]), (E, P, labels[1])):
+                m = (p0 + p1) / 2
+                d = p1 - p0
+                nrm = np.array([-d[1], d[0]]) / np.linalg.norm(d)
+                side = 1.0 if np.dot(nrm, m - P / 2) >= 0 else -1.0
+                ax.text(*(m + side * 0.06 * size * nrm), f"${lab}$", color=colour, fontsize=12,
+                        ha="center", va="center")
+            alpha = float(np.arctan2(w, u))
+            _angle_arc(ax, origin, 0.32 * min(l1, r), 0.0, alpha, angle_labels[0], "0.2")
+            _angle_arc(ax, origin, 0.2 * min(l1, r), alpha, a, angle_labels[1], "tab:green")
+            if abs(b) > 1e-9:
+                _angle_arc(ax, E, 0.22 * min(l1, l2), a, a + b, angle_labels[2], "tab:red")
+                ext = E + 0.35 * min(l1, l2) * np.array([np.cos(a), np.sin(a)])
+                ax.plot(*np.stack([E, ext]).T, ":", color="tab:red", lw=1.0)
+    ax.plot(0, 0, "ko", ms=6)
+    ax.plot(*P, "*", color="tab:orange", mec="k", ms=14, gid="target")
+    ax.annotate("O", (0, 0), xytext=(-12, -12), textcoords="offset points")
+    ax.annotate("P", tuple(P), xytext=(8, 4), textcoords="offset points")
+    ax.set_aspect("equal", adjustable="box")
+    lim = _square_limits(np.vstack([origin, P, *[l1 * np.array([np.cos(A[s]), np.sin(A[s])])
+                                           for s in chosen]]), 2, 0.1 * size)
+    ax.set_xlim(*lim[0])
+    ax.set_ylim(*lim[1])
+    ax.set_xlabel("u")
+    ax.set_ylabel("w")
+    ax.legend(loc="best", fontsize=8)
+    ax.set_title("two-link triangle (law of cosines)", fontsize=10)
+    return ax
+
+
+# ------------------------------------------------------------------ workspaces
+def _annulus(centre: FloatArray, r_in: float, r_out: float, n: int, **kw: Any) -> PathPatch:
+    t = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    outer = centre + r_out * np.stack([np.cos(t), np.sin(t)], axis=1)
+    verts = [outer, outer[:1]]
+    codes = [Path.MOVETO] + [Path.LINETO] * (n - 1) + [Path.CLOSEPOLY]
+    if r_in > 0:
+        inner = centre + r_in * np.stack([np.cos(-t), np.sin(-t)], axis=1)  # opposite winding
+        verts += [inner, inner[:1]]
+        codes += [Path.MOVETO] + [Path.LINETO] * (n - 1) + [Path.CLOSEPOLY]
+    return PathPatch(Path(np.vstack(verts), codes), **kw)
+
+
+def _radii(lengths: Sequence[float]) -> tuple[float, float]:
+    """Inner and outer radius reached by a chain of freely turning links."""
+    total = float(sum(lengths))
+    return max(0.0, 2 * max(lengths) - total), total
+
+
+def plot_workspace_planar(arm: SerialArm, ax: Axes | None = None, n: int = 256) -> Axes:
+    """The reachable region of a planar arm (2R, 3R, ...), shaded.
+
+    For free joints, a chain of links ``l_1..l_k`` reaches the annulus
+    between ``max(0, 2 max l_i - sum l_i)`` and ``sum l_i`` (for the 2R,
+    ``|l_1 - l_2|`` to ``l_1 + l_2``). For 3 or more links, the wrist point
+    (the origin of the last link) has the annulus of the first k-1 links,
+    drawn darker over the TCP region. A tool offset lengthens the last link.
+
+    Parameters
+    ----------
+    arm : SerialArm
+        Planar (:func:`is_planar`), at least 2 joints, no joint limits.
+    ax : matplotlib Axes (2D), optional
+    n : int
+        Vertices per circle of the drawn boundary (>= 16).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        With PathPatches ``gid="tcp-region"`` (and ``"wrist-region"``).
+
+    Raises
+    ------
+    InputError
+        Not planar, fewer than 2 joints, finite joint limits, or bad ``n``.
+    """
+    _check_arm(arm)
+    if not is_planar(arm):
+        raise InputError(f"{arm.name!r} is not planar (every joint revolute, alpha = d = 0)")
+    if arm.n < 2:
+        raise InputError("the workspace plot needs at least 2 joints")
+    if np.isfinite(arm.qlim).any():
+        raise InputError("the workspace plot assumes joints without limits; this arm has limits")
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 16:
+        raise InputError(f"n must be an integer >= 16 (vertices per circle), got {n!r}")
+    lengths = [abs(float(lk.a)) for lk in arm.links]
+    last = np.array([float(arm.links[-1].a), 0.0]) + arm.tool[:2, 3]
+    lengths[-1] = float(np.linalg.norm(last))
+    if ax is None:
+        ax = plt.figure(figsize=(5.5, 5.5)).add_subplot()
+    centre = arm.base[:2, 3]
+    r_in, r_out = _radii(lengths)
+    ax.add_patch(_annulus(centre, r_in, r_out, int(n), facecolor="tab:blue", alpha=0.22,
+                          edgecolor="tab:blue", lw=1.0, gid="tcp-region",
+                          label=f"TCP: {r_in:.4g} ≤ r ≤ {r_out:.4g}"))
+    if arm.n >= 3:
+        w_in, w_out = _radii(lengths[:-1])
+        ax.add_patch(_annulus(centre, w_in, w_out, int(n), facecolor="tab:orange", alpha=0.35,
+                              edgecolor="tab:orange", lw=1.0, hatch="//", gid="wrist-region",
+                              label=f"wrist point: {w_in:.4g} ≤ r ≤ {w_out:.4g}"))
+    ax.plot(*centre, "k+", ms=10)
+    lim = np.stack([centre - r_out * (1 + MARGIN), centre + r_out * (1 + MARGIN)], axis=1)
+    _apply_limits(ax, lim, arm)
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(f"{arm.name}: reachable region", fontsize=10)
+    return ax

@@ -1,0 +1,326 @@
+"""rikin.plot: figure types, artist counts, and drawn geometry against independent FK."""
+
+from __future__ import annotations
+
+import os
+
+import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from matplotlib.path import Path
+
+import rikin
+from rikin import InputError, UnreachableError, robots
+from rikin.plot import (
+    is_planar,
+    plot_arm,
+    plot_solutions,
+    plot_two_link_triangle,
+    plot_workspace_planar,
+)
+
+AULA10_Q_DEG = [99.6, 9, 26.4, 68.4, 30, 151]
+
+
+@pytest.fixture(autouse=True)
+def close_figures():
+    yield
+    plt.close("all")
+
+
+def test_backend_is_headless():
+    assert os.environ.get("MPLBACKEND") == "Agg"
+    assert matplotlib.get_backend().lower() == "agg"
+
+
+def lines(ax, gid):
+    return [ln for ln in ax.lines if ln.get_gid() == gid]
+
+
+def line_vertices(line, three_d):
+    if three_d:
+        return np.column_stack(line.get_data_3d())
+    return np.column_stack(line.get_data())
+
+
+# ---------------------------------------------------------------- is_planar
+@pytest.mark.parametrize("name, planar", [
+    ("planar_2r", True), ("planar_3r", True), ("angular_3r", False), ("aula10_6r", False),
+    ("barrientos_6r", False), ("pprrr", False), ("rprrr", False), ("epson_c4", False)])
+def test_is_planar(name, planar):
+    assert is_planar(robots.LESSON_ROBOTS[name]()) is planar
+
+
+def test_a_tilted_base_makes_a_planar_table_spatial():
+    arm = robots.planar_2r(base=rikin.homogeneous(rikin.rotx(0.3)))
+    assert not is_planar(arm)
+
+
+# ---------------------------------------------------------------- plot_arm
+@pytest.mark.parametrize("name", sorted(robots.LESSON_ROBOTS))
+def test_plot_arm_line_runs_through_the_fk_frame_origins(name):
+    rng = np.random.default_rng(3)
+    arm = robots.LESSON_ROBOTS[name]()
+    q = np.where(arm.revolute, rng.uniform(-np.pi, np.pi, arm.n), rng.uniform(0.0, 5.0, arm.n))
+    ax = plot_arm(arm, q)
+    assert isinstance(ax, Axes)
+    three_d = ax.name == "3d"
+    assert three_d is (not is_planar(arm))
+    # independent: the origins of base, frames 1..n and the TCP from FK
+    origins = arm.fk(q, frames=True)[:, :3, 3]
+    (stick,) = lines(ax, "arm")
+    dims = 3 if three_d else 2
+    assert np.allclose(line_vertices(stick, three_d), origins[:, :dims], atol=1e-9 * arm.scale)
+    (tcp,) = lines(ax, "tcp")
+    assert np.allclose(line_vertices(tcp, three_d)[0], origins[-1, :dims])
+    # one marker per joint, on its axis where the DH common normal meets it
+    F = arm.fk(q, frames=True)
+    expected = []
+    for i, lk in enumerate(arm.links):
+        if arm.convention == "modified":
+            expected.append(F[i + 1, :3, 3])            # frame i on axis i
+        elif i == arm.n - 1:
+            expected.append(F[i, :3, 3])                # last joint: o_{n-1}
+        else:
+            d = lk.d + (0.0 if lk.is_revolute else q[i] + lk.offset)
+            expected.append(F[i, :3, 3] + d * F[i, :3, 2])   # o_{i-1} + d_i z_{i-1}
+    expected = np.array(expected)
+    drawn = {True: [], False: []}
+    for ln in lines(ax, "joints"):
+        drawn[ln.get_marker() == "o"].append(line_vertices(ln, three_d))
+    for revolute, pts in drawn.items():
+        mask = arm.revolute == revolute
+        got = np.vstack(pts) if pts else np.zeros((0, dims))
+        assert np.allclose(got, expected[mask, :dims], atol=1e-9 * arm.scale)
+    # a triad per frame: n + 2 frames, 3 axes in 3D, 2 in the plane
+    assert len(lines(ax, "frame-x")) == arm.n + 2
+    assert len(lines(ax, "frame-z")) == (arm.n + 2 if three_d else 0)
+    # everything drawn is inside the view
+    lim = [ax.get_xlim(), ax.get_ylim()] + ([ax.get_zlim()] if three_d else [])
+    for d in range(dims):
+        assert lim[d][0] < origins[:, d].min() and origins[:, d].max() < lim[d][1]
+
+
+def test_plot_arm_3d_view_has_equal_scale():
+    arm = robots.epson_c4()
+    ax = plot_arm(arm, rikin.rad([20, -30, 40, 10, 30, 0]))
+    spans = [np.ptp(ax.get_xlim()), np.ptp(ax.get_ylim()), np.ptp(ax.get_zlim())]
+    assert np.allclose(spans, spans[0])
+    assert np.allclose(ax.get_box_aspect() / ax.get_box_aspect()[0], 1.0)
+    assert "mm" in ax.get_xlabel()
+
+
+def test_plot_arm_planar_draws_the_tool_direction_and_joint_labels():
+    arm = robots.planar_3r()
+    q = np.array([0.3, 0.8, -0.5])
+    ax = plot_arm(arm, q, frames=False)
+    assert ax.name != "3d"
+    assert lines(ax, "frame-x") == []
+    tool = [t for t in ax.texts if t.get_gid() == "tool"]
+    assert len(tool) == 1
+    tcp = arm.fk(q)
+    start, tip = np.array(tool[0].xyann), np.array(tool[0].xy)
+    assert np.allclose(start, tcp[:2, 3])
+    direction = (tip - start) / np.linalg.norm(tip - start)
+    assert np.allclose(direction, tcp[:2, 0])  # along the tool's x axis
+    assert {t.get_text() for t in ax.texts} >= {"J1", "J2", "J3"}
+
+
+def test_plot_arm_groups_the_spherical_wrist_label():
+    ax = plot_arm(robots.aula10_6r(), rikin.rad(AULA10_Q_DEG))
+    # shoulder joints 1-2 meet at the shoulder, the three wrist axes at the wrist centre
+    texts = {t.get_text() for t in ax.texts}
+    assert texts >= {"J1,2", "J3", "J4,5,6"}
+
+
+def test_plot_arm_into_given_axes_and_bad_input():
+    arm = robots.angular_3r()
+    fig = plt.figure()
+    ax3 = fig.add_subplot(1, 2, 1, projection="3d")
+    assert plot_arm(arm, [0.1, 0.2, 0.3], ax=ax3, title="mine") is ax3
+    assert ax3.get_title() == "mine"
+    with pytest.raises(InputError, match="3D axes"):
+        plot_arm(arm, [0.1, 0.2, 0.3], ax=fig.add_subplot(1, 2, 2))
+    with pytest.raises(InputError, match="degrees"):
+        plot_arm(arm, [10.0, 45.0, 90.0])
+    with pytest.raises(InputError, match="plot_solutions"):
+        plot_arm(arm, np.zeros((2, 3)))
+
+
+# ---------------------------------------------------------------- plot_solutions
+def test_plot_solutions_aula10_draws_all_eight_branches():
+    arm = robots.aula10_6r()
+    result = arm.ik(arm.fk(rikin.rad(AULA10_Q_DEG)))
+    fig = plot_solutions(arm, result)
+    assert isinstance(fig, Figure)
+    assert len(fig.axes) == 8 == len(result)
+    limits = {(ax.get_xlim(), ax.get_ylim(), ax.get_zlim()) for ax in fig.axes}
+    assert len(limits) == 1  # same view in every subplot
+    for ax, label, q in zip(fig.axes, result.labels, result.q, strict=True):
+        assert ax.name == "3d"
+        assert label in ax.get_title()
+        assert f"{np.degrees(q[0]):.1f}°" in ax.get_title()
+        # each subplot really draws its own solution, which reaches the target
+        (stick,) = lines(ax, "arm")
+        assert np.allclose(line_vertices(stick, True), arm.fk(q, frames=True)[:, :3, 3])
+        (target,) = lines(ax, "target")
+        assert np.allclose(line_vertices(target, True)[0], result.target[:3, 3])
+    assert {lab.split("/")[0] for lab in result.labels} == {"front", "back"}
+    fig.savefig(os.devnull, format="png")  # renders without error
+
+
+def test_plot_solutions_from_an_array_and_layout():
+    arm = robots.planar_3r()
+    Q = arm.ik([27.071, 7.071, np.radians(45)]).q
+    fig = plot_solutions(arm, Q, ncols=1, frames=True)
+    assert len(fig.axes) == 2
+    assert all(ax.name != "3d" for ax in fig.axes)
+    assert [ax.get_title().splitlines()[0] for ax in fig.axes] == ["solution 1", "solution 2"]
+    assert all(len(lines(ax, "target")) == 0 for ax in fig.axes)
+    with pytest.raises(InputError, match="ncols"):
+        plot_solutions(arm, Q, ncols=0)
+    with pytest.raises(InputError, match="no solutions"):
+        plot_solutions(arm, np.zeros((0, 3)))
+
+
+def test_plot_solutions_singular_result_is_titled():
+    arm = robots.epson_c4()
+    result = arm.ik(arm.fk(np.zeros(6)))
+    fig = plot_solutions(arm, result)
+    assert len(fig.axes) == len(result) == 3
+    assert "singular" in fig.get_suptitle()
+
+
+# ---------------------------------------------------------------- two-link triangle
+def test_two_link_triangle_draws_both_elbows_with_the_right_geometry():
+    L1, L2, P = 10.0, 7.0, np.array([12.0, 5.0])
+    ax = plot_two_link_triangle(L1, L2, P)
+    links1, links2 = lines(ax, "link1"), lines(ax, "link2")
+    assert len(links1) == len(links2) == 2
+    assert links1[0].get_linestyle() == "-" and links1[1].get_linestyle() == "--"
+    elbows = []
+    for l1, l2 in zip(links1, links2, strict=True):
+        start, E = line_vertices(l1, False)
+        E2, T = line_vertices(l2, False)
+        assert np.allclose(start, 0) and np.allclose(E, E2) and np.allclose(T, P)
+        assert np.isclose(np.linalg.norm(E), L1) and np.isclose(np.linalg.norm(T - E), L2)
+        elbows.append(E)
+    # the two elbows mirror each other across the line OP; the solid one is above it
+    cross = [P[0] * e[1] - P[1] * e[0] for e in elbows]
+    assert cross[0] > 0 > cross[1]
+    # the angles by the law of cosines, computed here independently
+    r = np.hypot(*P)
+    theta2 = np.degrees(np.arccos((r**2 - L1**2 - L2**2) / (2 * L1 * L2)))
+    legend = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert f"{-theta2:.2f}°" in legend[0] and f"{theta2:.2f}°" in legend[1]
+    labels = {t.get_text() for t in ax.texts}
+    assert {"$l_1$", "$l_2$", "$\\alpha$", "$\\phi$", "$\\theta_2$"} <= labels
+
+
+def test_two_link_triangle_one_elbow_and_custom_labels():
+    ax = plot_two_link_triangle(3.0, 2.0, (2.0, 3.0), elbow="down", labels=("a_2", "a_3"))
+    assert len(lines(ax, "link1")) == 1
+    (l1,) = lines(ax, "link1")
+    E = line_vertices(l1, False)[1]
+    assert 2.0 * E[1] - 3.0 * E[0] < 0  # below the line OP
+    assert {"$a_2$", "$a_3$"} <= {t.get_text() for t in ax.texts}
+
+
+@pytest.mark.parametrize("target, excess", [((20.0, 0.0), 3.0), ((0.0, 1.0), 2.0)])
+def test_two_link_triangle_out_of_reach_raises(target, excess):
+    # l1 = 10, l2 = 7: reach 17 (20 is 3 beyond); the folded chain reaches no closer than 3
+    with pytest.raises(UnreachableError, match="distance") as info:
+        plot_two_link_triangle(10.0, 7.0, target)
+    assert np.isclose(info.value.excess, excess)
+
+
+def test_two_link_triangle_bad_input():
+    with pytest.raises(InputError, match="L2 must be a positive"):
+        plot_two_link_triangle(1.0, -1.0, (1.0, 0.0))
+    with pytest.raises(InputError, match="shape"):
+        plot_two_link_triangle(1.0, 1.0, (1.0, 0.0, 0.0))
+    with pytest.raises(InputError, match="elbow"):
+        plot_two_link_triangle(1.0, 1.0, (1.0, 0.0), elbow="left")
+
+
+# ---------------------------------------------------------------- workspace
+class Region:
+    """A shaded region as drawn: inside its outer polygon and outside its hole (if any)."""
+
+    def __init__(self, ax, gid):
+        (patch,) = [p for p in ax.patches if p.get_gid() == gid]
+        polys = patch.get_path().to_polygons()
+        self.outer = Path(polys[0])
+        self.holes = [Path(p) for p in polys[1:]]
+
+    def contains_points(self, pts):
+        pts = np.asarray(pts, dtype=float)
+        inside = self.outer.contains_points(pts)
+        for h in self.holes:
+            inside &= ~h.contains_points(pts)
+        return inside
+
+
+def region(ax, gid):
+    return Region(ax, gid)
+
+
+def pixel(ax, xy):
+    """RGB of the rendered figure at data point xy."""
+    fig = ax.figure
+    fig.canvas.draw()
+    img = np.asarray(fig.canvas.buffer_rgba())
+    x, y = ax.transData.transform(xy)
+    return img[img.shape[0] - int(round(y)), int(round(x)), :3].astype(int)
+
+
+def test_workspace_2r_is_the_annulus_and_holds_every_fk_point():
+    arm = robots.planar_2r(10.0, 6.0)
+    ax = plot_workspace_planar(arm, n=720)
+    path = region(ax, "tcp-region")
+    assert [p.get_gid() for p in ax.patches] == ["tcp-region"]
+    rng = np.random.default_rng(5)
+    tcp = arm.fk(rng.uniform(-np.pi, np.pi, (400, 2)))[:, :2, 3]
+    r = np.hypot(tcp[:, 0], tcp[:, 1])
+    inside = path.contains_points(tcp)
+    # the polygon is inscribed: away from the boundary circles every FK point is inside
+    clear = (r > 4.0 + 0.01) & (r < 16.0 * np.cos(np.pi / 720) - 0.01)
+    assert inside[clear].all() and clear.sum() > 300
+    # and points outside the annulus are outside the shaded region
+    assert not path.contains_points([[16.5, 0.0], [0.0, -17.0], [3.5, 0.0], [0.0, 0.0]]).any()
+
+
+def test_workspace_3r_has_wrist_and_tcp_regions():
+    arm = robots.planar_3r(10.0, 6.0, 3.0)
+    ax = plot_workspace_planar(arm)
+    tcp_path, wrist_path = region(ax, "tcp-region"), region(ax, "wrist-region")
+    rng = np.random.default_rng(9)
+    F = arm.fk(rng.uniform(-np.pi, np.pi, (400, 3)), frames=True)
+    wrist = F[:, 2, :2, 3]   # origin of frame 2: where link 3 starts
+    tcp = F[:, -1, :2, 3]
+    rw, rt = np.hypot(*wrist.T), np.hypot(*tcp.T)
+    ok_w = (rw > 4.05) & (rw < 15.9)
+    ok_t = (rt > 1.05) & (rt < 18.9)
+    assert wrist_path.contains_points(wrist[ok_w]).all()
+    assert tcp_path.contains_points(tcp[ok_t]).all()
+    assert not wrist_path.contains_points([[3.0, 0.0], [16.5, 0.0]]).any()
+    assert not tcp_path.contains_points([[0.5, 0.0], [19.5, 0.0]]).any()
+    assert tcp_path.contains_points([[2.0, 0.0]]).all()
+    # what is rendered: white in the TCP hole (r < 1), shaded between 1 and 4 and beyond 16
+    white = np.array([255, 255, 255])
+    assert np.abs(pixel(ax, (0.5, 0.5)) - white).max() <= 2  # off the + at the centre
+    for xy in [(0.0, 2.5), (17.5, 0.0)]:
+        assert np.abs(pixel(ax, xy) - white).max() > 20, xy
+
+
+def test_workspace_rejects_spatial_or_limited_arms():
+    with pytest.raises(InputError, match="not planar"):
+        plot_workspace_planar(robots.angular_3r())
+    limited = rikin.SerialArm((rikin.Link(a=1.0, qlim=(-1.0, 1.0)), rikin.Link(a=1.0)))
+    with pytest.raises(InputError, match="limits"):
+        plot_workspace_planar(limited)
+    with pytest.raises(InputError, match="n must be"):
+        plot_workspace_planar(robots.planar_2r(), n=3)
