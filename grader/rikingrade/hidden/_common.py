@@ -1,0 +1,658 @@
+"""Hidden-test building blocks shared by the four arm exercises.
+
+Each factory returns a :class:`~rikingrade.spec.HiddenTest` whose
+``make_calls`` draws random link lengths and targets from the engine's rng
+and whose ``check`` scores the student's outcomes against the reference
+(:mod:`rikingrade.reference`), in the grader process:
+
+* FK and DH answers are compared pose by pose;
+* IK answers are compared with the reference **as a set**: order free,
+  angles modulo 2*pi, prismatic values to a tolerance; duplicates are merged;
+  missing and extra solutions are reported separately; every returned
+  solution is also put through the reference FK, which says why an extra
+  one is wrong; at a singular target any member of a family counts;
+* unreachable targets must raise ValueError (or a subclass).
+
+Partial credit: a test's fraction is the mean over its cases; an IK case
+scores ``matched / (expected + wrong)``. Feedback never shows a hidden input
+(numbers in a student's own error message are masked) unless ``reveal``.
+"""
+
+from __future__ import annotations
+
+import builtins
+import re
+from collections import Counter
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+import rikin
+
+from ..reference._common import ExerciseArm, Solutions, wrap
+from ..spec import Call, HiddenTest, Outcome, Score
+
+#: A student's joint value within this of the reference's matches (rad; for
+#: prismatic joints times the arm's size).
+JOINT_TOL = 1e-6
+#: A pose within this of the target is reached (position: times the arm's size).
+POSE_TOL = 1e-6
+#: Revolute values beyond this (rad) look like degrees.
+DEGREES_SUSPECT = 2 * np.pi + 1e-6
+#: Exception names accepted as "raised ValueError" (rikin's errors subclass it).
+RIKIN_VALUE_ERRORS = {"RikinError", "InputError", "IKError", "UnreachableError"}
+
+#: Wall-clock seconds per call.
+TIMEOUT = 5.0
+
+N_FK = 5
+N_DH = 4
+N_IK = 5
+
+
+# ------------------------------------------------------------------ outcomes and text
+def _fmt(v: Any, digits: int = 4) -> str:
+    a = np.asarray(v, dtype=float).round(digits) + 0.0
+    return "(" + ", ".join(f"{x:.{digits}g}" for x in a.ravel()) + ")"
+
+
+def mask_numbers(text: str) -> str:
+    """The text with every number replaced by '#', so it cannot reveal a hidden input."""
+    return re.sub(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?", "#", text)
+
+
+def sentences(parts: list[str]) -> str:
+    """Join feedback fragments into sentences, each starting with a capital letter."""
+    return " ".join(p[:1].upper() + p[1:] + ("" if p.endswith(".") else ".") for p in parts if p)
+
+
+def describe_failure(out: Outcome, reveal: bool, timeout: float, context: str = "") -> str:
+    """The student-facing reason why a call did not return normally.
+
+    ``context`` (e.g. "on a reachable target") goes after the exception's name.
+    """
+    if out.timed_out:
+        return f"timed out (over {timeout:g} s)"
+    if out.crashed:
+        return f"the notebook's process died ({out.detail or 'no detail'})"
+    if out.error_type == "NotImplementedError":
+        return "not implemented yet (raises NotImplementedError)"
+    msg = (out.error_message or "").strip().splitlines()
+    msg = msg[0][:160] if msg else ""
+    if not reveal:
+        msg = mask_numbers(msg)
+    ctx = f" {context}" if context else ""
+    return f"raised {out.error_type}{ctx}" + (f": {msg}" if msg else "")
+
+
+def is_value_error(name: str | None) -> bool:
+    """Whether an exception class name stands for ValueError or a subclass of it.
+
+    The engine passes only the class name. Builtin and rikin names are checked;
+    an unknown (student-defined) name is given the benefit of the doubt.
+    """
+    if not name:
+        return False
+    if name in RIKIN_VALUE_ERRORS:
+        return True
+    cls = getattr(builtins, name, None)
+    if isinstance(cls, type) and issubclass(cls, BaseException):
+        return issubclass(cls, ValueError)
+    return name not in {"NotImplementedError", "CheckFailed"}
+
+
+def as_array(value: Any) -> np.ndarray | None:
+    """The JSON value as a float array, or None if it is not numbers."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        return None
+    return arr
+
+
+def pose_error(T: np.ndarray, T_ref: np.ndarray, scale: float) -> tuple[float, float]:
+    """(position error / scale, max abs rotation-matrix difference)."""
+    return (float(np.linalg.norm(T[:3, 3] - T_ref[:3, 3])) / scale,
+            float(np.abs(T[:3, :3] - T_ref[:3, :3]).max()))
+
+
+def radians_of(q: np.ndarray, revolute: np.ndarray) -> np.ndarray:
+    """``q`` with its revolute entries read as degrees and converted to radians."""
+    return np.where(revolute, np.radians(q), q)
+
+
+# ------------------------------------------------------------------ case specs
+@dataclass
+class Spec:
+    """Everything a check needs about one exercise arm (kept out of the calls)."""
+
+    arm: ExerciseArm
+    six: bool = False
+
+    @property
+    def n(self) -> int:
+        return 6 if self.six else 3
+
+    @property
+    def revolute(self) -> np.ndarray:
+        return self.arm.revolute_6dof if self.six else self.arm.revolute
+
+    @property
+    def fk_name(self) -> str:
+        return self.arm.function_names["fk6" if self.six else "fk"]
+
+    @property
+    def ik_name(self) -> str:
+        return self.arm.function_names["ik6" if self.six else "ik"]
+
+    def lengths(self, kwargs: dict[str, Any]) -> dict[str, float]:
+        return {n: float(kwargs[n]) for n in self.arm.lengths}
+
+    def tool(self, kwargs: dict[str, Any]) -> float:
+        return float(kwargs["tool"])
+
+    def scale(self, kwargs: dict[str, Any]) -> float:
+        s = self.arm.scale(self.lengths(kwargs))
+        return s + (self.tool(kwargs) if self.six else 0.0)
+
+    def ref_fk(self, q: np.ndarray, kwargs: dict[str, Any]) -> np.ndarray:
+        q = np.where(self.revolute, wrap(q), q)
+        if self.six:
+            return self.arm.fk_6dof(q, self.tool(kwargs), **self.lengths(kwargs))
+        return self.arm.fk(q, **self.lengths(kwargs))
+
+    def ref_ik(self, kwargs: dict[str, Any]) -> Solutions:
+        if self.six:
+            return self.arm.ik_6dof(kwargs["T"], self.tool(kwargs), **self.lengths(kwargs))
+        return self.arm.ik(kwargs["p"], **self.lengths(kwargs))
+
+    def target_pose(self, kwargs: dict[str, Any]) -> np.ndarray:
+        if self.six:
+            return np.asarray(kwargs["T"], dtype=float)
+        T = np.eye(4)
+        T[:3, 3] = kwargs["p"]
+        return T
+
+    def reaches(self, q: np.ndarray, kwargs: dict[str, Any]) -> tuple[bool, float]:
+        """Whether FK(q) reaches the target; and by how much it misses (length units)."""
+        T = self.ref_fk(q, kwargs)
+        T_t = self.target_pose(kwargs)
+        dp, dr = pose_error(T, T_t, self.scale(kwargs))
+        ok = dp <= POSE_TOL and (dr <= POSE_TOL or not self.six)
+        return ok, dp * self.scale(kwargs) + (dr if self.six else 0.0)
+
+    def case_kwargs(self, L: dict[str, float], tool: float | None, **extra: Any) -> dict[str, Any]:
+        kw: dict[str, Any] = dict(extra)
+        kw.update({k: float(v) for k, v in L.items()})
+        if self.six:
+            kw["tool"] = float(tool)  # type: ignore[arg-type]
+        return kw
+
+    def hidden_text(self, kwargs: dict[str, Any]) -> str:
+        parts = [f"{k} = {kwargs[k]:.6g}" for k in self.arm.lengths]
+        if self.six:
+            parts.append(f"tool = {kwargs['tool']:.6g}")
+        if "q" in kwargs:
+            parts.insert(0, f"q = {_fmt(kwargs['q'], 6)}")
+        if "p" in kwargs:
+            parts.insert(0, f"p = {_fmt(kwargs['p'], 6)}")
+        if "T" in kwargs:
+            T = np.asarray(kwargs["T"])
+            rpy = _fmt(rikin.r_to_rpy(T[:3, :3]), 6)
+            parts.insert(0, f"T: p = {_fmt(T[:3, 3], 6)}, RPY = {rpy} rad")
+        return ", ".join(parts)
+
+
+# ------------------------------------------------------------------ IK set comparison
+@dataclass
+class IKCase:
+    """How one IK answer compares with the reference set."""
+
+    credit: float = 0.0
+    expected: int = 0
+    matched: int = 0
+    missing: list[str] = field(default_factory=list)
+    wrong: list[str] = field(default_factory=list)
+    duplicates: int = 0
+    degrees: bool = False
+    failure: str = ""          # the call did not return a usable array
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def full(self) -> bool:
+        return self.credit >= 1.0 - 1e-12
+
+
+def student_rows(value: Any, n: int) -> tuple[np.ndarray | None, str, str]:
+    """The returned solutions as (k, n), or None and why; plus a note on the shape."""
+    arr = as_array(value)
+    if arr is None:
+        return None, f"returned {type(value).__name__}, not an array of numbers", ""
+    note = ""
+    if arr.ndim == 1 and arr.shape[0] == n:
+        arr = arr[None, :]
+        note = f"a single solution came back as shape ({n},); the docstring asks for (k, {n})"
+    if arr.size == 0:
+        return np.zeros((0, n)), "", note
+    if arr.ndim != 2 or arr.shape[1] != n:
+        return None, f"returned shape {arr.shape}, expected (k, {n}): one solution per row", note
+    return arr, "", note
+
+
+def compare_ik(spec: Spec, kwargs: dict[str, Any], value: Any) -> IKCase:
+    """Score one IK answer against the reference set (see the module docstring)."""
+    ref = spec.ref_ik(kwargs)
+    rev = spec.revolute
+    scale = spec.scale(kwargs)
+    case = IKCase(expected=len(ref))
+    rows, why, note = student_rows(value, spec.n)
+    if note:
+        case.notes.append(note)
+    if rows is None:
+        case.failure = why
+        return case
+    finite = np.all(np.isfinite(rows), axis=1)
+    for _ in range(int((~finite).sum())):
+        case.wrong.append("a solution with NaN or infinity")
+    rows = rows[finite]
+    # merge duplicates (angles modulo 2*pi)
+    distinct: list[np.ndarray] = []
+    for r in rows:
+        tol = JOINT_TOL * np.where(rev, 1.0, scale)
+        if any(np.all(np.abs(np.where(rev, wrap(r - d), r - d)) <= tol) for d in distinct):
+            case.duplicates += 1
+        else:
+            distinct.append(r)
+    matched: set[int] = set()
+
+    def match(r: np.ndarray) -> int | None:
+        for j, (qr, free) in enumerate(zip(ref.q, ref.free, strict=True)):
+            d = np.where(rev, wrap(r - qr), (r - qr) / scale)
+            keep = np.ones(spec.n, bool)
+            keep[list(free)] = False
+            if np.all(np.abs(d[keep]) <= JOINT_TOL):
+                if not free or spec.reaches(r, kwargs)[0]:
+                    return j
+        return None
+
+    for r in distinct:
+        j = match(r)
+        if j is not None:
+            matched.add(j)
+            continue
+        if np.any(np.abs(r[rev]) > DEGREES_SUSPECT):
+            case.degrees = True
+            if match(radians_of(r, rev)) is not None:
+                case.wrong.append("a right solution written in degrees")
+                continue
+        ok, miss = spec.reaches(r, kwargs)
+        if ok:
+            neg = [i + 1 for i in range(spec.n) if not rev[i] and r[i] < -JOINT_TOL * scale]
+            if neg:
+                case.wrong.append(f"a solution that needs q{neg[0]} < 0 "
+                                  "(prismatic joints only extend)")
+            else:   # pragma: no cover - would mean the reference misses a solution
+                case.wrong.append("a solution the reference does not list "
+                                  "(please tell the instructor)")
+        else:
+            case.wrong.append("a solution that does not reach the target (FK check)")
+    case.matched = len(matched)
+    case.missing = [ref.labels[j] for j in range(len(ref)) if j not in matched]
+    case.credit = case.matched / (case.expected + len(case.wrong))
+    return case
+
+
+def summarize_ik(title: str, cases: list[IKCase], what: str = "targets") -> str:
+    """One feedback line for a list of IK cases, in the student's terms."""
+    n = len(cases)
+    full = sum(c.full for c in cases)
+    parts = [f"{title}: {full}/{n} {what} fully right"]
+    fails = Counter(c.failure for c in cases if c.failure)
+    for reason, k in fails.items():
+        parts.append(f"{reason} ({k}x)")
+    answered = [c for c in cases if not c.failure]
+    if answered and any(not c.full for c in answered):
+        found = Counter(f"{c.matched} of {c.expected}" for c in answered if not c.full)
+        parts.append("solutions found: " + ", ".join(f"{k} ({v}x)" for k, v in found.items()))
+    missing = Counter(m for c in answered for m in c.missing)
+    if missing:
+        parts.append("missing: " + "; ".join(f"{m} ({k}x)" for m, k in missing.items()))
+    wrong = Counter(w for c in answered for w in c.wrong)
+    if wrong:
+        parts.append("wrong or extra: " + "; ".join(f"{w} ({k}x)" for w, k in wrong.items()))
+    if any(c.degrees for c in answered):
+        parts.append("some angles look like degrees: return radians")
+    notes = {nt for c in answered for nt in c.notes}
+    parts.extend(sorted(notes))
+    dup = sum(c.duplicates for c in answered)
+    if dup:
+        parts.append(f"{dup} duplicate solution(s) merged (not penalised)")
+    return sentences(parts)
+
+
+# ------------------------------------------------------------------ test factories
+def _first_failing_hint(reveal: bool, spec: Spec, calls: list[Call], good: list[bool],
+                        extra: Callable[[int], str] = lambda i: "") -> str:
+    if not reveal:
+        return ""
+    for i, ok in enumerate(good):
+        if not ok:
+            return f" First failing case: {spec.hidden_text(calls[i].kwargs)}{extra(i)}."
+    return ""
+
+
+def _detail(spec: Spec, calls: list[Call], outcomes: list[Outcome], notes: list[str]) -> str:
+    lines = []
+    for i, (c, o) in enumerate(zip(calls, outcomes, strict=True)):
+        got = o.value if o.ok else f"{o.error_type}: {o.error_message}"
+        lines.append(f"[{i}] {spec.hidden_text(c.kwargs)} -> {notes[i]} | got {got!r:.400}")
+    return "\n".join(lines)
+
+
+@dataclass
+class Tally:
+    """Pass/fail results of the cases of one test, and why the failures failed."""
+
+    good: list[bool] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    reasons: Counter = field(default_factory=Counter)
+
+    def add(self, reason: str) -> None:
+        """Record one case: ``reason`` is "" when it passed."""
+        self.good.append(not reason)
+        self.notes.append(reason or "ok")
+        if reason:
+            self.reasons[reason] += 1
+
+    @property
+    def fraction(self) -> float:
+        return sum(self.good) / len(self.good)
+
+    def feedback(self, head: str) -> str:
+        return sentences([head, "; ".join(f"{r} ({m}x)" for r, m in self.reasons.items())])
+
+
+def fk_test(arm: ExerciseArm, six: bool, weight: float, name: str, n: int = N_FK) -> HiddenTest:
+    """FK at random joint values and lengths, compared with the reference pose."""
+    spec = Spec(arm, six)
+    fname = spec.fk_name
+    title = f"FK of the {'6-DOF arm' if six else 'positioning arm'} ({fname})"
+
+    def make_calls(rng: np.random.Generator) -> list[Call]:
+        calls = []
+        for _ in range(n):
+            L = arm.sample_lengths(rng)
+            tool = arm.sample_tool(rng) if six else None
+            q = arm.sample_q_6dof(rng, L) if six else arm.sample_q(rng, L)
+            calls.append(Call(fname, spec.case_kwargs(L, tool, q=q.tolist())))
+        return calls
+
+    def check(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
+        tally = Tally()
+        for c, o in zip(calls, outcomes, strict=True):
+            tally.add(_fk_case(spec, c.kwargs, o, reveal))
+        head = f"{title}: {sum(tally.good)}/{len(calls)} random configurations right"
+        fb = tally.feedback(head) + _first_failing_hint(reveal, spec, calls, tally.good)
+        return Score(tally.fraction, fb, _detail(spec, calls, outcomes, tally.notes))
+
+    return HiddenTest(name, weight, title, make_calls, check, timeout=TIMEOUT, tags=("fk",))
+
+
+def _fk_case(spec: Spec, kw: dict[str, Any], out: Outcome, reveal: bool) -> str:
+    """Why one FK answer is wrong, or "" if it is right."""
+    if not out.ok:
+        return describe_failure(out, reveal, TIMEOUT)
+    T = as_array(out.value)
+    if T is None:
+        return f"returned {type(out.value).__name__}, expected a (4, 4) matrix"
+    if T.shape != (4, 4):
+        return f"returned shape {T.shape}, expected a (4, 4) matrix"
+    if not np.all(np.isfinite(T)):
+        return "the matrix contains NaN or infinity"
+    q = np.asarray(kw["q"], dtype=float)
+    dp, dr = pose_error(T, spec.ref_fk(q, kw), spec.scale(kw))
+    if dp <= POSE_TOL and dr <= POSE_TOL:
+        return ""
+    return _diagnose_fk(spec, T, q, kw, dp, dr)
+
+
+def _diagnose_fk(spec: Spec, T: np.ndarray, q: np.ndarray, kw: dict[str, Any],
+                 dp: float, dr: float) -> str:
+    """Why a student's FK pose differs from the reference, in the student's terms."""
+    scale = spec.scale(kw)
+    rev = spec.revolute
+    if rev.any():
+        T_deg = spec.ref_fk(radians_of(q, rev), kw)
+        if max(pose_error(T, T_deg, scale)) <= POSE_TOL:
+            return "it reads the joint angles as degrees: q is in radians"
+    if spec.six:
+        L = spec.lengths(kw)
+        T_fl = spec.arm.fk_flange_6dof(np.where(rev, wrap(q), q), spec.tool(kw), **L)
+        if max(pose_error(T, T_fl, scale)) <= POSE_TOL:
+            return ("it returns the flange frame 6 (at the wrist centre), not the TCP: "
+                    "the tool is missing")
+    if not np.allclose(T[3], [0.0, 0.0, 0.0, 1.0], atol=POSE_TOL):
+        return "the last row is not (0, 0, 0, 1)"
+    if dp <= POSE_TOL:
+        return "the TCP position is right but the orientation (rotation part) is not"
+    if dr <= POSE_TOL:
+        return "the orientation is right but the TCP position is not"
+    return "both the TCP position and the orientation are wrong"
+
+
+DH_FIELDS = ("joint", "d", "a", "alpha", "offset", "theta", "qlim")
+
+
+def rows_to_arm(arm: ExerciseArm, value: Any) -> tuple[rikin.SerialArm | None, str]:
+    """The student's DH rows as a rikin arm, or None and what is wrong with them."""
+    if not isinstance(value, list) or not all(isinstance(r, dict) for r in value):
+        return None, "it must return a list of dicts (one per joint, rikin.Link keywords)"
+    if len(value) != 3:
+        return None, f"it has {len(value)} rows; the positioning arm has 3 joints"
+    links = []
+    for i, row in enumerate(value, 1):
+        bad = set(row) - set(DH_FIELDS)
+        if bad:
+            return None, f"row {i} has unknown keys {sorted(bad)}; use {list(DH_FIELDS[:-1])}"
+        joint = row.get("joint", "R")
+        want = arm.joint_types[i - 1]
+        if joint != want:
+            kind = {"R": "revolute ('R')", "P": "prismatic ('P')"}[want]
+            return None, f"joint {i} is {kind}, the table says {joint!r}"
+        try:
+            vals = {k: float(row[k]) for k in DH_FIELDS[1:-1] if k in row}
+        except (TypeError, ValueError):
+            return None, f"row {i} has a value that is not a number"
+        for k in ("alpha", "offset", "theta"):
+            angle = not (k == "offset" and joint == "P")      # a prismatic offset is a length
+            if k in vals and angle and abs(vals[k]) > DEGREES_SUSPECT:
+                return None, f"row {i}: {k} looks like degrees: DH angles are radians"
+        try:
+            links.append(rikin.Link(joint, **vals))
+        except ValueError:
+            return None, f"row {i} is not a valid rikin.Link"
+    try:
+        return rikin.SerialArm(tuple(links)), ""
+    except ValueError:
+        return None, "the rows do not make a valid arm"
+
+
+def dh_test(arm: ExerciseArm, weight: float, name: str = "dh_table", n: int = N_DH) -> HiddenTest:
+    """The DH rows, turned into a rikin arm, must give the reference T_0_3 at random q."""
+    spec = Spec(arm, False)
+    title = "DH table (dh_table)"
+
+    def make_calls(rng: np.random.Generator) -> list[Call]:
+        return [Call("dh_table", {k: float(v) for k, v in arm.sample_lengths(rng).items()})
+                for _ in range(n)]
+
+    def case(kw: dict[str, Any], out: Outcome, reveal: bool, rng: np.random.Generator) -> str:
+        if not out.ok:
+            return describe_failure(out, reveal, TIMEOUT)
+        student, why = rows_to_arm(arm, out.value)
+        if student is None:
+            return why
+        L = spec.lengths(kw)
+        worst = np.zeros(2)
+        for _ in range(4):
+            q = arm.sample_q(rng, L)
+            worst = np.maximum(worst, pose_error(student.fk(q), arm.fk(q, **L), arm.scale(L)))
+        if worst.max() <= POSE_TOL:
+            return ""
+        if worst[0] <= POSE_TOL:
+            return ("the origin of frame 3 is right but its axes are not "
+                    "(check alpha and the theta offsets)")
+        return "frame 3 (the TCP) ends up in the wrong place for some joint values"
+
+    def check(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
+        tally = Tally()
+        rng = np.random.default_rng(12345)   # joint values to compare at (not hidden inputs)
+        for c, o in zip(calls, outcomes, strict=True):
+            tally.add(case(c.kwargs, o, reveal, rng))
+        head = (f"{title}: {sum(tally.good)}/{len(calls)} random sets of link lengths right "
+                "(checked by FK of your rows)")
+        fb = tally.feedback(head) + _first_failing_hint(reveal, spec, calls, tally.good)
+        return Score(tally.fraction, fb, _detail(spec, calls, outcomes, tally.notes))
+
+    return HiddenTest(name, weight, title, make_calls, check, timeout=TIMEOUT, tags=("dh",))
+
+
+def ik_test(arm: ExerciseArm, six: bool, weight: float, name: str, *, special: str = "",
+            n: int = N_IK) -> HiddenTest:
+    """IK of reachable targets, compared with the reference as a set.
+
+    ``special``: "" for regular targets; "positioning" for the positioning
+    arm's singular or boundary configuration (``arm.sample_special_q``);
+    "wrist" for wrist-singular poses (q5 = 0 and q5 = pi).
+    """
+    spec = Spec(arm, six)
+    fname = spec.ik_name
+    what = "6-DOF arm, by decoupling" if six else "positioning arm"
+    if special == "wrist":
+        title = f"IK at the wrist singularity, any member of the family ({fname})"
+    elif special == "positioning":
+        rng0 = np.random.default_rng(0)
+        kind = arm.sample_special_q(rng0, arm.sample_lengths(rng0))
+        title = f"IK {kind[0] if kind else ''} ({fname})"
+    else:
+        title = f"IK of the {what}, all solutions ({fname})"
+
+    def make_calls(rng: np.random.Generator) -> list[Call]:
+        calls = []
+        count = 2 if special else n
+        for i in range(count):
+            L = arm.sample_lengths(rng)
+            tool = arm.sample_tool(rng) if six else None
+            if special == "wrist":
+                q = arm.sample_wrist_singular_q(rng, L, (0.0, np.pi)[i % 2])
+            elif special == "positioning":
+                q = arm.sample_special_q(rng, L)[1]  # type: ignore[index]
+            else:
+                q = arm.sample_q_6dof(rng, L) if six else arm.sample_q(rng, L)
+            if six:
+                kw = spec.case_kwargs(L, tool, T=arm.fk_6dof(q, tool, **L).tolist())
+            else:
+                kw = spec.case_kwargs(L, None, p=arm.fk(q, **L)[:3, 3].tolist())
+            calls.append(Call(fname, kw))
+        return calls
+
+    def check(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
+        cases, notes = [], []
+        for c, o in zip(calls, outcomes, strict=True):
+            if not o.ok:
+                case = IKCase(expected=len(spec.ref_ik(c.kwargs)))
+                ctx = "on a reachable target" if is_value_error(o.error_type) else ""
+                case.failure = describe_failure(o, reveal, TIMEOUT, ctx)
+            else:
+                case = compare_ik(spec, c.kwargs, o.value)
+            cases.append(case)
+            notes.append(f"credit {case.credit:.3f}; missing {case.missing}; "
+                         f"wrong {case.wrong}; {case.failure}")
+        frac = float(np.mean([c.credit for c in cases]))
+        fb = summarize_ik(title, cases)
+        fb += _first_failing_hint(reveal, spec, calls, [c.full for c in cases])
+        return Score(frac, fb, _detail(spec, calls, outcomes, notes))
+
+    tags = ("ik",) + (("singular",) if special else ())
+    return HiddenTest(name, weight, title, make_calls, check, timeout=TIMEOUT, tags=tags)
+
+
+def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> HiddenTest:
+    """Unreachable targets must raise ValueError with a message of the student's own."""
+    spec = Spec(arm, six)
+    fname = spec.ik_name
+    title = f"unreachable {'poses' if six else 'targets'} raise ValueError ({fname})"
+
+    def make_calls(rng: np.random.Generator) -> list[Call]:
+        L = arm.sample_lengths(rng)
+        if six:
+            tool = arm.sample_tool(rng)
+            return [Call(fname, spec.case_kwargs(L, tool, T=T.tolist()))
+                    for _, T in arm.unreachable_poses(rng, L, tool)]
+        return [Call(fname, spec.case_kwargs(L, None, p=p.tolist()))
+                for _, p in arm.unreachable_points(rng, L)]
+
+    def kind_of(kwargs: dict[str, Any]) -> str:
+        return _unreachable_kind(spec, kwargs)
+
+    def check(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
+        credits, notes, reasons = [], [], Counter()
+        for c, o in zip(calls, outcomes, strict=True):
+            k = kind_of(c.kwargs)
+            if o.ok:
+                arr = as_array(o.value)
+                nan = arr is not None and arr.size and not np.all(np.isfinite(arr))
+                r = f"{k}: returned {'NaN ' if nan else ''}values instead of raising ValueError"
+                credits.append(0.0)
+            elif (o.error_type == "ValueError"
+                  and (o.error_message or "").strip() == "math domain error"):
+                r = (f"{k}: raised ValueError('math domain error') from math.sqrt/acos; check "
+                     "reachability yourself and say why in the message (half credit)")
+                credits.append(0.5)
+            elif is_value_error(o.error_type):
+                r = ""
+                credits.append(1.0)
+            else:
+                r = f"{k}: {describe_failure(o, reveal, TIMEOUT)} instead of ValueError"
+                credits.append(0.0)
+            notes.append(r or "ok")
+            if r:
+                reasons.update([r])
+        full = sum(cr == 1.0 for cr in credits)
+        fb = sentences([f"{title}: {full}/{len(calls)} raised ValueError",
+                        "; ".join(r + (f" ({m}x)" if m > 1 else "") for r, m in reasons.items())])
+        fb += _first_failing_hint(reveal, spec, calls, [cr == 1.0 for cr in credits])
+        return Score(float(np.mean(credits)), fb, _detail(spec, calls, outcomes, notes))
+
+    return HiddenTest(name, weight, title, make_calls, check, timeout=TIMEOUT,
+                      tags=("unreachable",))
+
+
+def _unreachable_kind(spec: Spec, kwargs: dict[str, Any]) -> str:
+    """What makes an unreachable target unreachable, in words without numbers."""
+    try:
+        spec.ref_ik(kwargs)
+    except rikin.UnreachableError as exc:
+        msg = str(exc)
+        if spec.six:
+            p = spec.target_pose(kwargs)[:3, 3]
+            try:
+                spec.arm.ik(p, **spec.lengths(kwargs))
+                prefix = "a pose whose TCP is within reach but whose wrist centre is not"
+            except rikin.UnreachableError:
+                prefix = "a pose whose wrist centre is out of reach"
+            return prefix
+        for key, words in (("below", "a target below a prismatic joint's zero position"),
+                           ("above", "a target above the top of the quill's stroke"),
+                           ("beyond", "a target beyond full reach"),
+                           ("inside the circle", "a target inside the inner circle"),
+                           ("closer than the retracted boom",
+                            "a target closer to the shoulder than l2"),
+                           ("closer than the retracted radial",
+                            "a target closer to the column axis than l2")):
+            if key in msg:
+                return words
+        return "an unreachable target"
+    return "a target the reference can reach (please tell the instructor)"  # pragma: no cover

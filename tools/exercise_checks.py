@@ -1,0 +1,315 @@
+"""The two cells every arm exercise notebook starts with, kept in one place.
+
+``python3 tools/make_exercises.py`` copies the section after ``# %% [setup]``
+into the notebook cell tagged ``setup`` and the section after
+``# %% [checks]`` into the cell tagged ``checks``, in solutions/ and in
+exercises/. Edit them here, never in a notebook.
+
+The checks are the visible, public ones a student runs: fixed public cases,
+FK round trips through the student's own FK, counts. They never call a
+reference solution of the arm being exercised. A failed check raises
+``CheckFailed`` with a message in the student's terms.
+"""
+# ruff: noqa: E402  (each section is a notebook cell: imports follow code on purpose)
+
+# %% [setup]
+#@title Setup: install rikin if it is missing (e.g. on Colab), then import it
+import importlib.util
+import subprocess
+import sys
+
+if importlib.util.find_spec("rikin") is None:  # Colab or a fresh environment
+    subprocess.check_call([sys.executable, "-m", "pip", "install", "--quiet", "rikin"])
+
+import numpy as np
+
+import rikin
+
+np.set_printoptions(precision=4, suppress=True)
+print(f"rikin {rikin.__version__}, numpy {np.__version__}")
+
+# %% [checks]
+#@title Checking helpers (run this cell; you do not need to read it)
+import numpy as np
+
+import rikin
+
+
+class CheckFailed(AssertionError):
+    """A visible check found a problem; the message says what, in your terms."""
+
+
+CHECK_TOL = 1e-6      # joint values (rad or length units) and poses
+TWO_PI = 2 * np.pi
+
+
+def _fmt(v, digits=4):
+    """Numbers as '(1.2346, -0.5, 3)', with no '-0'."""
+    a = np.round(np.asarray(v, dtype=float), digits) + 0.0
+    return "(" + ", ".join(f"{x:.{digits}f}".rstrip("0").rstrip(".") for x in np.ravel(a)) + ")"
+
+
+def _wrap(q):
+    return np.remainder(np.asarray(q, dtype=float) + np.pi, TWO_PI) - np.pi
+
+
+def _as_rows(Q, n, name):
+    """The solutions returned by an IK function as an array (k, n), or CheckFailed."""
+    try:
+        A = np.asarray(Q, dtype=float)
+    except (TypeError, ValueError):
+        raise CheckFailed(f"{name} returned {type(Q).__name__}; return a numpy array of shape "
+                          f"(k, {n}), one solution per row") from None
+    if A.ndim != 2 or A.shape[1] != n:
+        raise CheckFailed(f"{name} returned shape {A.shape}; return shape (k, {n}), one solution "
+                          f"per row (also when there is only one: shape (1, {n}))")
+    if not np.all(np.isfinite(A)):
+        raise CheckFailed(f"{name} returned NaN or infinity:\n{A}\nnumpy's arccos/sqrt give NaN "
+                          "out of their domain: clip the cosine, or raise ValueError if the "
+                          "target is out of reach")
+    return A
+
+
+def _arm_from_rows(rows):
+    if isinstance(rows, (list, tuple)) and rows and all(isinstance(r, rikin.Link) for r in rows):
+        raise CheckFailed("dh_table returned rikin.Link objects: return plain dicts, e.g. "
+                          "dict(joint='R', d=l1, a=0.0, alpha=np.pi / 2), so the grader "
+                          "can read them")
+    if not isinstance(rows, (list, tuple)) or not all(isinstance(r, dict) for r in rows):
+        raise CheckFailed(f"dh_table returned {type(rows).__name__}; return a list of dicts, "
+                          "one per joint, with the keywords of rikin.Link")
+    try:
+        return rikin.SerialArm(tuple(rikin.Link(**r) for r in rows))
+    except (TypeError, ValueError) as exc:
+        raise CheckFailed(f"these rows do not make a rikin arm: {exc}") from None
+
+
+def _pose_text(T):
+    T = np.asarray(T, dtype=float)
+    return (f"origin {_fmt(T[:3, 3])}, x axis {_fmt(T[:3, 0])}, y axis {_fmt(T[:3, 1])}, "
+            f"z axis {_fmt(T[:3, 2])}")
+
+
+def _compare_pose(T, T_expected, what, q):
+    T = np.asarray(T, dtype=float)
+    T_expected = np.asarray(T_expected, dtype=float)
+    if T.shape != (4, 4):
+        raise CheckFailed(f"for q = {_fmt(q)} {what} has shape {T.shape}; expected a (4, 4) matrix")
+    if not np.all(np.isfinite(T)):
+        raise CheckFailed(f"for q = {_fmt(q)} {what} contains NaN or infinity:\n{T}")
+    dp = np.abs(T[:3, 3] - T_expected[:3, 3]).max()
+    dr = np.abs(T[:3, :3] - T_expected[:3, :3]).max()
+    if dp > CHECK_TOL:
+        return (f"for q = {_fmt(q)} {what} puts the TCP at {_fmt(T[:3, 3])}, "
+                f"expected {_fmt(T_expected[:3, 3])}")
+    if dr > CHECK_TOL or np.abs(T[3] - [0, 0, 0, 1]).max() > CHECK_TOL:
+        return (f"for q = {_fmt(q)} {what} has the TCP in the right place but the wrong "
+                f"orientation:\n  yours:    {_pose_text(T)}\n  expected: {_pose_text(T_expected)}")
+    return ""
+
+
+def _degrees_hint(fk, q, kwargs, revolute):
+    """Whether fk changes when a revolute joint turns a full 2*pi (then it reads degrees)."""
+    q = np.asarray(q, dtype=float)
+    T = np.asarray(fk(q, **kwargs), dtype=float)
+    for i in np.flatnonzero(revolute):
+        q2 = q.copy()
+        q2[i] += -TWO_PI if q2[i] > 0 else TWO_PI
+        T2 = np.asarray(fk(q2, **kwargs), dtype=float)
+        if np.abs(T2 - T).max() > CHECK_TOL:
+            return (f"\nHint: your FK changes when joint {i + 1} turns a full 2*pi rad, so it "
+                    "probably reads the angles as degrees. q is in radians.")
+    return ""
+
+
+def check_dh(dh_table, lengths, cases):
+    """Check a DH table (list of dicts) against public poses of frame 3.
+
+    cases : list of (q, T_0_3 expected)
+    """
+    rows = dh_table(**lengths)
+    arm = _arm_from_rows(rows)
+    if arm.n != 3:
+        raise CheckFailed(f"dh_table has {arm.n} rows; the positioning arm has 3 joints")
+    for q, T_expected in cases:
+        msg = _compare_pose(arm.fk(q), T_expected, "your table", q)
+        if msg:
+            raise CheckFailed(msg + "\n(frame 3 of your table, built with rikin.SerialArm)")
+    print(f"✓ dh_table: frame 3 is where it should be for {len(cases)} public joint vectors")
+
+
+def check_fk(fk, lengths, cases, revolute, *, tool=None):
+    """Check an FK function against public poses.
+
+    cases : list of (q, T expected); revolute : which joints are revolute.
+    tool : the tool length of a 6-DOF arm, to recognise a missing tool.
+    """
+    name = getattr(fk, "__name__", "fk")
+    for q, T_expected in cases:
+        T = fk(q, **lengths)
+        msg = _compare_pose(T, T_expected, f"your {name}", q)
+        if msg:
+            T = np.asarray(T, dtype=float)
+            T_expected = np.asarray(T_expected, dtype=float)
+            if tool is not None and np.abs(
+                    T[:3, 3] - (T_expected[:3, 3] - tool * T_expected[:3, 2])).max() < CHECK_TOL:
+                msg += ("\nHint: that is the flange (frame 6, at the wrist centre), not the TCP: "
+                        "the tool is missing")
+            msg += _degrees_hint(fk, q, lengths, revolute)
+            raise CheckFailed(msg)
+    print(f"✓ {name}: right for {len(cases)} public joint vectors")
+
+
+def _matches(row, expected, revolute):
+    """Whether a solution equals an expected one; None in ``expected`` = free joint."""
+    for i, e in enumerate(expected):
+        if e is None:
+            continue
+        d = row[i] - e
+        if revolute[i]:
+            d = _wrap(d)
+        if abs(d) > CHECK_TOL:
+            return False
+    return True
+
+
+def check_ik(ik, fk, lengths, target, expected, revolute):
+    """Check that an IK function returns every expected solution and only those.
+
+    target : p (3,) or T (4, 4); expected : dict label -> solution (None marks a
+    free joint of a singular family: any value is accepted if FK reaches the target).
+    Each returned solution is also put through your own FK.
+    """
+    name = getattr(ik, "__name__", "ik")
+    fk_name = getattr(fk, "__name__", "fk")
+    target = np.asarray(target, dtype=float)
+    n = len(revolute)
+    revolute = np.asarray(revolute, dtype=bool)
+    Q = _as_rows(ik(target, **lengths), n, name)
+    big = np.abs(Q[:, revolute]) > TWO_PI + 1e-9
+    if big.any():
+        raise CheckFailed(f"{name} returned angles up to {np.abs(Q[:, revolute]).max():.4g}: these "
+                          "look like degrees. Return radians (np.radians converts).")
+    distinct = []
+    for row in Q:
+        if not any(np.abs(np.where(revolute, _wrap(row - d), row - d)).max() < CHECK_TOL
+                   for d in distinct):
+            distinct.append(row)
+    p_target = target if target.shape == (3,) else target[:3, 3]
+    for row in distinct:
+        T = np.asarray(fk(row, **lengths), dtype=float)
+        if np.abs(T[:3, 3] - p_target).max() > CHECK_TOL:
+            raise CheckFailed(f"solution {_fmt(row)} does not reach the target: your {fk_name} "
+                              f"puts the TCP at {_fmt(T[:3, 3])}, target {_fmt(p_target)}")
+        if target.shape == (4, 4) and np.abs(T[:3, :3] - target[:3, :3]).max() > CHECK_TOL:
+            raise CheckFailed(f"solution {_fmt(row)} puts the TCP in the right place with the "
+                              f"wrong orientation (checked with your {fk_name})")
+    labels = list(expected)
+    found = [lab for lab in labels if any(_matches(r, expected[lab], revolute) for r in distinct)]
+    extra = [r for r in distinct if not any(_matches(r, expected[lab], revolute) for lab in labels)]
+    missing = [lab for lab in labels if lab not in found]
+    if missing:
+        lines = [f"{len(found)} of {len(labels)} solutions found; missing:"]
+        for lab in missing:
+            shown = ", ".join("any" if v is None else _fmt([v])[1:-1] for v in expected[lab])
+            lines.append(f"  - {lab}: expected about ({shown})")
+        raise CheckFailed("\n".join(lines))
+    if extra:
+        raise CheckFailed(f"{name} found all {len(labels)} expected solutions but also "
+                          f"{_fmt(extra[0])}, which reaches the target yet is not allowed here "
+                          "(check the joint limits: prismatic joints only extend, q >= 0)")
+    dup = len(Q) - len(distinct)
+    note = f" ({dup} duplicate row(s) merged)" if dup else ""
+    print(f"✓ {name}: {len(labels)} of {len(labels)} solutions, each reaching the target with "
+          f"your {fk_name}{note}")
+
+
+def check_unreachable(ik, lengths, cases):
+    """Check that each unreachable target raises ValueError. cases: list of (target, why)."""
+    name = getattr(ik, "__name__", "ik")
+    messages = []
+    for target, why in cases:
+        try:
+            result = ik(np.asarray(target, dtype=float), **lengths)
+        except NotImplementedError:
+            raise
+        except ValueError as exc:
+            if str(exc).strip() == "math domain error":
+                raise CheckFailed(f"{why}: {name} raised ValueError('math domain error') from "
+                                  "math.sqrt/acos; check reachability yourself and say why in "
+                                  "the message") from None
+            messages.append(f"  {why}: ValueError: {exc}")
+            continue
+        except Exception as exc:  # noqa: BLE001 - any other error is the wrong kind
+            raise CheckFailed(f"{why}: {name} raised {type(exc).__name__}: {exc}; expected "
+                              "ValueError with a message that says why") from None
+        raise CheckFailed(f"{why}: {name} returned\n{np.asarray(result)}\ninstead of raising "
+                          "ValueError")
+    print(f"✓ {name}: all {len(cases)} unreachable targets raise ValueError:")
+    print("\n".join(messages))
+
+
+def print_dh(rows):
+    """Print a DH table given as a list of dicts."""
+    print(f"{'joint':>5} {'type':>4} {'theta':>9} {'d':>9} {'a':>9} {'alpha':>9} {'offset':>9}")
+    for i, r in enumerate(rows, 1):
+        j = r.get("joint", "R")
+        theta = f"q{i}" if j == "R" else f"{r.get('theta', 0.0):.4f}"
+        d = f"{r.get('d', 0.0):.4f}" if j == "R" else f"q{i}+{r.get('d', 0.0):.4g}"
+        vals = [theta, d, f"{r.get('a', 0.0):.4f}", f"{r.get('alpha', 0.0):.4f}",
+                f"{r.get('offset', 0.0):.4f}"]
+        print(f"{i:>5} {j:>4} " + " ".join(f"{v.replace('-0.0000', '0.0000'):>9}" for v in vals))
+
+
+def print_solutions(Q, names):
+    """Print IK solutions, one per row, rounded to 4 decimals (no '-0')."""
+    Q = np.asarray(Q, dtype=float)
+    print("    " + " ".join(f"{n:>9}" for n in names))
+    for k, row in enumerate(np.round(Q, 4) + 0.0, 1):
+        print(f"{k:>3} " + " ".join(f"{v:>9.4f}" for v in row))
+
+
+def show_arm(rows, q, *, wrist_rows=(), tool=0.0, ax=None, title=""):
+    """Draw an arm from DH rows (dicts) at joint values q, with frames 0..n and the TCP.
+
+    Axes are drawn x red, y green, z blue. Returns the matplotlib Axes.
+    """
+    import matplotlib.pyplot as plt
+
+    arm = rikin.SerialArm(tuple(rikin.Link(**r) for r in [*rows, *wrist_rows]),
+                          tool=rikin.transl(0.0, 0.0, tool))
+    F = arm.fk(np.asarray(q, dtype=float), frames=True)
+    if ax is None:
+        fig = plt.figure(figsize=(5, 4.2), dpi=80)
+        ax = fig.add_subplot(projection="3d")
+    P = F[:, :3, 3]
+    size = 0.12 * max(arm.scale, np.ptp(P, axis=0).max())
+    # each DH link is two straight pieces: d_i along z_{i-1}, then a_i along x_i
+    q = np.asarray(q, dtype=float)
+    path = [P[0]]
+    for i, link in enumerate(arm.links):
+        d = link.d + (q[i] + link.offset if link.joint == "P" else 0.0)
+        path += [P[i] + d * F[i, :3, 2], P[i + 1]]
+    path.append(P[-1])
+    ax.plot(*np.array(path).T, "-", color="0.3", lw=3)
+    ax.plot(*P[:-1].T, "o", color="0.3", ms=4)
+    shown = set()
+    for k, Tk in enumerate(F):
+        key = tuple(np.round(Tk[:3, :].ravel(), 6))
+        if key in shown:
+            continue
+        shown.add(key)
+        for axis, colour in zip(range(3), "rgb", strict=True):
+            ax.quiver(*Tk[:3, 3], *(size * Tk[:3, axis]), color=colour, lw=1.5)
+        label = "TCP" if k == len(F) - 1 else str(k)
+        ax.text(*(Tk[:3, 3] + 0.3 * size), label, fontsize=9)
+    lo, hi = P.min(axis=0) - size, P.max(axis=0) + size
+    centre, half = (lo + hi) / 2, (hi - lo).max() / 2
+    ax.set_xlim(centre[0] - half, centre[0] + half)
+    ax.set_ylim(centre[1] - half, centre[1] + half)
+    ax.set_zlim(centre[2] - half, centre[2] + half)
+    ax.set_xlabel("x0")
+    ax.set_ylabel("y0")
+    ax.set_zlabel("z0")
+    ax.set_title(title or f"q = {_fmt(q, 2)}")
+    return ax

@@ -1,0 +1,312 @@
+#!/usr/bin/env python3
+"""Generate exercises/ from solutions/ (the solution notebooks are the single source).
+
+    python3 tools/make_exercises.py                  write exercises/*.ipynb
+    python3 tools/make_exercises.py --check          exit 1 and list what is out of date
+    python3 tools/make_exercises.py --run-solutions  execute solutions/ first, store their
+                                                     checked outputs and the arm drawing
+
+What it does to each ``solutions/<arm>.ipynb``:
+
+1. The cells tagged ``setup`` and ``checks`` get their source from
+   ``tools/exercise_checks.py`` (one copy for all notebooks); solutions/ is
+   rewritten if they differ.
+2. The exercise is the solution with
+   * code between ``### BEGIN SOLUTION (task N)`` and ``### END SOLUTION``
+     replaced by ``raise NotImplementedError("task N: <function>")`` at the
+     same indentation (regions sit inside function bodies);
+   * markdown between ``<!-- BEGIN SOLUTION -->`` and ``<!-- END SOLUTION -->``
+     removed;
+   * cells tagged ``solution-only`` removed;
+   * every output cleared, ``nbval-check-output`` tags dropped, and cells that
+     call a stubbed function at top level tagged ``raises-exception`` (so
+     ``pytest --nbval-lax exercises/`` expects their NotImplementedError).
+
+``--run-solutions`` executes each solution notebook with nbclient
+(PYTHONHASHSEED=0), keeps the outputs of cells tagged ``nbval-check-output``
+(numbered in order, as nbval needs), moves the image drawn by the cell tagged
+``figure-source`` into the attachments of the markdown cell tagged
+``arm-figure`` (so the exercise shows the drawing without the DH table that
+made it) and clears every other output.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import copy
+import os
+import re
+import sys
+from pathlib import Path
+
+import nbformat
+
+ROOT = Path(__file__).resolve().parent.parent
+SOLUTIONS = ROOT / "solutions"
+EXERCISES = ROOT / "exercises"
+CHECKS_FILE = ROOT / "tools" / "exercise_checks.py"
+
+BEGIN = re.compile(r"^(?P<indent>[ \t]*)### BEGIN SOLUTION(?: \(task (?P<task>[^)]+)\))?\s*$")
+END = re.compile(r"^[ \t]*### END SOLUTION\s*$")
+MD_REGION = re.compile(r"<!-- BEGIN SOLUTION -->.*?<!-- END SOLUTION -->\n?", re.S)
+DEF = re.compile(r"^\s*def (\w+)\(")
+SHARED_TAGS = ("setup", "checks")
+
+
+class GenerationError(Exception):
+    """A solution notebook is malformed (unbalanced markers, missing shared cell, ...)."""
+
+
+def shared_sources(path: Path | None = None) -> dict[str, str]:
+    """The sections of tools/exercise_checks.py, by tag ('setup', 'checks')."""
+    path = CHECKS_FILE if path is None else path
+    out: dict[str, list[str]] = {}
+    current = None
+    for line in path.read_text(encoding="utf-8").splitlines():
+        m = re.match(r"^# %% \[(\w+)\]\s*$", line)
+        if m:
+            current = m.group(1)
+            out[current] = []
+        elif current is not None:
+            out[current].append(line)
+    missing = [t for t in SHARED_TAGS if t not in out]
+    if missing:
+        raise GenerationError(f"{path} has no section(s) {missing}")
+    return {k: "\n".join(v).strip("\n") for k, v in out.items()}
+
+
+def tags(cell) -> list[str]:
+    return list(cell.get("metadata", {}).get("tags", []))
+
+
+def sync_shared(nb, shared: dict[str, str], name: str) -> bool:
+    """Put the shared cells' source into ``nb``; True if anything changed."""
+    changed = False
+    for tag in SHARED_TAGS:
+        cells = [c for c in nb.cells if tag in tags(c)]
+        if len(cells) != 1:
+            raise GenerationError(f"{name}: expected exactly one cell tagged {tag!r}, "
+                                  f"found {len(cells)}")
+        if cells[0].source != shared[tag]:
+            cells[0].source = shared[tag]
+            changed = True
+    return changed
+
+
+def stub_code(source: str, where: str) -> tuple[str, list[str]]:
+    """Replace the solution regions of a code cell; return the new source and stubbed names."""
+    lines = source.split("\n")
+    out: list[str] = []
+    names: list[str] = []
+    i = 0
+    while i < len(lines):
+        m = BEGIN.match(lines[i])
+        if not m:
+            if END.match(lines[i]):
+                raise GenerationError(f"{where}: '### END SOLUTION' without a BEGIN")
+            out.append(lines[i])
+            i += 1
+            continue
+        j = i + 1
+        while j < len(lines) and not END.match(lines[j]):
+            if BEGIN.match(lines[j]):
+                raise GenerationError(f"{where}: nested '### BEGIN SOLUTION'")
+            j += 1
+        if j == len(lines):
+            raise GenerationError(f"{where}: '### BEGIN SOLUTION' without an END")
+        func = next((DEF.match(x).group(1) for x in reversed(out) if DEF.match(x)), None)
+        if func is None or not m.group("indent"):
+            raise GenerationError(f"{where}: solution regions must sit inside a function body")
+        task = m.group("task")
+        label = f"task {task}: {func}" if task else func
+        out.append(f'{m.group("indent")}raise NotImplementedError("{label}")')
+        names.append(func)
+        i = j + 1
+    return "\n".join(out), names
+
+
+def top_level_names(source: str) -> set[str]:
+    """Names a cell uses outside function and class bodies (what runs when the cell runs)."""
+    try:
+        tree = ast.parse(source)
+    except SyntaxError:
+        return set()
+    found: set[str] = set()
+
+    def visit(node: ast.AST) -> None:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef, ast.Lambda)):
+            for d in getattr(node, "decorator_list", []):
+                visit(d)
+            return
+        if isinstance(node, ast.Name):
+            found.add(node.id)
+        for child in ast.iter_child_nodes(node):
+            visit(child)
+
+    visit(tree)
+    return found
+
+
+def clean_metadata(nb) -> None:
+    nb.metadata = nbformat.from_dict({
+        "kernelspec": {"display_name": "Python 3 (ipykernel)", "language": "python",
+                       "name": "python3"},
+        "language_info": {"name": "python"},
+    })
+
+
+def make_exercise(solution, name: str):
+    """The exercise notebook made from one solution notebook (not written)."""
+    nb = copy.deepcopy(solution)
+    cells = []
+    stubbed: list[str] = []
+    for k, cell in enumerate(nb.cells):
+        t = tags(cell)
+        if "solution-only" in t:
+            continue
+        where = f"{name} cell {k}"
+        if cell.cell_type == "code":
+            cell.source, names = stub_code(cell.source, where)
+            stubbed += names
+            cell.outputs = []
+            cell.execution_count = None
+            t = [x for x in t if x not in ("nbval-check-output", "raises-exception")]
+        elif cell.cell_type == "markdown":
+            if "<!-- BEGIN SOLUTION -->" in cell.source or "<!-- END SOLUTION -->" in cell.source:
+                cell.source = MD_REGION.sub("", cell.source).rstrip()
+                if "SOLUTION -->" in cell.source:
+                    raise GenerationError(f"{where}: unbalanced markdown solution markers")
+        cell.metadata["tags"] = t
+        cells.append(cell)
+    for cell in cells:
+        if cell.cell_type != "code" or "setup" in tags(cell) or "checks" in tags(cell):
+            continue
+        if top_level_names(cell.source) & set(stubbed):
+            cell.metadata["tags"] = tags(cell) + ["raises-exception"]
+    for cell in cells:
+        if not cell.metadata.get("tags"):
+            cell.metadata.pop("tags", None)
+    nb.cells = cells
+    clean_metadata(nb)
+    return nb
+
+
+def dumps(nb) -> str:
+    return nbformat.writes(nb) + "\n"
+
+
+def run_solution(path: Path) -> None:
+    """Execute one solution notebook and store only the outputs that belong in git."""
+    import base64
+
+    from nbclient import NotebookClient
+
+    nb = nbformat.read(path, as_version=4)
+    os.environ["PYTHONHASHSEED"] = "0"
+    os.environ.pop("MPLBACKEND", None)     # the kernel must render figures inline
+    NotebookClient(nb, timeout=300, kernel_name="python3", record_timing=False,
+                   resources={"metadata": {"path": str(path.parent)}}).execute()
+    for cell in nb.cells:
+        cell.metadata.pop("execution", None)
+    figure = None
+    count = 0
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            continue
+        t = tags(cell)
+        if "figure-source" in t:
+            pngs = [o["data"]["image/png"] for o in cell.outputs
+                    if o.get("output_type") == "display_data" and "image/png" in o.get("data", {})]
+            if len(pngs) != 1:
+                raise GenerationError(f"{path.name}: the figure-source cell drew "
+                                      f"{len(pngs)} images, expected 1")
+            figure = pngs[0]
+        if "nbval-check-output" in t:
+            count += 1
+            cell.execution_count = count
+            kept = []
+            for o in cell.outputs:
+                if o.get("output_type") == "stream":
+                    kept.append(nbformat.v4.new_output("stream", name=o["name"], text=o["text"]))
+                elif o.get("output_type") == "execute_result":
+                    kept.append(nbformat.v4.new_output("execute_result", data={
+                        "text/plain": o["data"]["text/plain"]}, execution_count=count))
+                elif o.get("output_type") == "error":
+                    raise GenerationError(f"{path.name}: a checked cell raised {o['ename']}")
+            cell.outputs = kept
+        else:
+            cell.outputs = []
+            cell.execution_count = None
+    targets = [c for c in nb.cells if "arm-figure" in tags(c)]
+    if figure is not None:
+        if len(targets) != 1:
+            raise GenerationError(f"{path.name}: expected one markdown cell tagged arm-figure")
+        base64.b64decode(figure)  # validate
+        targets[0]["attachments"] = {f"{path.stem}.png": {"image/png": figure}}
+    clean_metadata(nb)
+    path.write_text(dumps(nb), encoding="utf-8")
+
+
+def generate(check: bool) -> list[str]:
+    """Sync and generate; return the files that differ (written unless ``check``)."""
+    shared = shared_sources()
+    differ = []
+    for path in sorted(SOLUTIONS.glob("*.ipynb")):
+        nb = nbformat.read(path, as_version=4)
+        if sync_shared(nb, shared, path.name) or path.read_text(encoding="utf-8") != dumps(nb):
+            differ.append(str(path.relative_to(ROOT)))
+            if not check:
+                path.write_text(dumps(nb), encoding="utf-8")
+        text = dumps(make_exercise(nb, path.name))
+        target = EXERCISES / path.name
+        if not target.exists() or target.read_text(encoding="utf-8") != text:
+            differ.append(str(target.relative_to(ROOT)))
+            if not check:
+                target.write_text(text, encoding="utf-8")
+    if SOLUTIONS.exists():
+        wanted = {p.name for p in SOLUTIONS.glob("*.ipynb")}
+        for stale in sorted(EXERCISES.glob("*.ipynb")):
+            if stale.name not in wanted:
+                differ.append(f"{stale.relative_to(ROOT)} (no solution notebook of that name)")
+    return differ
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--check", action="store_true",
+                    help="write nothing; exit 1 listing the files that differ from what "
+                         "would be generated")
+    ap.add_argument("--run-solutions", action="store_true",
+                    help="execute solutions/ first and store their checked outputs and the drawing")
+    args = ap.parse_args(argv)
+    if args.run_solutions and args.check:
+        ap.error("--run-solutions writes notebooks; it cannot be combined with --check")
+    try:
+        if args.run_solutions:
+            shared = shared_sources()
+            for path in sorted(SOLUTIONS.glob("*.ipynb")):
+                nb = nbformat.read(path, as_version=4)
+                if sync_shared(nb, shared, path.name):
+                    path.write_text(dumps(nb), encoding="utf-8")
+                print(f"running {path.relative_to(ROOT)}", flush=True)
+                run_solution(path)
+        differ = generate(args.check)
+    except GenerationError as exc:
+        print(f"make_exercises: {exc}", file=sys.stderr)
+        return 2
+    if args.check:
+        if differ:
+            print("out of date (run python3 tools/make_exercises.py):")
+            print("\n".join(f"  {d}" for d in differ))
+            return 1
+        print("exercises/ and the shared cells are up to date")
+        return 0
+    for d in differ:
+        print(f"wrote {d}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
