@@ -319,7 +319,8 @@ class SerialArm:
             idx = np.arange(self.n)  # joint i moves about z_{i-1}
         else:
             idx = np.arange(1, self.n + 1)  # joint i moves about z_i
-        return F[..., idx, :3, 3], F[..., idx, :3, 2]
+        Fj = np.take(F, idx, axis=-3)  # (..., n, 4, 4): the frame each joint moves about
+        return Fj[..., :3, 3], Fj[..., :3, 2]
 
     def jacobian(self, q: Any) -> FloatArray:
         """Geometric Jacobian in the world frame at the TCP.

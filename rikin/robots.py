@@ -275,8 +275,12 @@ def epson_c4(
     *,
     base: Any = None,
     tool: Any = None,
+    units: str = "mm",
 ) -> SerialArm:
     """The Epson C4 of lab 2: modified DH in mm, J2 offset pi/2, tool ``Rx(pi) Tz(65)``.
+
+    Give ``units`` when passing lengths in another unit (the lab's RVC code uses cm:
+    ``epson_c4(32, 10, 25, -25, 6.5, units="cm")``).
 
     Carries the real C4's joint limits (``EPSON_C4_LIMITS_DEG``); pass
     ``within_limits=True`` to ``ik`` to keep only what the robot can do.
@@ -299,7 +303,7 @@ def epson_c4(
         convention="modified",
         base=base,
         tool=tool,
-        units="mm",
+        units=units,
     )
 
 

@@ -124,3 +124,14 @@ def test_bad_lengths_and_tables():
     broken = SerialArm(tuple(robots.aula10_6r_links()[:4]) + (Link(a=1.0, alpha=np.pi / 2), Link()))
     with pytest.raises(InputError, match="not a spherical wrist"):
         robots.aula10_6r().solver.check(broken)
+
+
+def test_batched_jacobian_and_axes_shapes():
+    arm = robots.epson_c4()
+    q = np.random.default_rng(2).uniform(-1, 1, size=(5, 6))
+    origins, axes = arm.joint_axes(q)
+    assert origins.shape == axes.shape == (5, 6, 3)
+    J = arm.jacobian(q)
+    assert J.shape == (5, 6, 6)
+    for i in range(5):
+        assert np.allclose(J[i], arm.jacobian(q[i]))

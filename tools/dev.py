@@ -112,8 +112,9 @@ def cmd_book(args: argparse.Namespace) -> int:
         )
         if n != 1:
             sys.exit("dev.py: could not find 'execute_notebooks: force' in _config.yml")
-        BUILD.mkdir(exist_ok=True)
-        cached_config = BUILD / "_config.cached.yml"
+        # next to _config.yml: jupyter-book resolves local_extensions (book/_ext) relative to
+        # the config file's folder (git-ignored)
+        cached_config = ROOT / "_config.cached.yml"
         cached_config.write_text(text)
         jb += ["--config", cached_config]
     else:
@@ -139,8 +140,35 @@ def _names_a_path(arg: str) -> bool:
     return bool(target) and ((ROOT / target).exists() or Path(target).exists())
 
 
+# Debian packages some tests need: the grader's sandbox (bwrap) and the book's browser
+# test (headless Chromium and its driver).
+SYSTEM_PACKAGES = {"bwrap": "bubblewrap", "chromium": "chromium", "chromedriver": "chromium-driver"}
+
+
+def ensure_system_packages() -> None:
+    """Install the missing Debian packages when we can (root with apt-get); else say so."""
+    missing = [pkg for exe, pkg in SYSTEM_PACKAGES.items() if shutil.which(exe) is None]
+    if not missing:
+        return
+    can_install = (
+        shutil.which("apt-get") is not None and hasattr(os, "geteuid") and os.geteuid() == 0
+    )
+    if not can_install:
+        print(
+            "dev.py: WARNING: missing system packages "
+            + " ".join(missing)
+            + " (install them with apt-get as root); the tests that need them will fail",
+            flush=True,
+        )
+        return
+    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+    check(["apt-get", "update", "-qq"], env)
+    check(["apt-get", "install", "-y", "-qq", "--no-install-recommends", *missing], env)
+
+
 def cmd_test(args: argparse.Namespace, extra: list[str]) -> int:
     ensure_venv()
+    ensure_system_packages()
     # Paths given relative to the caller's cwd keep working (we run from ROOT).
     passthrough = []
     for a in extra:

@@ -42,7 +42,8 @@ def _origin_2(arm: SerialArm, q: FloatArray) -> FloatArray:
 
 
 def _w(arm: SerialArm) -> float:
-    return abs(float(arm.links[2].d))
+    """Distance from the wrist centre to the flange origin (the notes' a3 or a4)."""
+    return float(np.linalg.norm(wrist_model(arm, 2).centre))
 
 
 class PPRRRSolver:

@@ -1,0 +1,153 @@
+"""Sphinx extension for the rikin book: offline MathJax and downloadable chapter notebooks.
+
+Loaded from ``_config.yml`` (``sphinx.local_extensions``). It does two things:
+
+* **MathJax without a network.** ``mathjax_path`` is set to a local copy of MathJax 3
+  (``_static/mathjax/tex-chtml.js``), and the files that page needs (the combined
+  component, its fonts, the TeX extensions it may autoload, the menu and accessibility
+  modules) are copied into the build from the ``sphinx-mathjax-offline`` package. A
+  downloaded copy of the book typesets its formulas with no internet access.
+* **No other network access.** sphinx-thebe's scripts (unused: the book has no live-code
+  button) are dropped from every page.
+* **Chapters as notebooks.** Each chapter is a MyST markdown notebook, executed during
+  the build; the executed ``.ipynb`` that myst-nb writes (with outputs) is published next
+  to the page's source as ``_sources/<page>.ipynb`` and offered by the theme's download
+  button. A first cell is prepended that installs rikin when it is missing (for Colab
+  or a fresh Jupyter), from the pip spec in the config value ``rikin_pip_spec``.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import shutil
+from pathlib import Path
+from typing import Any
+
+import nbformat
+from sphinx.application import Sphinx
+from sphinx.errors import ExtensionError
+from sphinx.util import logging
+
+LOGGER = logging.getLogger(__name__)
+
+#: The PyPI distribution that ships MathJax 3 (its import name has dashes).
+MATHJAX_PACKAGE = "sphinx-mathjax-offline"
+#: The MathJax entry point, relative to ``_static/``.
+MATHJAX_ENTRY = "mathjax/tex-chtml.js"
+#: Files and folders of the MathJax tree that ``tex-chtml.js`` loads (or may load lazily).
+MATHJAX_PARTS = (
+    "tex-chtml.js",
+    "output/chtml/fonts/woff-v2",
+    "input/tex/extensions",
+    "a11y",
+    "ui",
+    "sre",
+    "adaptors",
+)
+
+#: Tag of the prepended install cell (hidden should the notebook ever be rendered again).
+INSTALL_TAG = "rikin-install"
+INSTALL_CELL = """\
+# Colab or a fresh Jupyter: install rikin if it is missing (a no-op where it is installed).
+RIKIN_PIP = {spec!r}  # the pip spec of rikin; set in the book's _config.yml
+import importlib.util
+import subprocess
+import sys
+
+if importlib.util.find_spec("rikin") is None:
+    subprocess.check_call([sys.executable, "-m", "pip", "install", "--quiet", RIKIN_PIP])
+"""
+
+
+def mathjax_source() -> Path:
+    """The ``static/mathjax`` folder of the installed ``sphinx-mathjax-offline``."""
+    spec = importlib.util.find_spec(MATHJAX_PACKAGE)
+    if spec is None or not spec.submodule_search_locations:
+        raise ExtensionError(
+            f"the book serves MathJax locally and needs the PyPI package {MATHJAX_PACKAGE!r} "
+            "(pip install 'sphinx-mathjax-offline==0.0.2'), which is not installed"
+        )
+    root = Path(list(spec.submodule_search_locations)[0]) / "static" / "mathjax"
+    if not (root / "tex-chtml.js").is_file():
+        raise ExtensionError(f"{root} has no tex-chtml.js: the {MATHJAX_PACKAGE} install is broken")
+    return root
+
+
+def set_mathjax_path(app: Sphinx, config: Any) -> None:
+    mathjax_source()  # fail early and clearly when the package is missing
+    config.mathjax_path = MATHJAX_ENTRY
+
+
+def copy_mathjax(app: Sphinx, exc: Exception | None) -> None:
+    if exc is not None or app.builder.format != "html":
+        return
+    src = mathjax_source()
+    dest = Path(app.outdir) / "_static" / "mathjax"
+    for part in MATHJAX_PARTS:
+        s, d = src / part, dest / part
+        if s.is_dir():
+            shutil.copytree(s, d, dirs_exist_ok=True)
+        elif s.is_file():
+            d.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(s, d)
+
+
+def install_cell(spec: str) -> nbformat.NotebookNode:
+    cell = nbformat.v4.new_code_cell(INSTALL_CELL.format(spec=spec))
+    cell.metadata["tags"] = [INSTALL_TAG, "remove-cell"]
+    return cell
+
+
+def publish_notebook(
+    app: Sphinx, pagename: str, templatename: str, context: dict[str, Any], doctree: Any
+) -> None:
+    """Copy the executed notebook of a page to ``_sources/`` and announce it to the theme."""
+    if doctree is None or app.builder.format != "html":
+        return
+    executed = Path(app.outdir).parent / "jupyter_execute" / f"{pagename}.ipynb"
+    if not executed.is_file():
+        return
+    nb = nbformat.read(executed, as_version=4)
+    for key in ("jupytext", "source_map"):  # build-time metadata, noise for a reader
+        nb.metadata.pop(key, None)
+    nb.cells.insert(0, install_cell(app.config.rikin_pip_spec))
+    out = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    nbformat.write(_with_ids(nb), out)
+    context["ipynb_source"] = f"{pagename}.ipynb"
+
+
+def _with_ids(nb: nbformat.NotebookNode) -> nbformat.NotebookNode:
+    """Give every cell a deterministic id (nbformat 4.5), so rebuilds write identical files."""
+    nb.nbformat, nb.nbformat_minor = 4, max(int(nb.get("nbformat_minor", 5)), 5)
+    for i, cell in enumerate(nb.cells):
+        cell["id"] = f"cell-{i:03d}"
+    return nb
+
+
+def drop_thebe_scripts(
+    app: Sphinx, pagename: str, templatename: str, context: dict[str, Any], doctree: Any
+) -> None:
+    """Remove sphinx-thebe's scripts (jupyter-book always loads that extension).
+
+    The book has no live-code button, so thebe is never used; its inline script is
+    emitted twice (a ``SyntaxError`` in the console) and names a CDN URL.
+    """
+
+    def is_thebe(js: Any) -> bool:
+        name = str(getattr(js, "filename", "") or js)
+        body = str(getattr(js, "attributes", {}).get("body", ""))
+        return "sphinx-thebe" in name or "THEBE_JS_URL" in body
+
+    if "script_files" in context:
+        context["script_files"] = [js for js in context["script_files"] if not is_thebe(js)]
+
+
+def setup(app: Sphinx) -> dict[str, Any]:
+    app.add_config_value("rikin_pip_spec", "rikin @ git+https://example.invalid/rikin.git", "env")
+    app.connect("config-inited", set_mathjax_path)
+    app.connect("build-finished", copy_mathjax)
+    # before sphinx-book-theme's header buttons (priority 501), which read ipynb_source
+    app.connect("html-page-context", publish_notebook, priority=500)
+    app.connect("html-page-context", drop_thebe_scripts, priority=900)
+    return {"version": "1.0", "parallel_read_safe": True, "parallel_write_safe": True}
