@@ -1,6 +1,16 @@
 """Inverse kinematics: closed forms per arm family, results, numerical IK for comparison."""
 
 from .api import solve, solve_batch
+from .numerical import NumericalIKResult, ik_numerical, ik_numerical_multistart
 from .result import BatchIKResult, Branch, IKResult
 
-__all__ = ["solve", "solve_batch", "IKResult", "BatchIKResult", "Branch"]
+__all__ = [
+    "solve",
+    "solve_batch",
+    "IKResult",
+    "BatchIKResult",
+    "Branch",
+    "ik_numerical",
+    "ik_numerical_multistart",
+    "NumericalIKResult",
+]

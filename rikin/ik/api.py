@@ -18,6 +18,7 @@ from ..errors import InputError, UnreachableError
 from ..tolerances import FK_CHECK_TOL, SAME_SOLUTION_TOL
 from ..transforms import homogeneous, rotz, wrap_angle
 from .base import RawSolutions, Solver
+from .kernels import poses_look_valid
 from .result import BatchIKResult, Branch, IKResult
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -242,12 +243,12 @@ def _finish(
 
 
 def solve_batch(
-    arm: SerialArm, T: Any, *, chunk_size: int = 16384, workers: int | None = None
+    arm: SerialArm, T: Any, *, chunk_size: int = 4096, workers: int | None = None
 ) -> BatchIKResult:
     """All IK solutions of N poses, vectorised, in fixed branch slots.
 
-    Memory stays bounded: poses are processed ``chunk_size`` at a time (in
-    ``workers`` threads; numpy releases the GIL), and only the output
+    Memory stays bounded: poses are validated and solved ``chunk_size`` at a
+    time (in ``workers`` threads; numpy releases the GIL), and only the output
     ``(N, k, n)`` grows with N.
 
     Parameters
@@ -256,6 +257,8 @@ def solve_batch(
     T : array_like, shape (N, 4, 4)
         TCP poses in the world frame.
     chunk_size : int
+        Poses per chunk at most; the default keeps a chunk's temporaries in
+        the cache. Chunks are evened out so that every thread gets as many.
     workers : int, optional
         Threads; defaults to the number of CPUs (at most 4).
 
@@ -265,39 +268,90 @@ def solve_batch(
         ``q (N, k, n)`` with NaN in invalid slots, ``valid (N, k)``,
         ``singular (N,)``. No de-duplication, no FK check, no labels beyond
         the slot's branch.
+
+    Raises
+    ------
+    InputError
+        ``T`` is not an ``(N, 4, 4)`` array of homogeneous transforms (the same
+        checks and messages as a single pose).
     """
     solver = _solver(arm)
-    Tw = as_pose(T, "T")
-    if Tw.ndim != 3:
-        raise InputError(f"T must have shape (N, 4, 4), got shape {Tw.shape}")
+    Tw = _batch_poses(T)
     if chunk_size < 1:
         raise InputError(f"chunk_size must be positive, got {chunk_size}")
     N = Tw.shape[0]
-    probe = solver.solve(arm, arm.world_to_base(np.eye(4))[None], None)
-    k = probe.q.shape[1]
+    make_kernel = getattr(solver, "batch_kernel", None)
+    kernel = make_kernel(arm) if make_kernel is not None else None
+    if kernel is not None:
+        slots = kernel.slots
+    else:  # the slots of this family: solve one pose
+        slots = solver.solve(arm, arm.world_to_base(np.eye(4))[None], None).slots
+    k = len(slots)
     q_out = np.empty((N, k, arm.n))
     valid_out = np.empty((N, k), dtype=bool)
-    sing_out = np.empty(N, dtype=bool)
-    rev = arm.revolute
+    sing_out = np.zeros(N, dtype=bool)
 
-    def run(start: int) -> None:
-        stop = min(start + chunk_size, N)
-        raw = solver.solve(arm, arm.world_to_base(Tw[start:stop]), None)
-        qq = _wrap(raw.q, rev)
+    def general(rows: slice | np.ndarray, T_chunk: FloatArray) -> None:
+        """The general solver (every family; exact singular handling) for some poses."""
+        raw = solver.solve(arm, arm.world_to_base(T_chunk), None)
+        qq = _wrap(raw.q, arm.revolute)
         qq[~raw.valid] = np.nan
-        q_out[start:stop] = qq
-        valid_out[start:stop] = raw.valid
-        s = np.zeros(stop - start, dtype=bool)
+        q_out[rows] = qq
+        valid_out[rows] = raw.valid
+        s = np.zeros(len(qq), dtype=bool)
         for mask in raw.singular.values():
             s |= (mask & raw.valid).any(axis=1)
-        sing_out[start:stop] = s
+        sing_out[rows] = s
 
-    starts = range(0, N, chunk_size)
     n_workers = workers if workers is not None else min(4, os.cpu_count() or 1)
-    if n_workers <= 1 or N <= chunk_size:
+    size = _chunk_length(N, chunk_size, n_workers)
+
+    def run(start: int) -> None:
+        stop = min(start + size, N)
+        X = np.ascontiguousarray(Tw[start:stop].transpose(1, 2, 0))  # (4, 4, n)
+        if not poses_look_valid(X):
+            as_pose(Tw, "T")  # raises with the detailed message
+        if kernel is None:
+            general(slice(start, stop), Tw[start:stop])
+            return
+        q, valid, suspect = kernel.solve(X)
+        q_out[start:stop] = q.transpose(2, 0, 1)
+        valid_out[start:stop] = valid.T
+        redo = np.flatnonzero(suspect)
+        if redo.size:
+            general(start + redo, Tw[start + redo])
+
+    starts = range(0, N, size)
+    if n_workers <= 1 or len(starts) <= 1:
         for st in starts:
             run(st)
     else:
         with ThreadPoolExecutor(n_workers) as pool:
             list(pool.map(run, starts))
-    return BatchIKResult(q=q_out, valid=valid_out, singular=sing_out, branches=probe.slots)
+    return BatchIKResult(q=q_out, valid=valid_out, singular=sing_out, branches=slots)
+
+
+#: Below this many poses per chunk, splitting a batch across threads costs more than it saves.
+_MIN_THREAD_CHUNK = 1024
+
+
+def _chunk_length(N: int, chunk_size: int, n_workers: int) -> int:
+    """Poses per chunk: at most ``chunk_size``, and a multiple of ``n_workers`` chunks in
+    all when the batch is large enough to share, so that no thread idles at the end."""
+    n_chunks = -(-N // chunk_size)
+    if n_workers > 1 and N >= 2 * _MIN_THREAD_CHUNK:
+        n_chunks = -(-max(n_chunks, n_workers) // n_workers) * n_workers
+    return max(1, -(-N // max(n_chunks, 1)))
+
+
+def _batch_poses(T: Any) -> FloatArray:
+    """``T`` as a float array of shape (N, 4, 4), checked for shape only (values per chunk)."""
+    try:
+        Tw = np.asarray(T, dtype=np.float64)
+    except (TypeError, ValueError):
+        as_float_array(T, "T")  # raises InputError with the usual message
+        raise
+    if Tw.ndim != 3 or Tw.shape[1:] != (4, 4):
+        as_pose(Tw, "T")  # NaN, wrong tail shape or bad values: the single-pose message first
+        raise InputError(f"T must have shape (N, 4, 4), got shape {Tw.shape}")
+    return Tw

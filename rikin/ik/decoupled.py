@@ -18,6 +18,7 @@ Eight slots: arm slot ``a`` (see ``ARM_SLOTS``) times wrist slot ``b`` -> ``2 a 
 
 from __future__ import annotations
 
+import weakref
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -25,19 +26,39 @@ import numpy as np
 
 from .._validate import FloatArray
 from ..errors import InputError
-from ..tolerances import SINGULAR_TOL
+from ..tolerances import REACH_TOL, SINGULAR_TOL
 from ..transforms import _rot
-from .anthropomorphic import (ARM_SLOTS, ELBOW, SHOULDER, RRRGeometry, check_rrr_geometry,
-                              explain_rrr, position_rrr)
+from .anthropomorphic import (
+    ARM_SLOTS,
+    ELBOW,
+    SHOULDER,
+    RRRGeometry,
+    check_rrr_geometry,
+    explain_rrr,
+    position_rrr,
+)
 from .base import RawSolutions, Singularity
-from .kernels import spherical_wrist
+from .kernels import (
+    Mat3,
+    const_matmul,
+    lincomb,
+    matmul_const,
+    rz_inverse_times,
+    snap_exact,
+    spherical_wrist,
+    two_link_parts,
+    wrap_in_place,
+)
 from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
 
-WRIST = Singularity("wrist singularity: q5 is 0 or pi, axes 4 and 6 line up, so only "
-                    "q4 + q6 (or q4 - q6) is fixed", (4, 6), drop_flip=True)
+WRIST = Singularity(
+    "wrist singularity: q5 is 0 or pi, axes 4 and 6 line up, so only q4 + q6 (or q4 - q6) is fixed",
+    (4, 6),
+    drop_flip=True,
+)
 
 
 def _rx(alpha: float) -> FloatArray:
@@ -48,33 +69,45 @@ def _rx(alpha: float) -> FloatArray:
 class WristModel:
     """Constants of a spherical wrist: ``M = pre^T R_3_6 post^T = Rz(q4+o4) Ry(-s(q5+o5)) Rz(q6+o6)``."""
 
-    pre: FloatArray     # (3, 3)
-    post: FloatArray    # (3, 3)
-    s: float            # sin of the middle twist, +1 or -1
+    pre: FloatArray  # (3, 3)
+    post: FloatArray  # (3, 3)
+    s: float  # sin of the middle twist, +1 or -1
     offsets: tuple[float, float, float]
     centre: FloatArray  # (3,) wrist centre in the last wrist frame's coordinates
 
 
-def wrist_model(arm: "SerialArm", first: int) -> WristModel:
+def wrist_model(arm: SerialArm, first: int) -> WristModel:
     """Read the spherical-wrist constants of joints ``first``..``first+2`` (0-based) from the table.
 
     Raises InputError when the three axes do not meet in one point.
     """
-    l4, l5, l6 = arm.links[first:first + 3]
+    l4, l5, l6 = arm.links[first : first + 3]
     fl = [float(v) for v in (l4.a, l5.a, l6.a, l4.alpha, l5.alpha, l6.alpha, l5.d, l6.d)]
     a4, a5, a6, al4, al5, al6, d5, d6 = fl
     j = first + 1
-    msg = (f"{arm.name}: joints {j}-{j + 2} are not a spherical wrist "
-           "(their axes must meet in one point)")
+    msg = (
+        f"{arm.name}: joints {j}-{j + 2} are not a spherical wrist "
+        "(their axes must meet in one point)"
+    )
     if arm.convention == "standard":
-        if abs(a4) > 0 or abs(a5) > 0 or abs(d5) > 0 or abs(abs(np.sin(al4)) - 1) > 1e-12 \
-                or abs(np.sin(al5) + np.sin(al4)) > 1e-12:
+        if (
+            abs(a4) > 0
+            or abs(a5) > 0
+            or abs(d5) > 0
+            or abs(abs(np.sin(al4)) - 1) > 1e-12
+            or abs(np.sin(al5) + np.sin(al4)) > 1e-12
+        ):
             raise InputError(msg)
         pre, post, s = np.eye(3), _rx(al6), float(np.sign(np.sin(al4)))
         centre = _rx(-al6) @ np.array([-a6, 0.0, -d6])
     else:
-        if abs(a5) > 0 or abs(a6) > 0 or abs(d5) > 0 or abs(abs(np.sin(al5)) - 1) > 1e-12 \
-                or abs(np.sin(al6) + np.sin(al5)) > 1e-12:
+        if (
+            abs(a5) > 0
+            or abs(a6) > 0
+            or abs(d5) > 0
+            or abs(abs(np.sin(al5)) - 1) > 1e-12
+            or abs(np.sin(al6) + np.sin(al5)) > 1e-12
+        ):
             raise InputError(msg)
         pre, post, s = _rx(al4), np.eye(3), float(np.sign(np.sin(al5)))
         centre = np.array([0.0, 0.0, -d6])
@@ -82,8 +115,9 @@ def wrist_model(arm: "SerialArm", first: int) -> WristModel:
     return WristModel(pre, post, s, offs, centre)
 
 
-def wrist_angles(W: WristModel, R_3_6: FloatArray, hint4: FloatArray | float
-                 ) -> tuple[FloatArray, np.ndarray]:
+def wrist_angles(
+    W: WristModel, R_3_6: FloatArray, hint4: FloatArray | float
+) -> tuple[FloatArray, np.ndarray]:
     """Wrist joints of both branches: ``(..., 2, 3)`` and the singular mask ``(...)``."""
     M = W.pre.T @ R_3_6 @ W.post.T
     o4, o5, o6 = W.offsets
@@ -97,7 +131,13 @@ def wrist_slot_labels(W: WristModel) -> tuple[str, str]:
     return ("no-flip", "flip") if W.s < 0 else ("flip", "no-flip")
 
 
-def rotation_0_3(arm: "SerialArm", q123: FloatArray) -> FloatArray:
+def branch_slots(W: WristModel) -> tuple[Branch, ...]:
+    """The 8 slots of the decoupled 6R: arm slot ``a`` (``ARM_SLOTS``) times wrist slot ``b``."""
+    labels = wrist_slot_labels(W)
+    return tuple(Branch(side, None, labels[b]) for side, _ in ARM_SLOTS for b in (0, 1))
+
+
+def rotation_0_3(arm: SerialArm, q123: FloatArray) -> FloatArray:
     """``R_0_3`` for joints ``q123`` of shape ``(..., 3)``: shape ``(..., 3, 3)``."""
     from ..dh import link_transform
 
@@ -121,7 +161,7 @@ class DecouplingSteps:
     R_3_0: FloatArray
     R_0_6: FloatArray
     R_3_6: FloatArray
-    q456: FloatArray          # (2, 3): no-flip/flip as in ``wrist_labels``
+    q456: FloatArray  # (2, 3): no-flip/flip as in ``wrist_labels``
     wrist_labels: tuple[str, str]
     formulas: str
 
@@ -137,48 +177,69 @@ class Decoupled6RSolver:
     def __init__(self, geometry: RRRGeometry) -> None:
         self.geometry = geometry
 
-    def check(self, arm: "SerialArm") -> None:
+    def check(self, arm: SerialArm) -> None:
         if arm.joint_types != "RRRRRR":
             raise InputError(f"{arm.name}: decoupling needs a 6R arm, got {arm.joint_types}")
         W = wrist_model(arm, 3)
-        check_rrr_geometry(arm, self.geometry,
-                           lambda F: (F[:, :3, :3] @ W.centre) + F[:, :3, 3], "anthropomorphic 6R")
+        check_rrr_geometry(
+            arm,
+            self.geometry,
+            lambda F: (F[:, :3, :3] @ W.centre) + F[:, :3, 3],
+            "anthropomorphic 6R",
+        )
 
-    def wrist(self, arm: "SerialArm") -> WristModel:
+    def wrist(self, arm: SerialArm) -> WristModel:
         return wrist_model(arm, 3)
 
-    def solve(self, arm: "SerialArm", T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+    def batch_kernel(self, arm: SerialArm) -> BatchKernel | None:
+        """The fast many-pose kernel for ``arm`` (see :class:`BatchKernel`), or None if its
+        table does not have the form the kernel assumes (then the batch uses :meth:`solve`).
+
+        Built once per arm (arms are immutable) and kept while the arm lives.
+        """
+        cache = self.__dict__.setdefault("_kernels", weakref.WeakKeyDictionary())
+        if arm not in cache:
+            try:
+                cache[arm] = BatchKernel(arm, self)
+            except _NotSupported:
+                cache[arm] = None
+        return cache[arm]
+
+    def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         W = self.wrist(arm)
         R_0_6 = T_0_n[:, :3, :3]
         pw = R_0_6 @ W.centre + T_0_n[:, :3, 3]
         pos = position_rrr(pw, self.geometry, 0.0 if hint is None else hint[0])
-        R_0_3 = rotation_0_3(arm, pos.q)                          # (N, 4, 3, 3)
-        R_3_6 = np.swapaxes(R_0_3, -1, -2) @ R_0_6[:, None]       # (N, 4, 3, 3)
+        R_0_3 = rotation_0_3(arm, pos.q)  # (N, 4, 3, 3)
+        R_3_6 = np.swapaxes(R_0_3, -1, -2) @ R_0_6[:, None]  # (N, 4, 3, 3)
         q456, wsing = wrist_angles(W, R_3_6, 0.0 if hint is None else hint[3])  # (N,4,2,3)
         N = T_0_n.shape[0]
         q = np.empty((N, 4, 2, 6))
         q[..., :3] = pos.q[:, :, None, :]
         q[..., 3:] = q456
-        labels = wrist_slot_labels(W)
-        slots = tuple(Branch(side, None, labels[b]) for side, _ in ARM_SLOTS for b in (0, 1))
+        slots = branch_slots(W)
 
         def per_slot(mask: np.ndarray) -> np.ndarray:
             return np.repeat(mask, 2, axis=1)
 
         return RawSolutions(
-            q=q.reshape(N, 8, 6), valid=per_slot(pos.valid), slots=slots,
+            q=q.reshape(N, 8, 6),
+            valid=per_slot(pos.valid),
+            slots=slots,
             elbow_up=per_slot(pos.elbow_up),
-            singular={"shoulder": per_slot(pos.shoulder_singular),
-                      "elbow": per_slot(pos.elbow_singular),
-                      "wrist": per_slot(wsing & pos.valid)},
+            singular={
+                "shoulder": per_slot(pos.shoulder_singular),
+                "elbow": per_slot(pos.elbow_singular),
+                "wrist": per_slot(wsing & pos.valid),
+            },
         )
 
-    def explain(self, arm: "SerialArm", T_0_n: FloatArray) -> tuple[str, float]:
+    def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         W = self.wrist(arm)
         pw = T_0_n[:3, :3] @ W.centre + T_0_n[:3, 3]
         return explain_rrr(pw, self.geometry, arm.units, "the wrist centre")
 
-    def steps(self, arm: "SerialArm", T_0_6: FloatArray, arm_slot: int = 0) -> DecouplingSteps:
+    def steps(self, arm: SerialArm, T_0_6: FloatArray, arm_slot: int = 0) -> DecouplingSteps:
         """The decoupling's intermediate values for one pose ``T_0_6`` and one arm slot (0-3)."""
         W = self.wrist(arm)
         R_0_6 = T_0_6[:3, :3]
@@ -187,15 +248,26 @@ class Decoupled6RSolver:
         if not pos.valid[0, arm_slot]:
             msg, ex = self.explain(arm, T_0_6)
             from ..errors import UnreachableError
-            raise UnreachableError(f"{arm.name}: arm branch {arm_slot} cannot reach: {msg}",
-                                   excess=ex, units=arm.units)
+
+            raise UnreachableError(
+                f"{arm.name}: arm branch {arm_slot} cannot reach: {msg}", excess=ex, units=arm.units
+            )
         q123 = pos.q[0, arm_slot]
         R_0_3 = rotation_0_3(arm, q123)
         R_3_6 = R_0_3.T @ R_0_6
         q456, _ = wrist_angles(W, R_3_6, 0.0)
-        return DecouplingSteps(T_0_6=T_0_6, wrist_centre=pw, q123=q123, R_0_3=R_0_3,
-                               R_3_0=R_0_3.T, R_0_6=R_0_6, R_3_6=R_3_6, q456=q456,
-                               wrist_labels=wrist_slot_labels(W), formulas=wrist_formulas(W))
+        return DecouplingSteps(
+            T_0_6=T_0_6,
+            wrist_centre=pw,
+            q123=q123,
+            R_0_3=R_0_3,
+            R_3_0=R_0_3.T,
+            R_0_6=R_0_6,
+            R_3_6=R_3_6,
+            q456=q456,
+            wrist_labels=wrist_slot_labels(W),
+            formulas=wrist_formulas(W),
+        )
 
 
 def wrist_formulas(W: WristModel) -> str:
@@ -204,8 +276,205 @@ def wrist_formulas(W: WristModel) -> str:
     post = "" if np.allclose(W.post, np.eye(3)) else " post^T"
     o4, o5, o6 = (f"{-o:+.4g}" if abs(o) > SINGULAR_TOL else "" for o in W.offsets)
     sgn = "" if W.s < 0 else "-"
-    return (f"M = {pre}R_3_6{post}\n"
-            f"q5 = {sgn}atan2(+-sqrt(m13^2 + m23^2), m33){o5}\n"
-            f"q4 = atan2(+-m23, +-m13){o4}\n"
-            f"q6 = atan2(+-m32, -+m31){o6}\n"
-            "(upper signs: the first wrist slot; lower signs: the other, q5 -> -q5)")
+    return (
+        f"M = {pre}R_3_6{post}\n"
+        f"q5 = {sgn}atan2(+-sqrt(m13^2 + m23^2), m33){o5}\n"
+        f"q4 = atan2(+-m23, +-m13){o4}\n"
+        f"q6 = atan2(+-m32, -+m31){o6}\n"
+        "(upper signs: the first wrist slot; lower signs: the other, q5 -> -q5)"
+    )
+
+
+# ---------------------------------------------------------------- many poses at once
+class _NotSupported(Exception):
+    """The arm's table is not of the form :class:`BatchKernel` assumes."""
+
+
+def _rx_const(alpha: float) -> FloatArray:
+    c, s = np.cos(alpha), np.sin(alpha)
+    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
+
+
+class BatchKernel:
+    """The decoupling of one arm specialised for many poses (structure of arrays).
+
+    The general :meth:`Decoupled6RSolver.solve` builds ``T_0_n``, ``R_0_3``
+    and ``R_3_6`` as stacks of matrices; this kernel computes the same
+    joint values with per-arm constants read once from the DH table:
+
+    * the rotations of links 1-3 are ``R_0_3 = E0 Rz(th1) E1 Rz(th2) E2 Rz(th3) E3``
+      with constant twists ``E = Rx(alpha)``; axes 2 and 3 are parallel
+      (``E2 = Rx(0 or pi)``), so ``Rz(th2) E2 Rz(th3) = Rz(phi) E2`` with
+      ``phi = th2 + sigma th3``, ``sigma = cos(alpha) = +-1``;
+    * the wrist matrix of :func:`wrist_angles` is then
+      ``M = pre^T R_0_3^T (base^-1 R tool^-1) post^T = K Rz(-phi) E1^T Rz(-th1) G R H``
+      with ``R`` the world rotation of the TCP and constants ``K = pre^T (E2 E3)^T``,
+      ``G = E0^T base_R^-1``, ``H = tool_R^-1 post^T``;
+    * only the five entries of ``M`` the ZYZ angles need are formed.
+
+    Poses near a singularity (shoulder, elbow or wrist, with a margin far
+    wider than ``SINGULAR_TOL``) are reported as ``suspect``; the caller
+    solves those again with :meth:`Decoupled6RSolver.solve`, so singular
+    poses get exactly the general solver's representatives and flags.
+
+    Raises ``_NotSupported`` when axes 2 and 3 are not parallel.
+    """
+
+    #: Margins that send a pose back to the general solver (relative to the
+    #: singularity tests of ``position_rrr`` and ``spherical_wrist``).
+    SUSPECT_SIN = 1e-6
+    SUSPECT_COS = 1e-10
+
+    def __init__(self, arm: SerialArm, solver: Decoupled6RSolver) -> None:
+        from ..transforms import _inv_transform
+
+        l1, l2, l3 = arm.links[:3]
+        al = [float(lk.alpha) for lk in (l1, l2, l3)]
+        if arm.convention == "standard":
+            E0, E1, E2, E3 = np.eye(3), _rx_const(al[0]), _rx_const(al[1]), _rx_const(al[2])
+            alpha_23 = al[1]
+        else:
+            E0, E1, E2, E3 = _rx_const(al[0]), _rx_const(al[1]), _rx_const(al[2]), np.eye(3)
+            alpha_23 = al[2]
+        if abs(np.sin(alpha_23)) > 1e-12:
+            raise _NotSupported
+        W = wrist_model(arm, 3)
+        base_inv, tool_inv = _inv_transform(arm.base), _inv_transform(arm.tool)
+        self.geometry = solver.geometry
+        self.sigma = float(np.sign(np.cos(alpha_23)))
+        self.K = snap_exact(W.pre.T @ (E2 @ E3).T)
+        self.E1t = snap_exact(E1.T)
+        self.G = snap_exact(E0.T @ base_inv[:3, :3])
+        self.H = snap_exact(tool_inv[:3, :3] @ W.post.T)
+        self.base_R, self.base_p = snap_exact(base_inv[:3, :3]), base_inv[:3, 3].copy()
+        self.centre_tcp = tool_inv[:3, :3] @ W.centre + tool_inv[:3, 3]
+        self.offsets = tuple(float(lk.offset) for lk in arm.links)
+        self.wrist_s = W.s
+        self.slots = branch_slots(W)
+        g = self.geometry
+        self.reach_slack = REACH_TOL * (g.L2 + g.L3) / min(g.L2, g.L3)
+
+    # --------------------------------------------------------- steps
+    def _wrist_centre(self, R: Mat3, p: FloatArray) -> FloatArray:
+        """Step 1: the wrist centre in frame 0, ``base^-1 (R c_tcp + p)``, shape ``(3, n)``."""
+        c = self.centre_tcp
+        v = [R[i][0] * c[0] + R[i][1] * c[1] + R[i][2] * c[2] + p[i] for i in range(3)]
+        B, b = self.base_R, self.base_p
+        return np.stack([B[i, 0] * v[0] + B[i, 1] * v[1] + B[i, 2] * v[2] + b[i] for i in range(3)])
+
+    def _arm_joints(
+        self, pw: FloatArray
+    ) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray, np.ndarray]:
+        """Step 2: joints 1-3 of the four arm slots.
+
+        Returns ``q1`` (n,) of the front slots (the back ones add pi),
+        ``q2, q3`` (4, n), ``valid`` (4, n) and ``suspect`` (n,): near the
+        shoulder or elbow singularity.
+        """
+        g = self.geometry
+        x, y, z = pw
+        rho = np.sqrt(x * x + y * y)
+        q1 = np.arctan2(y, x)
+        w = z - g.z0
+        A, B, valid, suspect = [], [], [], rho < self.SUSPECT_SIN * g.size
+        for u in (rho - g.r0, -rho - g.r0):
+            t = two_link_parts(u, w, g.L2, g.L3)
+            A += [t.base - t.beta, t.base + t.beta]
+            B += [t.B0, -t.B0]
+            valid += [t.reachable, t.reachable]
+            suspect |= np.abs(np.abs(t.cos_raw) - 1.0) < self.SUSPECT_COS + 2 * self.reach_slack
+        q2 = np.stack(A) - g.phi2
+        q3 = np.stack(B) - g.phi3
+        return q1, q2, q3, np.stack(valid), suspect
+
+    def _wrist_matrix(
+        self, S: Mat3, q1: FloatArray, q2: FloatArray, q3: FloatArray
+    ) -> tuple[list[FloatArray], list[FloatArray], FloatArray]:
+        """Step 3: rows 0 and 1 and entry ``m22`` of ``M`` for the four arm slots.
+
+        ``S = G R H`` has (n,) entries; ``q2, q3`` have shape (4, n). The back
+        slots have ``th1 + pi``: rows 0 and 1 of ``Rz(-th1) S`` negated. Returns
+        the rows as lists of three (4, n) arrays, and ``m22`` (4, n).
+        """
+        o1, o2, o3 = self.offsets[:3]
+        th1 = q1 + o1
+        U = rz_inverse_times(np.cos(th1), np.sin(th1), S)
+        # (side, 1, n): front and back; the back negates rows 0 and 1
+        Us = [
+            [np.stack([U[i][j], -U[i][j] if i < 2 else U[i][j]])[:, None] for j in range(3)]
+            for i in range(3)
+        ]
+        V = const_matmul(self.E1t, Us)
+        phi = ((q2 + o2) + self.sigma * (q3 + o3)).reshape(2, 2, -1)  # (side, elbow, n)
+        Wm = rz_inverse_times(np.cos(phi), np.sin(phi), V)
+        Wm[2] = [np.broadcast_to(v, phi.shape) for v in Wm[2]]
+        K = self.K
+        rows = [
+            [lincomb(K[i], [Wm[0][j], Wm[1][j], Wm[2][j]]).reshape(4, -1) for j in range(3)]
+            for i in range(2)
+        ]
+        m22 = lincomb(K[2], [Wm[0][2], Wm[1][2], Wm[2][2]]).reshape(4, -1)
+        return rows[0], rows[1], m22
+
+    def _wrist_joints(
+        self, row0: list[FloatArray], row1: list[FloatArray], m22: FloatArray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Step 4: ZYZ angles ``M = Rz(phi) Ry(theta) Rz(psi)`` of wrist slot 0, and
+        ``suspect`` (n,): near the wrist singularity in some arm slot.
+
+        ``phi`` and ``theta`` as in :func:`spherical_wrist`; ``psi`` is read from
+        row 1 of ``Rz(-phi) M = Ry(theta) Rz(psi)``, i.e. ``(sin psi, cos psi, 0)``.
+        Unlike ``atan2(m21, -m20)`` this stays consistent with ``phi`` near the
+        singularity (where ``phi`` and ``psi`` are each ill-conditioned but the
+        pose depends only on their sum or difference), so FK reproduces the
+        pose to rounding even when ``sin(theta)`` is 1e-6.
+        """
+        m02, m12 = row0[2], row1[2]
+        s = np.sqrt(m02 * m02 + m12 * m12)
+        theta = np.arctan2(s, m22)
+        phi = np.arctan2(m12, m02)
+        safe = np.where(s > 0.0, s, 1.0)
+        c_phi, s_phi = m02 / safe, m12 / safe
+        psi = np.arctan2(c_phi * row1[0] - s_phi * row0[0], c_phi * row1[1] - s_phi * row0[1])
+        return phi, theta, psi, np.asarray((s < self.SUSPECT_SIN).any(axis=0))
+
+    def solve(self, X: FloatArray) -> tuple[FloatArray, np.ndarray, np.ndarray]:
+        """All 8 slots of ``n`` validated world poses.
+
+        Parameters
+        ----------
+        X : ndarray, shape (4, 4, n)
+            World TCP poses as a structure of arrays (``X[:, :, i]`` is pose i).
+
+        Returns
+        -------
+        q : ndarray, shape (8, 6, n)
+            Slot ``2 a + b`` (arm slot a, wrist slot b, as :meth:`Decoupled6RSolver.solve`),
+            wrapped to (-pi, pi], NaN where not valid.
+        valid : ndarray of bool, shape (8, n)
+        suspect : ndarray of bool, shape (n,)
+            Near a singularity: solve these poses again with the general solver.
+        """
+        n = X.shape[-1]
+        R = [[X[i, j] for j in range(3)] for i in range(3)]
+        S = matmul_const(const_matmul(self.G, R), self.H)
+        pw = self._wrist_centre(R, X[:3, 3])
+        q1, q2, q3, valid4, suspect = self._arm_joints(pw)
+        phi, theta, psi, wrist_suspect = self._wrist_joints(*self._wrist_matrix(S, q1, q2, q3))
+        o4, o5, o6 = self.offsets[3:]
+        q = np.empty((4, 2, 6, n))
+        q[:2, :, 0] = q1
+        q[2:, :, 0] = q1 + np.pi
+        q[:, :, 1] = q2[:, None]
+        q[:, :, 2] = q3[:, None]
+        q[:, 0, 3] = phi - o4
+        q[:, 1, 3] = phi + (np.pi - o4)
+        np.multiply(theta, -self.wrist_s, out=q[:, 0, 4])
+        np.multiply(theta, self.wrist_s, out=q[:, 1, 4])
+        q[:, :, 4] -= o5
+        q[:, 0, 5] = psi - o6
+        q[:, 1, 5] = psi + (np.pi - o6)
+        q = wrap_in_place(q.reshape(8, 6, n))
+        valid = np.repeat(valid4, 2, axis=0)
+        np.copyto(q, np.nan, where=~valid[:, None, :])
+        return q, valid, suspect | wrist_suspect
