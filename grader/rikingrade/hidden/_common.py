@@ -114,8 +114,10 @@ def as_array(value: Any) -> np.ndarray | None:
 
 def pose_error(T: np.ndarray, T_ref: np.ndarray, scale: float) -> tuple[float, float]:
     """(position error / scale, max abs rotation-matrix difference)."""
-    return (float(np.linalg.norm(T[:3, 3] - T_ref[:3, 3])) / scale,
-            float(np.abs(T[:3, :3] - T_ref[:3, :3]).max()))
+    return (
+        float(np.linalg.norm(T[:3, 3] - T_ref[:3, 3])) / scale,
+        float(np.abs(T[:3, :3] - T_ref[:3, :3]).max()),
+    )
 
 
 def radians_of(q: np.ndarray, revolute: np.ndarray) -> np.ndarray:
@@ -217,7 +219,7 @@ class IKCase:
     wrong: list[str] = field(default_factory=list)
     duplicates: int = 0
     degrees: bool = False
-    failure: str = ""          # the call did not return a usable array
+    failure: str = ""  # the call did not return a usable array
     notes: list[str] = field(default_factory=list)
 
     @property
@@ -291,11 +293,13 @@ def compare_ik(spec: Spec, kwargs: dict[str, Any], value: Any) -> IKCase:
         if ok:
             neg = [i + 1 for i in range(spec.n) if not rev[i] and r[i] < -JOINT_TOL * scale]
             if neg:
-                case.wrong.append(f"a solution that needs q{neg[0]} < 0 "
-                                  "(prismatic joints only extend)")
-            else:   # pragma: no cover - would mean the reference misses a solution
-                case.wrong.append("a solution the reference does not list "
-                                  "(please tell the instructor)")
+                case.wrong.append(
+                    f"a solution that needs q{neg[0]} < 0 (prismatic joints only extend)"
+                )
+            else:  # pragma: no cover - would mean the reference misses a solution
+                case.wrong.append(
+                    "a solution the reference does not list (please tell the instructor)"
+                )
         else:
             case.wrong.append("a solution that does not reach the target (FK check)")
     case.matched = len(matched)
@@ -333,8 +337,13 @@ def summarize_ik(title: str, cases: list[IKCase], what: str = "targets") -> str:
 
 
 # ------------------------------------------------------------------ test factories
-def _first_failing_hint(reveal: bool, spec: Spec, calls: list[Call], good: list[bool],
-                        extra: Callable[[int], str] = lambda i: "") -> str:
+def _first_failing_hint(
+    reveal: bool,
+    spec: Spec,
+    calls: list[Call],
+    good: list[bool],
+    extra: Callable[[int], str] = lambda i: "",
+) -> str:
     if not reveal:
         return ""
     for i, ok in enumerate(good):
@@ -418,8 +427,9 @@ def _fk_case(spec: Spec, kw: dict[str, Any], out: Outcome, reveal: bool) -> str:
     return _diagnose_fk(spec, T, q, kw, dp, dr)
 
 
-def _diagnose_fk(spec: Spec, T: np.ndarray, q: np.ndarray, kw: dict[str, Any],
-                 dp: float, dr: float) -> str:
+def _diagnose_fk(
+    spec: Spec, T: np.ndarray, q: np.ndarray, kw: dict[str, Any], dp: float, dr: float
+) -> str:
     """Why a student's FK pose differs from the reference, in the student's terms."""
     scale = spec.scale(kw)
     rev = spec.revolute
@@ -431,8 +441,10 @@ def _diagnose_fk(spec: Spec, T: np.ndarray, q: np.ndarray, kw: dict[str, Any],
         L = spec.lengths(kw)
         T_fl = spec.arm.fk_flange_6dof(np.where(rev, wrap(q), q), spec.tool(kw), **L)
         if max(pose_error(T, T_fl, scale)) <= POSE_TOL:
-            return ("it returns the flange frame 6 (at the wrist centre), not the TCP: "
-                    "the tool is missing")
+            return (
+                "it returns the flange frame 6 (at the wrist centre), not the TCP: "
+                "the tool is missing"
+            )
     if not np.allclose(T[3], [0.0, 0.0, 0.0, 1.0], atol=POSE_TOL):
         return "the last row is not (0, 0, 0, 1)"
     if dp <= POSE_TOL:
@@ -466,7 +478,7 @@ def rows_to_arm(arm: ExerciseArm, value: Any) -> tuple[rikin.SerialArm | None, s
         except (TypeError, ValueError):
             return None, f"row {i} has a value that is not a number"
         for k in ("alpha", "offset", "theta"):
-            angle = not (k == "offset" and joint == "P")      # a prismatic offset is a length
+            angle = not (k == "offset" and joint == "P")  # a prismatic offset is a length
             if k in vals and angle and abs(vals[k]) > DEGREES_SUSPECT:
                 return None, f"row {i}: {k} looks like degrees: DH angles are radians"
         try:
@@ -485,8 +497,10 @@ def dh_test(arm: ExerciseArm, weight: float, name: str = "dh_table", n: int = N_
     title = "DH table (dh_table)"
 
     def make_calls(rng: np.random.Generator) -> list[Call]:
-        return [Call("dh_table", {k: float(v) for k, v in arm.sample_lengths(rng).items()})
-                for _ in range(n)]
+        return [
+            Call("dh_table", {k: float(v) for k, v in arm.sample_lengths(rng).items()})
+            for _ in range(n)
+        ]
 
     def case(kw: dict[str, Any], out: Outcome, reveal: bool, rng: np.random.Generator) -> str:
         if not out.ok:
@@ -502,25 +516,30 @@ def dh_test(arm: ExerciseArm, weight: float, name: str = "dh_table", n: int = N_
         if worst.max() <= POSE_TOL:
             return ""
         if worst[0] <= POSE_TOL:
-            return ("the origin of frame 3 is right but its axes are not "
-                    "(check alpha and the theta offsets)")
+            return (
+                "the origin of frame 3 is right but its axes are not "
+                "(check alpha and the theta offsets)"
+            )
         return "frame 3 (the TCP) ends up in the wrong place for some joint values"
 
     def check(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
         tally = Tally()
-        rng = np.random.default_rng(12345)   # joint values to compare at (not hidden inputs)
+        rng = np.random.default_rng(12345)  # joint values to compare at (not hidden inputs)
         for c, o in zip(calls, outcomes, strict=True):
             tally.add(case(c.kwargs, o, reveal, rng))
-        head = (f"{title}: {sum(tally.good)}/{len(calls)} random sets of link lengths right "
-                "(checked by FK of your rows)")
+        head = (
+            f"{title}: {sum(tally.good)}/{len(calls)} random sets of link lengths right "
+            "(checked by FK of your rows)"
+        )
         fb = tally.feedback(head) + _first_failing_hint(reveal, spec, calls, tally.good)
         return Score(tally.fraction, fb, _detail(spec, calls, outcomes, tally.notes))
 
     return HiddenTest(name, weight, title, make_calls, check, timeout=TIMEOUT, tags=("dh",))
 
 
-def ik_test(arm: ExerciseArm, six: bool, weight: float, name: str, *, special: str = "",
-            n: int = N_IK) -> HiddenTest:
+def ik_test(
+    arm: ExerciseArm, six: bool, weight: float, name: str, *, special: str = "", n: int = N_IK
+) -> HiddenTest:
     """IK of reachable targets, compared with the reference as a set.
 
     ``special``: "" for regular targets; "positioning" for the positioning
@@ -568,8 +587,10 @@ def ik_test(arm: ExerciseArm, six: bool, weight: float, name: str, *, special: s
             else:
                 case = compare_ik(spec, c.kwargs, o.value)
             cases.append(case)
-            notes.append(f"credit {case.credit:.3f}; missing {case.missing}; "
-                         f"wrong {case.wrong}; {case.failure}")
+            notes.append(
+                f"credit {case.credit:.3f}; missing {case.missing}; "
+                f"wrong {case.wrong}; {case.failure}"
+            )
         frac = float(np.mean([c.credit for c in cases]))
         fb = summarize_ik(title, cases)
         fb += _first_failing_hint(reveal, spec, calls, [c.full for c in cases])
@@ -589,10 +610,14 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
         L = arm.sample_lengths(rng)
         if six:
             tool = arm.sample_tool(rng)
-            return [Call(fname, spec.case_kwargs(L, tool, T=T.tolist()))
-                    for _, T in arm.unreachable_poses(rng, L, tool)]
-        return [Call(fname, spec.case_kwargs(L, None, p=p.tolist()))
-                for _, p in arm.unreachable_points(rng, L)]
+            return [
+                Call(fname, spec.case_kwargs(L, tool, T=T.tolist()))
+                for _, T in arm.unreachable_poses(rng, L, tool)
+            ]
+        return [
+            Call(fname, spec.case_kwargs(L, None, p=p.tolist()))
+            for _, p in arm.unreachable_points(rng, L)
+        ]
 
     def kind_of(kwargs: dict[str, Any]) -> str:
         return _unreachable_kind(spec, kwargs)
@@ -606,10 +631,14 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
                 nan = arr is not None and arr.size and not np.all(np.isfinite(arr))
                 r = f"{k}: returned {'NaN ' if nan else ''}values instead of raising ValueError"
                 credits.append(0.0)
-            elif (o.error_type == "ValueError"
-                  and (o.error_message or "").strip() == "math domain error"):
-                r = (f"{k}: raised ValueError('math domain error') from math.sqrt/acos; check "
-                     "reachability yourself and say why in the message (half credit)")
+            elif (
+                o.error_type == "ValueError"
+                and (o.error_message or "").strip() == "math domain error"
+            ):
+                r = (
+                    f"{k}: raised ValueError('math domain error') from math.sqrt/acos; check "
+                    "reachability yourself and say why in the message (half credit)"
+                )
                 credits.append(0.5)
             elif is_value_error(o.error_type):
                 r = ""
@@ -621,13 +650,18 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
             if r:
                 reasons.update([r])
         full = sum(cr == 1.0 for cr in credits)
-        fb = sentences([f"{title}: {full}/{len(calls)} raised ValueError",
-                        "; ".join(r + (f" ({m}x)" if m > 1 else "") for r, m in reasons.items())])
+        fb = sentences(
+            [
+                f"{title}: {full}/{len(calls)} raised ValueError",
+                "; ".join(r + (f" ({m}x)" if m > 1 else "") for r, m in reasons.items()),
+            ]
+        )
         fb += _first_failing_hint(reveal, spec, calls, [cr == 1.0 for cr in credits])
         return Score(float(np.mean(credits)), fb, _detail(spec, calls, outcomes, notes))
 
-    return HiddenTest(name, weight, title, make_calls, check, timeout=TIMEOUT,
-                      tags=("unreachable",))
+    return HiddenTest(
+        name, weight, title, make_calls, check, timeout=TIMEOUT, tags=("unreachable",)
+    )
 
 
 def _unreachable_kind(spec: Spec, kwargs: dict[str, Any]) -> str:
@@ -644,14 +678,14 @@ def _unreachable_kind(spec: Spec, kwargs: dict[str, Any]) -> str:
             except rikin.UnreachableError:
                 prefix = "a pose whose wrist centre is out of reach"
             return prefix
-        for key, words in (("below", "a target below a prismatic joint's zero position"),
-                           ("above", "a target above the top of the quill's stroke"),
-                           ("beyond", "a target beyond full reach"),
-                           ("inside the circle", "a target inside the inner circle"),
-                           ("closer than the retracted boom",
-                            "a target closer to the shoulder than l2"),
-                           ("closer than the retracted radial",
-                            "a target closer to the column axis than l2")):
+        for key, words in (
+            ("below", "a target below a prismatic joint's zero position"),
+            ("above", "a target above the top of the quill's stroke"),
+            ("beyond", "a target beyond full reach"),
+            ("inside the circle", "a target inside the inner circle"),
+            ("closer than the retracted boom", "a target closer to the shoulder than l2"),
+            ("closer than the retracted radial", "a target closer to the column axis than l2"),
+        ):
             if key in msg:
                 return words
         return "an unreachable target"

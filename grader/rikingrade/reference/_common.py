@@ -119,8 +119,9 @@ def as_point(p: Any) -> FloatArray:
 def as_pose(T: Any) -> FloatArray:
     arr = np.asarray(T, dtype=np.float64)
     if arr.shape != (4, 4) or not np.all(np.isfinite(arr)):
-        raise rikin.InputError("T must be a finite (4, 4) homogeneous transform, "
-                               f"got shape {arr.shape}")
+        raise rikin.InputError(
+            f"T must be a finite (4, 4) homogeneous transform, got shape {arr.shape}"
+        )
     R = arr[:3, :3]
     if np.abs(R.T @ R - np.eye(3)).max() > ROTATION_TOL or np.linalg.det(R) < 0:
         raise rikin.InputError("the rotation part of T is not a rotation matrix")
@@ -135,7 +136,7 @@ def wrist_solutions(R_3_6: FloatArray) -> tuple[list[FloatArray], bool]:
     M = R_3_6
     s5 = float(np.hypot(M[0, 2], M[1, 2]))
     if s5 < SINGULAR_TOL:
-        if M[2, 2] > 0:      # q5 = 0: M = Rz(q4 + q6)
+        if M[2, 2] > 0:  # q5 = 0: M = Rz(q4 + q6)
             return [np.array([0.0, 0.0, np.arctan2(M[1, 0], M[0, 0])])], True
         # q5 = pi: M = Ry(pi) Rz(q6 - q4) = [[-c, s, 0], [s, c, 0], [0, 0, -1]]
         return [np.array([0.0, np.pi, np.arctan2(M[1, 0], M[1, 1])])], True
@@ -175,8 +176,13 @@ class ExerciseArm:
     def function_names(self) -> dict[str, str]:
         """The student's function names, by task."""
         n = self.name
-        return {"dh": "dh_table", "fk": f"fk_{n}", "ik": f"ik_{n}",
-                "fk6": f"fk_{n}_6dof", "ik6": f"ik_{n}_6dof"}
+        return {
+            "dh": "dh_table",
+            "fk": f"fk_{n}",
+            "ik": f"ik_{n}",
+            "fk6": f"fk_{n}_6dof",
+            "ik6": f"ik_{n}_6dof",
+        }
 
     def scale(self, L: dict[str, float]) -> float:
         return max(1.0, sum(L.values()))
@@ -190,8 +196,11 @@ class ExerciseArm:
         """The arm with the spherical wrist and the tool ``Tz(tool)``."""
         L = check_lengths(self.lengths, L)
         tool = check_lengths(("tool",), {"tool": tool})["tool"]
-        return SerialArm(tuple(self.links(**L)) + WRIST_LINKS, tool=rikin.transl(0.0, 0.0, tool),
-                         name=f"{self.title} with a spherical wrist")
+        return SerialArm(
+            tuple(self.links(**L)) + WRIST_LINKS,
+            tool=rikin.transl(0.0, 0.0, tool),
+            name=f"{self.title} with a spherical wrist",
+        )
 
     def fk(self, q: Any, **L: float) -> FloatArray:
         """``T_0_3``, shape (4, 4) (or (N, 4, 4) for q of shape (N, 3))."""
@@ -206,8 +215,9 @@ class ExerciseArm:
         return self.arm_6dof(tool, **L).fk_flange(q)
 
     # ---------------------------------------------------------------- IK
-    def _position_ik(self, p: FloatArray, L: dict[str, float]
-                     ) -> list[tuple[FloatArray, str, tuple[int, ...]]]:  # pragma: no cover
+    def _position_ik(
+        self, p: FloatArray, L: dict[str, float]
+    ) -> list[tuple[FloatArray, str, tuple[int, ...]]]:  # pragma: no cover
         raise NotImplementedError
 
     def ik(self, p: Any, **L: float) -> Solutions:
@@ -239,8 +249,11 @@ class ExerciseArm:
         try:
             pos = self.ik(p_w, **L)
         except UnreachableError as exc:
-            raise UnreachableError(f"the wrist centre p - tool*z6 cannot be reached: {exc}",
-                                   excess=exc.excess, units=exc.units) from None
+            raise UnreachableError(
+                f"the wrist centre p - tool*z6 cannot be reached: {exc}",
+                excess=exc.excess,
+                units=exc.units,
+            ) from None
         arm = self.arm(**L)
         rows, labels, free = [], [], []
         for q123, label, free123 in zip(pos.q, pos.labels, pos.free, strict=True):
@@ -263,18 +276,21 @@ class ExerciseArm:
     def sample_lengths(self, rng: np.random.Generator) -> dict[str, float]:  # pragma: no cover
         raise NotImplementedError
 
-    def sample_q(self, rng: np.random.Generator,
-                 L: dict[str, float]) -> FloatArray:  # pragma: no cover
+    def sample_q(
+        self, rng: np.random.Generator, L: dict[str, float]
+    ) -> FloatArray:  # pragma: no cover
         """Joint values of a regular (non-singular, not boundary) reachable configuration."""
         raise NotImplementedError
 
-    def sample_special_q(self, rng: np.random.Generator, L: dict[str, float]
-                         ) -> tuple[str, FloatArray] | None:
+    def sample_special_q(
+        self, rng: np.random.Generator, L: dict[str, float]
+    ) -> tuple[str, FloatArray] | None:
         """A singular or boundary configuration of the positioning arm (kind, q), or None."""
         return None
 
-    def unreachable_points(self, rng: np.random.Generator, L: dict[str, float],
-                           near: bool = False) -> list[tuple[str, FloatArray]]:  # pragma: no cover
+    def unreachable_points(
+        self, rng: np.random.Generator, L: dict[str, float], near: bool = False
+    ) -> list[tuple[str, FloatArray]]:  # pragma: no cover
         """Unreachable targets, each with what makes it unreachable (in words).
 
         With ``near``, every target is only 0.05-0.3 length units out of reach.
@@ -292,22 +308,26 @@ class ExerciseArm:
     def sample_q_6dof(self, rng: np.random.Generator, L: dict[str, float]) -> FloatArray:
         return np.concatenate([self.sample_q(rng, L), self.sample_wrist(rng)])
 
-    def sample_wrist_singular_q(self, rng: np.random.Generator, L: dict[str, float],
-                                q5: float) -> FloatArray:
+    def sample_wrist_singular_q(
+        self, rng: np.random.Generator, L: dict[str, float], q5: float
+    ) -> FloatArray:
         """A regular positioning configuration with the wrist singular at ``q5`` (0 or pi)."""
-        return np.concatenate([self.sample_q(rng, L),
-                               [rng.uniform(-np.pi, np.pi), q5, rng.uniform(-np.pi, np.pi)]])
+        return np.concatenate(
+            [self.sample_q(rng, L), [rng.uniform(-np.pi, np.pi), q5, rng.uniform(-np.pi, np.pi)]]
+        )
 
-    def unreachable_poses(self, rng: np.random.Generator, L: dict[str, float], tool: float
-                          ) -> list[tuple[str, FloatArray]]:
+    def unreachable_poses(
+        self, rng: np.random.Generator, L: dict[str, float], tool: float
+    ) -> list[tuple[str, FloatArray]]:
         """Unreachable TCP poses: one with a random orientation, and two whose TCP
         the positioning arm could reach although the wrist centre is out of reach."""
         out = []
         points = self.unreachable_points(rng, L)
         kind, p_w = points[0]
         R = random_rotation(rng)
-        out.append((f"a pose whose wrist centre is {kind}",
-                    rikin.homogeneous(R, p_w + tool * R[:, 2])))
+        out.append(
+            (f"a pose whose wrist centre is {kind}", rikin.homogeneous(R, p_w + tool * R[:, 2]))
+        )
         for kind, p_w in self.unreachable_points(rng, L, near=True):
             if len(out) == 3:
                 break
@@ -318,14 +338,19 @@ class ExerciseArm:
                     self.ik(p, **L)
                 except UnreachableError:
                     continue
-                out.append((f"a pose whose TCP is within reach but whose wrist centre is {kind}",
-                            rikin.homogeneous(R, p)))
+                out.append(
+                    (
+                        f"a pose whose TCP is within reach but whose wrist centre is {kind}",
+                        rikin.homogeneous(R, p),
+                    )
+                )
                 break
-        while len(out) < 3:   # pragma: no cover - samplers are built so this does not happen
+        while len(out) < 3:  # pragma: no cover - samplers are built so this does not happen
             kind, p_w = points[len(out) % len(points)]
             R = random_rotation(rng)
-            out.append((f"a pose whose wrist centre is {kind}",
-                        rikin.homogeneous(R, p_w + tool * R[:, 2])))
+            out.append(
+                (f"a pose whose wrist centre is {kind}", rikin.homogeneous(R, p_w + tool * R[:, 2]))
+            )
         return out
 
 
@@ -334,11 +359,13 @@ def random_rotation(rng: np.random.Generator) -> FloatArray:
     w, x, y, z = rng.normal(size=4) / 1.0
     n = np.sqrt(w * w + x * x + y * y + z * z)
     w, x, y, z = w / n, x / n, y / n, z / n
-    return np.array([
-        [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-        [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-        [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-    ])
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def excess(rng: np.random.Generator, near: bool, lo: float = 0.5, hi: float = 5.0) -> float:

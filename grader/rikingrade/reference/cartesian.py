@@ -38,9 +38,11 @@ class Cartesian(ExerciseArm):
     joint_types = "PPP"
 
     def links(self, l1: float, l2: float, l3: float) -> list[Link]:  # type: ignore[override]
-        return [Link("P", d=l1, theta=-np.pi / 2, alpha=-np.pi / 2),
-                Link("P", d=l2, theta=np.pi / 2, alpha=-np.pi / 2),
-                Link("P", d=l3)]
+        return [
+            Link("P", d=l1, theta=-np.pi / 2, alpha=-np.pi / 2),
+            Link("P", d=l2, theta=np.pi / 2, alpha=-np.pi / 2),
+            Link("P", d=l3),
+        ]
 
     def _position_ik(self, p, L):
         x, y, z = p
@@ -51,7 +53,9 @@ class Cartesian(ExerciseArm):
                 raise UnreachableError(
                     f"{_AXES[i]} = {p[(i + 2) % 3]:.6g} is below {_LENGTH_OF[i]} = "
                     f"{L[_LENGTH_OF[i]]:.6g}: joint {i + 1} would have to retract by {-q[i]:.6g} "
-                    "(prismatic joints only extend, q >= 0)", excess=float(-q[i]))
+                    "(prismatic joints only extend, q >= 0)",
+                    excess=float(-q[i]),
+                )
         return [(np.maximum(q, 0.0), "the only solution", ())]
 
     def sample_lengths(self, rng):
@@ -62,9 +66,13 @@ class Cartesian(ExerciseArm):
 
     def unreachable_points(self, rng, L, near=False):
         out = []
-        for i, what in enumerate(("below l1 in z (joint 1 would retract)",
-                                  "below l2 in x (joint 2 would retract)",
-                                  "below l3 in y (joint 3 would retract)")):
+        for i, what in enumerate(
+            (
+                "below l1 in z (joint 1 would retract)",
+                "below l2 in x (joint 2 would retract)",
+                "below l3 in y (joint 3 would retract)",
+            )
+        ):
             q = self.sample_q(rng, L)
             q[i] = -excess(rng, near)
             out.append((what, self.fk(q, **L)[:3, 3]))  # FK has no joint limits

@@ -37,9 +37,7 @@ class Cylindrical(ExerciseArm):
     joint_types = "RPP"
 
     def links(self, l1: float, l2: float) -> list[Link]:  # type: ignore[override]
-        return [Link("R", d=l1),
-                Link("P", theta=-np.pi / 2, alpha=-np.pi / 2),
-                Link("P", d=l2)]
+        return [Link("R", d=l1), Link("P", theta=-np.pi / 2, alpha=-np.pi / 2), Link("P", d=l2)]
 
     def _position_ik(self, p, L):
         x, y, z = p
@@ -50,19 +48,24 @@ class Cylindrical(ExerciseArm):
         if q2 < -tol:
             raise UnreachableError(
                 f"z = {z:.6g} is below l1 = {L['l1']:.6g}: the lift (joint 2) would have to "
-                f"retract by {-q2:.6g} (prismatic joints only extend, q >= 0)", excess=-q2)
+                f"retract by {-q2:.6g} (prismatic joints only extend, q >= 0)",
+                excess=-q2,
+            )
         if q3 < -tol:
             raise UnreachableError(
                 f"the target is {r:.6g} from the column axis, closer than the retracted radial "
-                f"arm l2 = {L['l2']:.6g}: joint 3 would have to retract by {-q3:.6g}", excess=-q3)
+                f"arm l2 = {L['l2']:.6g}: joint 3 would have to retract by {-q3:.6g}",
+                excess=-q3,
+            )
         return [(np.array([np.arctan2(y, x), max(q2, 0.0), max(q3, 0.0)]), "the only solution", ())]
 
     def sample_lengths(self, rng):
         return {"l1": float(rng.uniform(2.0, 10.0)), "l2": float(rng.uniform(1.0, 6.0))}
 
     def sample_q(self, rng, L):
-        return np.array([rng.uniform(-np.pi, np.pi), rng.uniform(0.2, 10.0),
-                         rng.uniform(0.2, 10.0)])
+        return np.array(
+            [rng.uniform(-np.pi, np.pi), rng.uniform(0.2, 10.0), rng.uniform(0.2, 10.0)]
+        )
 
     def unreachable_points(self, rng, L, near=False):
         a = self.sample_q(rng, L)
@@ -72,10 +75,14 @@ class Cylindrical(ExerciseArm):
         below[1] = -excess(rng, near)
         axis = self.sample_q(rng, L)
         axis[2] = -L["l2"] if not near else -rng.uniform(0.05, 0.3)
-        return [("closer to the column axis than l2", self.fk(inside, **L)[:3, 3]),
-                ("below z = l1", self.fk(below, **L)[:3, 3]),
-                ("on the column axis" if not near else "closer to the column axis than l2",
-                 self.fk(axis, **L)[:3, 3])]
+        return [
+            ("closer to the column axis than l2", self.fk(inside, **L)[:3, 3]),
+            ("below z = l1", self.fk(below, **L)[:3, 3]),
+            (
+                "on the column axis" if not near else "closer to the column axis than l2",
+                self.fk(axis, **L)[:3, 3],
+            ),
+        ]
 
 
 ARM = Cylindrical()

@@ -50,22 +50,27 @@ class Scara(ExerciseArm):
         if q3 < -tol:
             raise UnreachableError(
                 f"z = {z:.6g} is above l1 = {l1:.6g}: the quill (joint 3) would have to retract "
-                f"by {-q3:.6g} (prismatic joints only extend, q >= 0)", excess=-q3)
+                f"by {-q3:.6g} (prismatic joints only extend, q >= 0)",
+                excess=-q3,
+            )
         q3 = max(q3, 0.0)
         rho = float(np.hypot(x, y))
         if rho > l2 + l3 + tol:
             raise UnreachableError(
                 f"the target is {rho:.6g} from the z0 axis, beyond the full reach "
-                f"l2 + l3 = {l2 + l3:.6g} by {rho - l2 - l3:.6g}", excess=rho - l2 - l3)
+                f"l2 + l3 = {l2 + l3:.6g} by {rho - l2 - l3:.6g}",
+                excess=rho - l2 - l3,
+            )
         if rho < abs(l2 - l3) - tol:
             raise UnreachableError(
                 f"the target is {rho:.6g} from the z0 axis, inside the circle of radius "
                 f"|l2 - l3| = {abs(l2 - l3):.6g} the folded arm cannot enter",
-                excess=abs(l2 - l3) - rho)
+                excess=abs(l2 - l3) - rho,
+            )
         c2 = float(np.clip((rho**2 - l2**2 - l3**2) / (2 * l2 * l3), -1.0, 1.0))
         if 1.0 - abs(c2) < STRETCH_TOL:
             q2 = 0.0 if c2 > 0 else np.pi
-            if rho < SINGULAR_TOL * self.scale(L):   # folded with l2 == l3: at the base axis
+            if rho < SINGULAR_TOL * self.scale(L):  # folded with l2 == l3: at the base axis
                 return [(np.array([0.0, q2, q3]), "folded onto the base axis (q1 free)", (0,))]
             q1 = np.arctan2(y, x) - (0.0 if c2 > 0 else np.arctan2(0.0, l2 - l3))
             label = "stretched (q2 = 0)" if c2 > 0 else "folded (q2 = pi)"
@@ -80,8 +85,11 @@ class Scara(ExerciseArm):
 
     def sample_lengths(self, rng):
         while True:
-            L = {"l1": float(rng.uniform(3.0, 10.0)), "l2": float(rng.uniform(2.0, 10.0)),
-                 "l3": float(rng.uniform(2.0, 10.0))}
+            L = {
+                "l1": float(rng.uniform(3.0, 10.0)),
+                "l2": float(rng.uniform(2.0, 10.0)),
+                "l3": float(rng.uniform(2.0, 10.0)),
+            }
             if abs(L["l2"] - L["l3"]) >= 0.5:
                 return L
 
@@ -99,15 +107,24 @@ class Scara(ExerciseArm):
         z_ok = L["l1"] - rng.uniform(0.2, 10.0)
         ang = rng.uniform(-np.pi, np.pi, size=3)
         far = (l2 + l3) + (rng.uniform(0.05, 0.3) if near else (l2 + l3) * rng.uniform(0.05, 0.5))
-        inner = abs(l2 - l3) - (rng.uniform(0.05, 0.3) * min(1.0, abs(l2 - l3)) if near
-                                else abs(l2 - l3) * rng.uniform(0.1, 1.0))
+        inner = abs(l2 - l3) - (
+            rng.uniform(0.05, 0.3) * min(1.0, abs(l2 - l3))
+            if near
+            else abs(l2 - l3) * rng.uniform(0.1, 1.0)
+        )
         q = self.sample_q(rng, L)
         q[2] = -(rng.uniform(0.05, 0.3) if near else rng.uniform(0.5, 5.0))
-        return [("beyond full reach (farther than l2 + l3 from the z0 axis)",
-                 np.array([far * np.cos(ang[0]), far * np.sin(ang[0]), z_ok])),
-                ("inside the inner circle (closer than |l2 - l3| to the z0 axis)",
-                 np.array([inner * np.cos(ang[1]), inner * np.sin(ang[1]), z_ok])),
-                ("above z = l1 (the quill would retract)", self.fk(q, **L)[:3, 3])]
+        return [
+            (
+                "beyond full reach (farther than l2 + l3 from the z0 axis)",
+                np.array([far * np.cos(ang[0]), far * np.sin(ang[0]), z_ok]),
+            ),
+            (
+                "inside the inner circle (closer than |l2 - l3| to the z0 axis)",
+                np.array([inner * np.cos(ang[1]), inner * np.sin(ang[1]), z_ok]),
+            ),
+            ("above z = l1 (the quill would retract)", self.fk(q, **L)[:3, 3]),
+        ]
 
 
 ARM = Scara()

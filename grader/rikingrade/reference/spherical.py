@@ -42,9 +42,11 @@ class Spherical(ExerciseArm):
     joint_types = "RRP"
 
     def links(self, l1: float, l2: float) -> list[Link]:  # type: ignore[override]
-        return [Link("R", d=l1, alpha=np.pi / 2),
-                Link("R", alpha=np.pi / 2, offset=np.pi / 2),
-                Link("P", d=l2)]
+        return [
+            Link("R", d=l1, alpha=np.pi / 2),
+            Link("R", alpha=np.pi / 2, offset=np.pi / 2),
+            Link("P", d=l2),
+        ]
 
     def _position_ik(self, p, L):
         x, y, z = p
@@ -56,21 +58,31 @@ class Spherical(ExerciseArm):
         if q3 < -REACH_TOL * scale:
             raise UnreachableError(
                 f"the target is {dist:.6g} from the shoulder (0, 0, l1), closer than the retracted "
-                f"boom l2 = {L['l2']:.6g}: joint 3 would have to retract by {-q3:.6g}", excess=-q3)
+                f"boom l2 = {L['l2']:.6g}: joint 3 would have to retract by {-q3:.6g}",
+                excess=-q3,
+            )
         q3 = max(q3, 0.0)
         if rho < SINGULAR_TOL * scale:
-            return [(np.array([0.0, np.copysign(np.pi / 2, h), q3]),
-                     "on the vertical line through the shoulder (q1 free)", (0,))]
+            return [
+                (
+                    np.array([0.0, np.copysign(np.pi / 2, h), q3]),
+                    "on the vertical line through the shoulder (q1 free)",
+                    (0,),
+                )
+            ]
         q1 = np.arctan2(y, x)
-        return [(np.array([q1, np.arctan2(h, rho), q3]), FRONT, ()),
-                (np.array([q1 + np.pi, np.arctan2(h, -rho), q3]), BACK, ())]
+        return [
+            (np.array([q1, np.arctan2(h, rho), q3]), FRONT, ()),
+            (np.array([q1 + np.pi, np.arctan2(h, -rho), q3]), BACK, ()),
+        ]
 
     def sample_lengths(self, rng):
         return {"l1": float(rng.uniform(2.0, 10.0)), "l2": float(rng.uniform(1.0, 6.0))}
 
     def sample_q(self, rng, L):
-        return np.array([rng.uniform(-np.pi, np.pi), rng.uniform(-1.3, 1.3),
-                         rng.uniform(0.2, 10.0)])
+        return np.array(
+            [rng.uniform(-np.pi, np.pi), rng.uniform(-1.3, 1.3), rng.uniform(0.2, 10.0)]
+        )
 
     def sample_special_q(self, rng, L):
         q = self.sample_q(rng, L)
@@ -86,8 +98,12 @@ class Spherical(ExerciseArm):
         q = self.sample_q(rng, L)
         q[1] = np.pi / 2
         q[2] = -(rng.uniform(0.05, 0.3) if near else L["l2"])
-        out.append(("above the shoulder, closer than l2" if near else "the shoulder point itself",
-                    self.fk(q, **L)[:3, 3]))
+        out.append(
+            (
+                "above the shoulder, closer than l2" if near else "the shoulder point itself",
+                self.fk(q, **L)[:3, 3],
+            )
+        )
         return out
 
 

@@ -1,0 +1,506 @@
+"""The grading API: :func:`grade` a folder of notebooks; :func:`check_sandbox` probes isolation.
+
+The command line (``rikin-grade``) is a thin layer over these functions and takes its
+defaults from their signatures, so the two cannot drift.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import logging
+import os
+import queue
+import shutil
+import tempfile
+import threading
+import time
+import traceback
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from . import __version__
+from .assignment import Assignment, load_assignment
+from .notebook import Submission, discover
+from .outputs import atomic_write, grades_csv, load_state, write_submission
+from .progress import Progress, summarize, summary_text
+from .report import GRADER_ERROR, SubmissionResult, TestResult
+from .runner import RunOptions, SubmissionRunner
+from .sandbox import (
+    INSTALL_HINT,
+    Limits,
+    Sandbox,
+    SandboxConfig,
+    SandboxUnavailable,
+    prepare_workdir,
+)
+from .sandbox.config import package_dir
+
+log = logging.getLogger("rikingrade")
+
+DEFAULT_SEED = 20240901
+
+
+@dataclass
+class GradeReport:
+    """What :func:`grade` returns: one result per submission and the batch summary."""
+
+    out: Path
+    results: list[SubmissionResult]
+    summary: dict[str, Any]
+    notes: list[str] = field(default_factory=list)
+
+    def by_student(self) -> dict[str, SubmissionResult]:
+        return {r.student: r for r in self.results}
+
+
+def grade(
+    assignment: str | Path,
+    submissions: Sequence[str | Path] | str | Path,
+    out: str | Path,
+    *,
+    workers: int = 2,
+    seed: int = DEFAULT_SEED,
+    reveal: bool = False,
+    timeout: float | None = None,
+    cell_timeout: float = 30.0,
+    memory_mb: int = 1024,
+    cpu_seconds: int = 120,
+    max_processes: int = 32,
+    max_file_mb: int = 16,
+    tmp_mb: int = 64,
+    output_limit: int = 10_000,
+    regrade: bool = False,
+    unsafe_no_sandbox: bool = False,
+    progress: bool | None = None,
+    quiet: bool = False,
+) -> GradeReport:
+    """Grade notebooks against an assignment's hidden tests; write gradebooks and feedback.
+
+    Parameters
+    ----------
+    assignment : str or Path
+        An exercise name (``"scara"`` means ``rikingrade.hidden.scara``), a dotted module
+        name, or the path of a ``.py`` hidden-test module following ``rikingrade.spec``.
+    submissions : path or sequence of paths
+        ``.ipynb`` files (student id = file name) and folders holding a class: each
+        ``.ipynb`` directly inside is a student, each sub-folder is a student (id = folder
+        name, as LMS exports give them).
+    out : path
+        Output folder: ``grades.csv``, ``summary.json``, ``grading.log``,
+        ``results/<student>.json`` (Gradescope format), ``feedback/<student>.md`` and
+        ``.html``. Created if missing.
+    workers : int
+        Submissions graded in parallel, one sandbox each.
+    seed : int
+        Seed of the hidden tests' random inputs; the same inputs for every student.
+    reveal : bool
+        Let feedback show hidden inputs and expected values.
+    timeout : float or None
+        Wall-clock seconds per test call; None uses each hidden test's own timeout.
+    cell_timeout : float
+        Wall-clock seconds per notebook cell; a slower cell is skipped (later cells run).
+    memory_mb : int
+        Memory (MiB, address space) a notebook may allocate on top of the preloaded
+        libraries (numpy, sympy, matplotlib, rikin: about 250 MiB).
+    cpu_seconds : int
+        CPU seconds per notebook process (a backstop behind the wall-clock limits).
+    max_processes : int
+        Processes and threads per sandbox (stops fork bombs).
+    max_file_mb : int
+        Largest file a notebook may write (MiB).
+    tmp_mb : int
+        Size of the sandbox's private, wiped ``/tmp`` (MiB).
+    output_limit : int
+        Characters of printed output kept per cell (the rest is counted and dropped).
+    regrade : bool
+        Grade everything again instead of resuming (by default a submission whose file
+        hash and grader settings are unchanged since the last run is not graded again).
+    unsafe_no_sandbox : bool
+        Run student code without bubblewrap (development only: no isolation at all).
+    progress : bool or None
+        Progress bar; None shows it when stderr is a terminal.
+    quiet : bool
+        Print nothing (the log and the files are still written).
+
+    Returns
+    -------
+    GradeReport
+        Per-submission results and the summary (graded, failed to run, timed out, mean).
+
+    Raises
+    ------
+    AssignmentError
+        The assignment cannot be loaded.
+    SandboxUnavailable
+        bubblewrap is missing or cannot run here (and ``unsafe_no_sandbox`` is False).
+    """
+    t0 = time.monotonic()
+    out = Path(out).resolve()
+    out.mkdir(parents=True, exist_ok=True)
+    handler = _attach_log(out / "grading.log")
+    try:
+        a = load_assignment(assignment)
+        if isinstance(submissions, (str, Path)):
+            submissions = [submissions]
+        subs, notes = discover(list(submissions), a.notebook)
+        for n in notes:
+            log.warning("%s", n)
+        limits = Limits(
+            memory_mb=int(memory_mb),
+            cpu_seconds=int(cpu_seconds),
+            max_processes=int(max_processes),
+            max_file_mb=int(max_file_mb),
+        )
+        options = RunOptions(
+            limits=limits,
+            cell_timeout=float(cell_timeout),
+            timeout=None if timeout is None else float(timeout),
+            output_limit=int(output_limit),
+            reveal=bool(reveal),
+        )
+        key = _grader_key(a, seed, options, tmp_mb)
+        log.info(
+            "rikin-grade %s: %s (%d tests, max %.4g), %d submissions, key %s",
+            __version__,
+            a.name,
+            len(a.tests),
+            a.max_score,
+            len(subs),
+            key,
+        )
+        calls = a.calls(seed)
+        results: dict[str, SubmissionResult] = {}
+        todo: list[Submission] = []
+        for s in subs:
+            prev = None if regrade else load_state(out, s.student)
+            if prev is not None and prev.key == key and prev.sha256 == s.hash():
+                results[s.student] = prev
+            else:
+                todo.append(s)
+        resumed = len(results)
+        bar = Progress(len(subs), enabled=progress, quiet=quiet)
+        for r in results.values():
+            bar.update(r, resumed=True)
+        if todo:
+            config = SandboxConfig(
+                sandbox=not unsafe_no_sandbox,
+                tmp_mb=int(tmp_mb),
+                hidden=_hidden_paths(a, out, subs),
+            )
+            if config.sandbox and shutil.which(config.bwrap) is None:
+                raise SandboxUnavailable(INSTALL_HINT)
+            if not config.sandbox:
+                log.warning(
+                    "UNSAFE: grading without a sandbox (--unsafe-no-sandbox); "
+                    "student code can read and change this machine's files"
+                )
+            _run_pool(a, calls, options, key, config, todo, max(1, int(workers)), out, bar, results)
+        ordered = [results[s.student] for s in subs if s.student in results]
+        atomic_write(out / "grades.csv", grades_csv(ordered, [t.name for t in a.tests]), fsync=True)
+        summary = summarize(ordered, time.monotonic() - t0, resumed)
+        summary.update({"assignment": a.exercise, "grader_version": __version__, "key": key})
+        atomic_write(out / "summary.json", json.dumps(summary, indent=2))
+        log.info("summary: %s", summary_text(summary))
+        if not quiet:
+            print(f"{a.exercise}: {summary_text(summary)}")
+            print(
+                f"grades: {out / 'grades.csv'}  feedback: {out / 'feedback'}  "
+                f"log: {out / 'grading.log'}"
+            )
+        return GradeReport(out=out, results=ordered, summary=summary, notes=notes)
+    finally:
+        logging.getLogger("rikingrade").removeHandler(handler)
+        handler.close()
+
+
+def _grader_key(a: Assignment, seed: int, options: RunOptions, tmp_mb: int) -> str:
+    """What must match for a previous result to be reused."""
+    payload = json.dumps(
+        {
+            "version": __version__,
+            "assignment": a.exercise,
+            "fingerprint": a.fingerprint,
+            "seed": int(seed),
+            "reveal": options.reveal,
+            "timeout": options.timeout,
+            "cell_timeout": options.cell_timeout,
+            "limits": options.limits.as_dict(),
+            "output_limit": options.output_limit,
+            "tmp_mb": tmp_mb,
+        },
+        sort_keys=True,
+    )
+    return f"{__version__}-{hashlib.sha256(payload.encode()).hexdigest()[:12]}"
+
+
+def _hidden_paths(a: Assignment, out: Path, subs: list[Submission]) -> list[Path]:
+    hidden = [out]
+    grader_pkg = package_dir("rikingrade")
+    if grader_pkg is not None:
+        hidden.append(grader_pkg)
+        course = grader_pkg.parent.parent
+        for name in ("solutions", "exercises", "grader", "tests"):
+            if (course / name).is_dir():
+                hidden.append(course / name)
+    if a.source_path is not None:
+        hidden.append(
+            a.source_path.parent if a.source_path.name == "__init__.py" else a.source_path
+        )
+    hidden += [s.path.parent for s in subs]
+    return hidden
+
+
+def _attach_log(path: Path) -> logging.Handler:
+    handler = logging.FileHandler(path, encoding="utf-8")
+    handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
+    handler.setLevel(logging.INFO)
+    lg = logging.getLogger("rikingrade")
+    lg.addHandler(handler)
+    if lg.level == logging.NOTSET or lg.level > logging.INFO:
+        lg.setLevel(logging.INFO)
+    lg.propagate = False
+    return handler
+
+
+def _log_result(res: SubmissionResult) -> None:
+    log.info(
+        "%s: %.4g/%.4g %s %s (%.2f s) %s",
+        res.student,
+        res.score,
+        res.max_score,
+        res.status,
+        res.reason,
+        res.elapsed,
+        res.path,
+    )
+    for t in res.tests:
+        log.info(
+            "  %s %s %.4g/%.4g: %s%s",
+            res.student,
+            t.name,
+            t.points,
+            t.weight,
+            t.feedback,
+            f" | {t.detail}" if t.detail else "",
+        )
+    for c in res.cells:
+        if c.status != "ok":
+            log.info(
+                "  %s cell %d %s %s: %s\n%s",
+                res.student,
+                c.number,
+                c.status,
+                c.error_type,
+                c.message,
+                c.traceback,
+            )
+
+
+def _run_pool(
+    a: Assignment,
+    calls,
+    options: RunOptions,
+    key: str,
+    config: SandboxConfig,
+    todo: list[Submission],
+    workers: int,
+    out: Path,
+    bar: Progress,
+    results: dict[str, SubmissionResult],
+) -> None:
+    jobs: queue.Queue[Submission] = queue.Queue()
+    for s in todo:
+        jobs.put(s)
+    workdir = Path(tempfile.mkdtemp(prefix="rikingrade-"))
+    prepare_workdir(workdir, config.sandbox)
+    start_errors: list[str] = []
+    lock = threading.Lock()
+    stop = threading.Event()
+
+    def worker(n: int) -> None:
+        sandbox = Sandbox(config, workdir)
+        try:
+            try:
+                sandbox.start()
+            except SandboxUnavailable as exc:
+                with lock:
+                    start_errors.append(str(exc))
+                return
+            runner = SubmissionRunner(sandbox, a, calls, options, key)
+            while not stop.is_set():
+                try:
+                    sub = jobs.get_nowait()
+                except queue.Empty:
+                    return
+                try:
+                    res = runner.grade(sub)
+                except Exception:  # a bug must cost one submission, not the batch
+                    tb = traceback.format_exc()
+                    log.error("%s: internal error:\n%s", sub.student, tb)
+                    res = SubmissionResult(
+                        student=sub.student,
+                        path=str(sub.path),
+                        sha256=sub.hash(),
+                        status=GRADER_ERROR,
+                        reason="internal grader error (see the log)",
+                        max_score=a.max_score,
+                        key=key,
+                        tests=[
+                            TestResult(
+                                t.name,
+                                float(t.weight),
+                                0.0,
+                                "not run: internal grader error",
+                                grader_error=True,
+                            )
+                            for t in a.tests
+                        ],
+                    )
+                    sandbox.close()
+                write_submission(out, res, a.exercise)
+                _log_result(res)
+                with lock:
+                    results[sub.student] = res
+                bar.update(res)
+        finally:
+            sandbox.close()
+
+    threads = [
+        threading.Thread(target=worker, args=(i,), name=f"grader-{i}", daemon=True)
+        for i in range(min(workers, len(todo)))
+    ]
+    try:
+        for t in threads:
+            t.start()
+        for t in threads:
+            while t.is_alive():
+                t.join(0.2)
+    except KeyboardInterrupt:
+        stop.set()
+        raise
+    finally:
+        shutil.rmtree(workdir, ignore_errors=True)
+    if start_errors and len(start_errors) == len(threads):
+        raise SandboxUnavailable(start_errors[0] + "\n\n" + INSTALL_HINT)
+    for e in start_errors:
+        log.warning("a worker's sandbox did not start: %s", e)
+
+
+# ----------------------------------------------------------------------------- probe
+PROBE = r"""
+import os, socket, subprocess
+def probe(paths):
+    r = {"uid": os.getuid(), "gid": os.getgid(), "cwd": os.getcwd()}
+    r["root"] = sorted(os.listdir("/"))
+    def readable(p):
+        try:
+            if os.path.isdir(p):
+                return bool(os.listdir(p))
+            with open(p, "rb") as f:
+                return bool(f.read(1))
+        except OSError:
+            return False
+    r["visible"] = [p for p in paths if readable(p)]
+    try:
+        socket.create_connection(("1.1.1.1", 53), timeout=2).close()
+        r["network"] = True
+    except OSError as e:
+        r["network"] = False
+    written = []
+    for d in ("/", "/usr", "/etc", os.path.dirname(os.__file__), "/opt", "/dev", "/dev/shm"):
+        try:
+            with open(os.path.join(d, "rikingrade-probe"), "w") as f:
+                f.write("x")
+            written.append(d)
+            os.unlink(os.path.join(d, "rikingrade-probe"))
+        except OSError:
+            pass
+    r["writable"] = written
+    with open("/proc/self/status") as f:
+        r["status_uid"] = [l.split()[1:] for l in f if l.startswith("Uid:")][0]
+    return r
+"""
+
+
+def _host_uid(pid: int) -> int | None:
+    """The real uid of ``pid`` as the host sees it (what RLIMIT_NPROC counts against)."""
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            for line in f:
+                if line.startswith("Uid:"):
+                    return int(line.split()[1])
+    except OSError:
+        return None
+    return None
+
+
+def check_sandbox(
+    unsafe_no_sandbox: bool = False,
+    paths: Sequence[str | Path] = (),
+    hidden: Sequence[str | Path] = (),
+) -> dict[str, Any]:
+    """Start a sandbox and report what a notebook inside it can see and do.
+
+    ``paths`` must be unreadable from inside; ``hidden`` are masked like the grader package
+    (use it for paths inside a bound directory) and must be unreadable too.
+
+    Returns a dict with ``ok`` (True when none of those paths, the grader package or the
+    course is readable, there is no network and nothing outside ``/tmp`` is writable), the
+    probe's raw findings and the bubblewrap command used.
+    """
+    config = SandboxConfig(sandbox=not unsafe_no_sandbox)
+    grader_pkg = package_dir("rikingrade")
+    secret = [str(p) for p in [*paths, *hidden]]
+    config.hidden = [Path(h) for h in hidden]
+    if grader_pkg is not None:
+        course = grader_pkg.parent.parent
+        config.hidden.append(grader_pkg)
+        secret += [
+            str(grader_pkg),
+            str(grader_pkg / "hidden"),
+            str(course / "solutions"),
+            str(course / "grader"),
+            str(course / ".git"),
+        ]
+    if config.sandbox and shutil.which(config.bwrap) is None:
+        raise SandboxUnavailable(INSTALL_HINT)
+    workdir = Path(tempfile.mkdtemp(prefix="rikingrade-"))
+    sandbox = Sandbox(config, workdir)
+    try:
+        prepare_workdir(workdir, config.sandbox)
+        sandbox.start()
+        child = sandbox.spawn(Limits())
+        deadline = time.monotonic() + 30
+        child.send({"op": "exec", "cells": [[1, PROBE]], "output_limit": 1000}, deadline)
+        while child.recv(deadline).get("event") != "exec_done":
+            pass
+        child.send(
+            {"op": "call", "id": 1, "function": "probe", "kwargs": {"paths": secret}}, deadline
+        )
+        reply = child.recv(deadline)
+        child.close()
+        found = reply.get("value") or {}
+        host_uid = _host_uid(sandbox.proc.pid) if sandbox.proc is not None else None
+        ok = (
+            (host_uid != 0 or not config.sandbox)
+            and not found.get("visible")
+            and found.get("network") is False
+            and not found.get("writable")
+            and found.get("uid") != 0
+        )
+        return {
+            "ok": bool(ok),
+            "sandboxed": config.sandbox,
+            "probe": found,
+            "error": reply.get("error_message"),
+            "preload_errors": sandbox.preload_errors,
+            "command": getattr(sandbox, "command", None),
+            "grader_uid": os.geteuid(),
+            "sandbox_host_uid": host_uid,
+        }
+    finally:
+        sandbox.close()
+        shutil.rmtree(workdir, ignore_errors=True)

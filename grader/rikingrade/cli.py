@@ -1,0 +1,266 @@
+"""``rikin-grade``: the command line over :mod:`rikingrade.api` (defaults come from the API).
+
+Commands::
+
+    rikin-grade ASSIGNMENT SUBMISSIONS... --out DIR [options]   grade a class
+    rikin-grade gradescope-bundle ASSIGNMENT --out bundle.zip     build a Gradescope autograder
+    rikin-grade gradescope-run ASSIGNMENT [--submission DIR] [--results FILE]
+    rikin-grade check-sandbox                                     show what student code can see
+"""
+
+from __future__ import annotations
+
+import argparse
+import inspect
+import json
+import sys
+from collections.abc import Callable, Sequence
+from typing import Any
+
+from . import __version__
+
+EXIT_OK, EXIT_GRADER_ERRORS, EXIT_USAGE, EXIT_SANDBOX = 0, 1, 2, 3
+
+DESCRIPTION = """\
+Grade students' exercise notebooks safely, in parallel, with partial credit.
+
+Each notebook runs in a bubblewrap sandbox (no network, no access to the course, the hidden
+tests or other submissions, read-only filesystem, unprivileged user, memory/CPU/process/file
+limits); the grader sends the hidden tests' inputs as JSON, reads the results back as JSON
+and scores them in its own process. A cell that raises is recorded and later cells still
+run; a call that hangs or crashes costs only its test.
+"""
+
+EPILOG = """\
+other commands:
+  rikin-grade gradescope-bundle ASSIGNMENT --out bundle.zip   build a Gradescope autograder zip
+  rikin-grade gradescope-run ASSIGNMENT                       grade one upload (inside Gradescope)
+  rikin-grade check-sandbox                                   probe what a notebook can see and do
+  (each takes --help)
+
+examples:
+  rikin-grade scara submissions/ --out graded/
+  rikin-grade scara alice.ipynb bob.ipynb --out graded/ --workers 4 --reveal
+  rikin-grade path/to/my_hidden_tests.py class/ --out graded/ --timeout 10
+
+exit status: 0 graded (whatever the scores), 1 some submissions hit a grader error (see the
+log), 2 bad arguments or assignment, 3 the sandbox is unavailable.
+"""
+
+# (parameter of api.grade, help). Defaults are read from the function's signature.
+GRADE_OPTIONS: list[tuple[str, str]] = [
+    ("workers", "submissions graded in parallel, one sandbox each"),
+    ("seed", "seed of the hidden tests' random inputs (the same inputs for every student)"),
+    ("reveal", "let feedback show hidden inputs and expected values"),
+    ("timeout", "wall-clock seconds per test call (default: each hidden test's own timeout)"),
+    (
+        "cell_timeout",
+        "wall-clock seconds per notebook cell; a slower cell is skipped and later cells still run",
+    ),
+    (
+        "memory_mb",
+        "memory (MiB of address space) a notebook may allocate on top of the preloaded "
+        "numpy/sympy/matplotlib/rikin (about 250 MiB)",
+    ),
+    ("cpu_seconds", "CPU seconds per notebook process (a backstop behind the wall-clock limits)"),
+    ("max_processes", "processes and threads per sandbox (stops fork bombs)"),
+    ("max_file_mb", "largest file a notebook may write, MiB"),
+    ("tmp_mb", "size of the sandbox's private /tmp, MiB (wiped between submissions)"),
+    ("output_limit", "characters of printed output kept per cell (the rest is dropped)"),
+    (
+        "regrade",
+        "grade every submission again (default: resume, skipping submissions already graded "
+        "with the same file hash and grader settings)",
+    ),
+    (
+        "unsafe_no_sandbox",
+        "DEVELOPMENT ONLY: run student code without bubblewrap, with no isolation",
+    ),
+    ("progress", "show a progress bar (default: only when stderr is a terminal)"),
+    ("quiet", "print nothing; the files and the log are still written"),
+]
+
+
+def _add_options(
+    p: argparse.ArgumentParser, func: Callable[..., Any], table: list[tuple[str, str]]
+) -> None:
+    sig = inspect.signature(func).parameters
+    for name, help_ in table:
+        default = sig[name].default
+        flag = "--" + name.replace("_", "-")
+        if name == "progress":
+            p.add_argument(
+                flag, dest=name, action=argparse.BooleanOptionalAction, default=default, help=help_
+            )
+        elif isinstance(default, bool):
+            p.add_argument(flag, dest=name, action="store_true", default=default, help=help_)
+        else:
+            ann = sig[name].annotation
+            ann = str(ann)
+            typ = float if "float" in ann else (int if "int" in ann else str)
+            shown = "" if default is None else " (default: %(default)s)"
+            p.add_argument(
+                flag, dest=name, type=typ, default=default, metavar=name.upper(), help=help_ + shown
+            )
+
+
+def grade_parser() -> argparse.ArgumentParser:
+    from .api import grade
+
+    p = argparse.ArgumentParser(
+        prog="rikin-grade",
+        description=DESCRIPTION,
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument(
+        "assignment",
+        metavar="ASSIGNMENT",
+        help="exercise name (e.g. scara = rikingrade.hidden.scara), dotted module, or path "
+        "to a hidden-test .py module",
+    )
+    p.add_argument(
+        "submissions",
+        metavar="SUBMISSIONS",
+        nargs="+",
+        help=".ipynb files (student id = file name) or class folders: each .ipynb inside is "
+        "a student, each sub-folder is a student (id = folder name)",
+    )
+    p.add_argument(
+        "--out",
+        "-o",
+        required=True,
+        metavar="DIR",
+        help="output folder: grades.csv, summary.json, grading.log, results/<student>.json "
+        "(Gradescope format), feedback/<student>.md and .html",
+    )
+    _add_options(p, grade, GRADE_OPTIONS)
+    p.add_argument("--version", action="version", version=f"rikin-grade {__version__}")
+    return p
+
+
+def bundle_parser() -> argparse.ArgumentParser:
+    from .gradescope import gradescope_bundle
+
+    p = argparse.ArgumentParser(
+        prog="rikin-grade gradescope-bundle",
+        description="Build the zip Gradescope's 'Configure Autograder' page takes: setup.sh "
+        "(installs "
+        "bubblewrap, Python, rikin and rikingrade), run_autograder (grades "
+        "/autograder/submission, writes /autograder/results/results.json) and the hidden "
+        "tests with their reference.",
+    )
+    p.add_argument(
+        "assignment", metavar="ASSIGNMENT", help="exercise name, dotted module or .py path"
+    )
+    p.add_argument("--out", "-o", required=True, metavar="ZIP", help="the zip file to write")
+    _add_options(
+        p,
+        gradescope_bundle,
+        [
+            ("seed", "seed of the hidden tests' random inputs"),
+            ("reveal", "let feedback show hidden inputs and expected values"),
+            ("timeout", "wall-clock seconds per test call (default: each test's own)"),
+            ("cell_timeout", "wall-clock seconds per notebook cell"),
+            ("memory_mb", "memory (MiB) a notebook may allocate on top of the preloaded libraries"),
+            (
+                "unsafe_no_sandbox",
+                "run without bubblewrap inside Gradescope (each submission already gets "
+                "its own container there, but student code can then read the hidden tests)",
+            ),
+        ],
+    )
+    return p
+
+
+def run_parser() -> argparse.ArgumentParser:
+    from .gradescope import gradescope_run
+
+    p = argparse.ArgumentParser(
+        prog="rikin-grade gradescope-run",
+        description="Grade the one submission Gradescope gives "
+        "(the run_autograder script calls this).",
+    )
+    p.add_argument(
+        "assignment", metavar="ASSIGNMENT", help="exercise name, dotted module or .py path"
+    )
+    _add_options(
+        p,
+        gradescope_run,
+        [
+            ("submission", "folder holding the student's upload"),
+            ("results", "where to write Gradescope's results.json"),
+            ("seed", "seed of the hidden tests' random inputs"),
+            ("reveal", "let feedback show hidden inputs and expected values"),
+            ("timeout", "wall-clock seconds per test call (default: each test's own)"),
+            ("cell_timeout", "wall-clock seconds per notebook cell"),
+            ("memory_mb", "memory (MiB) a notebook may allocate on top of the preloaded libraries"),
+            ("unsafe_no_sandbox", "run without bubblewrap (no isolation)"),
+        ],
+    )
+    return p
+
+
+def check_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="rikin-grade check-sandbox",
+        description="Start a sandbox and show what a notebook inside it can see and do "
+        "(user id, visible paths, network, writable directories).",
+    )
+    p.add_argument("paths", nargs="*", metavar="PATH", help="more paths that must be invisible")
+    p.add_argument(
+        "--unsafe-no-sandbox", action="store_true", help="probe the unsandboxed mode instead"
+    )
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of ``rikin-grade``; returns the exit status."""
+    from .assignment import AssignmentError
+    from .sandbox import SandboxUnavailable
+
+    args_list = list(sys.argv[1:] if argv is None else argv)
+    cmd = args_list[0] if args_list else ""
+    try:
+        if cmd == "gradescope-bundle":
+            from .gradescope import gradescope_bundle
+
+            ns = bundle_parser().parse_args(args_list[1:])
+            kw = vars(ns)
+            path = gradescope_bundle(kw.pop("assignment"), kw.pop("out"), **kw)
+            print(f"wrote {path}: upload it on Gradescope's 'Configure Autograder' page")
+            return EXIT_OK
+        if cmd == "gradescope-run":
+            from .gradescope import gradescope_run
+
+            kw = vars(run_parser().parse_args(args_list[1:]))
+            res = gradescope_run(kw.pop("assignment"), **kw)
+            return EXIT_GRADER_ERRORS if res.status == "grader-error" else EXIT_OK
+        if cmd == "check-sandbox":
+            from .api import check_sandbox
+
+            ns = check_parser().parse_args(args_list[1:])
+            info = check_sandbox(unsafe_no_sandbox=ns.unsafe_no_sandbox, paths=ns.paths)
+            print(json.dumps(info, indent=2))
+            print("sandbox OK" if info["ok"] else "sandbox NOT isolated", file=sys.stderr)
+            return EXIT_OK if info["ok"] else EXIT_SANDBOX
+        if cmd == "grade":
+            args_list = args_list[1:]
+        from .api import grade
+
+        kw = vars(grade_parser().parse_args(args_list))
+        report = grade(kw.pop("assignment"), kw.pop("submissions"), kw.pop("out"), **kw)
+        return EXIT_GRADER_ERRORS if report.summary.get("grader_errors") else EXIT_OK
+    except AssignmentError as exc:
+        print(f"rikin-grade: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except SandboxUnavailable as exc:
+        print(f"rikin-grade: {exc}", file=sys.stderr)
+        return EXIT_SANDBOX
+    except KeyboardInterrupt:
+        print("rikin-grade: interrupted; run the same command again to resume", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,198 @@
+"""Writing results: grades.csv, Gradescope results.json, feedback (Markdown and HTML), state.
+
+Every file is written atomically (a temporary file in the same folder, fsync, then
+``os.replace``), so a grader killed at any moment leaves either the old file or the new
+one, never half of one. Layout of the output folder::
+
+    grades.csv                  one row per student: status, score, max, per-test points
+    summary.json                the batch summary (also printed)
+    grading.log                 the instructor's log (hidden values may appear here)
+    results/<student>.json      Gradescope-format results
+    feedback/<student>.md/.html what the student sees: one line per test
+    .rikingrade/<student>.json  resume records (file hash, grader key, full result)
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import io
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from .report import SubmissionResult
+
+STATE_DIR = ".rikingrade"
+
+
+def atomic_write(path: Path, data: str | bytes, fsync: bool = False) -> None:
+    """Write ``data`` to ``path`` so that readers see the old or the new file, never a mix.
+
+    ``os.replace`` makes the switch atomic for any reader and against the writer being
+    killed; ``fsync=True`` also survives a power cut (slower: used for the class files).
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    raw = data.encode("utf-8") if isinstance(data, str) else data
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(raw)
+            f.flush()
+            if fsync:
+                os.fsync(f.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.4g}" if x != int(x) else str(int(x))
+
+
+# ----------------------------------------------------------------------------- per student
+def feedback_lines(res: SubmissionResult) -> list[tuple[str, str, str, str]]:
+    """(verdict, test name, points text, feedback) for each test."""
+    return [
+        (t.verdict, t.name, f"{_fmt(t.points)}/{_fmt(t.weight)}", t.feedback) for t in res.tests
+    ]
+
+
+def feedback_markdown(res: SubmissionResult, exercise: str) -> str:
+    out = [f"# {exercise}: feedback for {res.student}", ""]
+    out.append(f"**Score: {_fmt(round(res.score, 4))} / {_fmt(res.max_score)}**")
+    out.append("")
+    out.append("## Tests")
+    out.append("")
+    for verdict, name, pts, fb in feedback_lines(res):
+        out.append(f"- [{verdict}] **{name}** ({pts}): {_md(fb)}")
+    if res.problems:
+        out += ["", "## Your notebook", ""]
+        out += [f"- {_md(p)}" for p in res.problems]
+    out.append("")
+    return "\n".join(out)
+
+
+def feedback_html(res: SubmissionResult, exercise: str) -> str:
+    e = html.escape
+    colors = {"pass": "#1a7f37", "partial": "#9a6700", "fail": "#cf222e"}
+    rows = "\n".join(
+        f'<tr><td style="color:{colors[v]};font-weight:bold">{v}</td><td>{e(n)}</td>'
+        f"<td>{e(p)}</td><td>{e(_one_line(fb))}</td></tr>"
+        for v, n, p, fb in feedback_lines(res)
+    )
+    probs = ""
+    if res.problems:
+        items = "\n".join(f"<li>{e(_one_line(p))}</li>" for p in res.problems)
+        probs = f"<h2>Your notebook</h2>\n<ul>\n{items}\n</ul>"
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<title>{e(exercise)}: feedback for {e(res.student)}</title>
+<style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}
+table{{border-collapse:collapse}}
+td,th{{border:1px solid #ccc;padding:.3em .6em;text-align:left}}</style>
+</head><body>
+<h1>{e(exercise)}: feedback for {e(res.student)}</h1>
+<p><strong>Score: {_fmt(round(res.score, 4))} / {_fmt(res.max_score)}</strong></p>
+<h2>Tests</h2>
+<table><tr><th>result</th><th>test</th><th>points</th><th>feedback</th></tr>
+{rows}
+</table>
+{probs}
+</body></html>
+"""
+
+
+def _md(text: str) -> str:
+    """One line of Markdown that cannot carry HTML (error messages come from student code)."""
+    return html.escape(_one_line(text), quote=False)
+
+
+def _one_line(text: str, limit: int = 600) -> str:
+    t = " ".join(str(text).split())
+    return t if len(t) <= limit else t[: limit - 1] + "…"
+
+
+def gradescope_json(res: SubmissionResult, exercise: str) -> dict[str, Any]:
+    """The results.json Gradescope reads (https://gradescope-autograders.readthedocs.io)."""
+    tests = [
+        {
+            "name": t.name,
+            "score": round(t.points, 6),
+            "max_score": t.weight,
+            "status": "passed" if t.fraction >= 1.0 else "failed",
+            "output": html.escape(t.feedback, quote=False),
+            "visibility": "visible",
+        }
+        for t in res.tests
+    ]
+    output = f"Status: {res.status}" + (f": {_md(res.reason)}" if res.reason else "")
+    if res.problems:
+        output += "\n\n" + "\n".join(f"- {_md(p)}" for p in res.problems)
+    return {
+        "score": round(res.score, 6),
+        "execution_time": round(res.elapsed, 3),
+        "output": output,
+        "output_format": "md",
+        "visibility": "visible",
+        "stdout_visibility": "hidden",
+        "tests": tests,
+        "extra_data": {"exercise": exercise, "status": res.status, "sha256": res.sha256},
+    }
+
+
+def write_submission(out: Path, res: SubmissionResult, exercise: str) -> None:
+    """All per-student files; the resume record last, so it only exists once the rest does."""
+    atomic_write(
+        out / "results" / f"{res.student}.json",
+        json.dumps(gradescope_json(res, exercise), indent=2),
+    )
+    atomic_write(out / "feedback" / f"{res.student}.md", feedback_markdown(res, exercise))
+    atomic_write(out / "feedback" / f"{res.student}.html", feedback_html(res, exercise))
+    atomic_write(out / STATE_DIR / f"{res.student}.json", json.dumps(res.to_dict(), indent=1))
+
+
+def load_state(out: Path, student: str) -> SubmissionResult | None:
+    """The resume record of ``student``, or None if missing or unreadable."""
+    p = out / STATE_DIR / f"{student}.json"
+    try:
+        return SubmissionResult.from_dict(json.loads(p.read_text()))
+    except (OSError, ValueError, TypeError, KeyError):
+        return None
+
+
+# ----------------------------------------------------------------------------- class files
+def _safe_cell(text: str) -> str:
+    """Text a spreadsheet will not run as a formula (CSV injection)."""
+    return "'" + text if text[:1] in ("=", "+", "-", "@", "\t", "\r") else text
+
+
+def grades_csv(results: list[SubmissionResult], test_names: list[str]) -> str:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(
+        ["student", "status", "score", "max_score", *test_names, "reason", "notebook", "sha256"]
+    )
+    for r in sorted(results, key=lambda r: r.student):
+        pts = {t.name: t.points for t in r.tests}
+        w.writerow(
+            [
+                r.student,
+                r.status,
+                f"{r.score:.4g}",
+                f"{r.max_score:.4g}",
+                *[f"{pts.get(n, 0.0):.4g}" for n in test_names],
+                _safe_cell(_one_line(r.reason, 300)),
+                _safe_cell(r.path),
+                r.sha256,
+            ]
+        )
+    return buf.getvalue()

@@ -1,0 +1,478 @@
+"""Grading one submission: run its cells in a sandboxed child, call its functions, score.
+
+The steps, in order:
+
+1. read the notebook as JSON (no code runs); unreadable -> status ``invalid``, score 0;
+2. fork a child and run the code cells in file order, as "Run All" would: a cell that
+   raises is recorded and the next cells still run; a cell that hangs past
+   ``cell_timeout`` or kills its process is recorded and skipped in a fresh child;
+3. for each hidden test, send its calls one at a time with that test's wall-clock
+   timeout; a call that times out or kills the child costs that test only: the rest of
+   its calls are not run and the next test gets a fresh child (cells re-run);
+4. score every test in the grader with ``HiddenTest.check`` (never in the child).
+"""
+
+from __future__ import annotations
+
+import difflib
+import logging
+import math
+import time
+import traceback
+from dataclasses import dataclass
+
+from .assignment import Assignment
+from .notebook import Notebook, NotebookError, Submission, read_notebook
+from .report import (
+    CELL_ERRORS,
+    CRASHED,
+    GRADER_ERROR,
+    INVALID,
+    OK,
+    TIMEOUT,
+    CellReport,
+    SubmissionResult,
+    TestResult,
+)
+from .sandbox import (
+    Child,
+    ChildDied,
+    ChildTimeout,
+    Limits,
+    ProtocolError,
+    Sandbox,
+    SandboxUnavailable,
+)
+from .spec import Call, Outcome, Score
+from .wire import WireError, encode_input
+
+log = logging.getLogger("rikingrade")
+
+GRADER_PROBLEM = (
+    "this test could not be scored because of a problem in the grader; "
+    "your instructor has been told"
+)
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """Per-submission settings (see :func:`rikingrade.grade`)."""
+
+    limits: Limits
+    cell_timeout: float = 30.0
+    timeout: float | None = None
+    output_limit: int = 10_000
+    reveal: bool = False
+
+
+class ExecFailed(Exception):
+    """The notebook's cells could not be run at all."""
+
+
+def missing_message(name: str, defined: set[str], expected: tuple[str, ...] = ()) -> str:
+    """Feedback for a function the tests need that the notebook does not define."""
+    others = sorted(f for f in defined if f not in expected)
+    close = difflib.get_close_matches(name, others, n=3, cutoff=0.4)
+    msg = f"function {name} not found: did you rename it?"
+    if close:
+        msg += f" (your notebook defines {', '.join(close)})"
+    elif others:
+        msg += (
+            f" (your notebook defines {', '.join(others[:3])}{', ...' if len(others) > 3 else ''})"
+        )
+    else:
+        msg += " (or is the cell that defines it deleted or failing?)"
+    return msg
+
+
+class SubmissionRunner:
+    """Grades submissions one after another in one sandbox."""
+
+    def __init__(
+        self,
+        sandbox: Sandbox,
+        assignment: Assignment,
+        calls: list[list[Call]],
+        options: RunOptions,
+        key: str = "",
+    ) -> None:
+        self.sandbox = sandbox
+        self.assignment = assignment
+        self.calls = calls
+        self.opt = options
+        self.key = key
+
+    # ------------------------------------------------------------------ entry point
+    def grade(self, sub: Submission) -> SubmissionResult:
+        t0 = time.monotonic()
+        a = self.assignment
+        result = SubmissionResult(
+            student=sub.student,
+            path=str(sub.path),
+            sha256=sub.hash(),
+            status=OK,
+            max_score=a.max_score,
+            key=self.key,
+        )
+        try:
+            nb = read_notebook(sub.path)
+        except NotebookError as exc:
+            result.status = INVALID
+            result.reason = str(exc)
+            result.problems = [f"the notebook could not be read: {exc}"]
+            result.tests = [
+                TestResult(t.name, float(t.weight), 0.0, "not run: the notebook could not be read")
+                for t in a.tests
+            ]
+            result.elapsed = time.monotonic() - t0
+            return result
+        run = _Run(self, nb)
+        try:
+            run.execute(result)
+        except SandboxUnavailable as exc:
+            log.error("%s: sandbox failure: %s", sub.student, exc)
+            result.status = GRADER_ERROR
+            result.reason = f"the sandbox failed: {exc}"
+            done = len(result.tests)
+            result.tests += [
+                TestResult(
+                    t.name,
+                    float(t.weight),
+                    0.0,
+                    "not run: the grader's sandbox failed",
+                    grader_error=True,
+                )
+                for t in a.tests[done:]
+            ]
+        finally:
+            run.close()
+        result.elapsed = time.monotonic() - t0
+        return result
+
+
+class _Run:
+    """The state of grading one notebook (children come and go, skipped cells stay)."""
+
+    def __init__(self, runner: SubmissionRunner, nb: Notebook) -> None:
+        self.r = runner
+        self.nb = nb
+        self.skip: set[int] = set()
+        self.cells: dict[int, CellReport] = {}
+        self.child: Child | None = None
+        self.functions: set[str] = set()
+        self.exec_error: str = ""
+        self.call_id = 0
+        self.timed_out = False
+        self.crashed = False
+
+    def close(self) -> None:
+        if self.child is not None:
+            try:
+                self.child.send({"op": "bye"}, time.monotonic() + 1.0)
+            except (ChildDied, ChildTimeout):
+                pass
+            self.child.close()
+            self.child = None
+
+    def _drop_child(self) -> None:
+        if self.child is not None:
+            self.child.close()
+            self.child = None
+        self.r.sandbox.reset()
+
+    # ------------------------------------------------------------------ cells
+    def start_child(self) -> None:
+        """Fork a child and run the cells; cells that hang or kill are skipped on retry."""
+        opt = self.r.opt
+        attempts = 0
+        while True:
+            attempts += 1
+            if attempts > len(self.nb.cells) + 3:
+                raise ExecFailed("the notebook's process could not be started")
+            child = self.r.sandbox.spawn(opt.limits)
+            cells = [[n, src] for n, src in self.nb.cells if n not in self.skip]
+            current: int | None = None
+            last: int | None = None  # the last cell that started (blamed if none is running)
+            try:
+                deadline = time.monotonic() + opt.cell_timeout
+                child.send(
+                    {"op": "exec", "cells": cells, "output_limit": opt.output_limit}, deadline
+                )
+                while True:
+                    msg = child.recv(deadline)
+                    ev = msg.get("event")
+                    if ev == "cell_start":
+                        current = last = _int(msg.get("cell"))
+                        deadline = time.monotonic() + opt.cell_timeout
+                    elif ev == "cell_end":
+                        n = _int(msg.get("cell"))
+                        if n is not None and n not in self.cells:
+                            self.cells[n] = _cell_report(n, msg)
+                        current = None
+                        deadline = time.monotonic() + opt.cell_timeout
+                    elif ev == "exec_done":
+                        funcs = msg.get("functions")
+                        self.functions = (
+                            {f for f in funcs if isinstance(f, str)}
+                            if isinstance(funcs, list)
+                            else set()
+                        )
+                        self.child = child
+                        return
+            except ChildTimeout:
+                child.close()
+                self.r.sandbox.reset()
+                self.timed_out = True
+                current = self._blame(current, last)
+                if current is not None:
+                    self.cells[current] = CellReport(
+                        current,
+                        "timeout",
+                        message=f"did not finish within {opt.cell_timeout:g} s; "
+                        "skipped (later cells still ran)",
+                    )
+                    self.skip.add(current)
+            except (ChildDied, ProtocolError) as exc:
+                why = (
+                    str(exc)
+                    if isinstance(exc, ProtocolError)
+                    else self.r.sandbox.status_of(child.pid)
+                )
+                child.close()
+                self.r.sandbox.reset()
+                self.crashed = True
+                current = self._blame(current, last)
+                if current is not None:
+                    self.cells[current] = CellReport(
+                        current,
+                        "crashed",
+                        message=f"stopped the notebook's process ({why}); "
+                        "skipped (later cells still ran)",
+                    )
+                    self.skip.add(current)
+
+    def _blame(self, current: int | None, last: int | None) -> int | None:
+        """The cell to skip next time; ExecFailed when no retry could make progress."""
+        cell = current if current is not None else last
+        numbers = {n for n, _ in self.nb.cells}
+        if cell is None or cell not in numbers or cell in self.skip:
+            raise ExecFailed("the notebook's process stopped answering while its cells ran")
+        return cell
+
+    # ------------------------------------------------------------------ tests
+    def call(self, call: Call, timeout: float) -> tuple[Outcome, bool]:
+        """Run one call; returns (outcome, child still usable)."""
+        assert self.child is not None
+        self.call_id += 1
+        cid = self.call_id
+        payload = {
+            "op": "call",
+            "id": cid,
+            "function": call.function,
+            "kwargs": {k: encode_input(v) for k, v in call.kwargs.items()},
+        }
+        deadline = time.monotonic() + timeout
+        try:
+            self.child.send(payload, deadline)
+            while True:
+                msg = self.child.recv(deadline)
+                if msg.get("id") == cid:
+                    break
+        except ChildTimeout:
+            self.timed_out = True
+            self._drop_child()
+            return Outcome(timed_out=True, detail=f"no result within {timeout:g} s"), False
+        except (ChildDied, ProtocolError) as exc:
+            why = (
+                str(exc)
+                if isinstance(exc, ProtocolError)
+                else self.r.sandbox.status_of(self.child.pid)
+            )
+            self.crashed = True
+            self._drop_child()
+            return Outcome(crashed=True, detail=why), False
+        et = msg.get("error_type")
+        if et is not None:
+            return Outcome(
+                error_type=str(et)[:200], error_message=str(msg.get("error_message", ""))[:4000]
+            ), True
+        return Outcome(value=msg.get("value")), True
+
+    def run_test(self, index: int) -> TestResult:
+        test = self.r.assignment.tests[index]
+        calls = self.r.calls[index]
+        timeout = self.r.opt.timeout if self.r.opt.timeout is not None else float(test.timeout)
+        outcomes: list[Outcome] = []
+        broken: Outcome | None = None
+        t_out = crashed = False
+        for call in calls:
+            if broken is not None:
+                outcomes.append(broken)
+                continue
+            if self.exec_error:
+                outcomes.append(Outcome(crashed=True, detail=self.exec_error))
+                continue
+            if call.function not in self.functions:
+                outcomes.append(
+                    Outcome(
+                        error_type="NameError",
+                        error_message=missing_message(
+                            call.function, self.functions, self.r.assignment.functions
+                        ),
+                    )
+                )
+                continue
+            self._ensure_child()
+            if self.child is None:
+                outcomes.append(
+                    Outcome(crashed=True, detail=self.exec_error or "the notebook could not be run")
+                )
+                continue
+            outcome, usable = self.call(call, timeout)
+            outcomes.append(outcome)
+            if not usable:
+                t_out |= outcome.timed_out
+                crashed |= outcome.crashed
+                broken = (
+                    Outcome(
+                        timed_out=True, detail="not run: an earlier call of this test timed out"
+                    )
+                    if outcome.timed_out
+                    else Outcome(
+                        crashed=True,
+                        detail="not run: the notebook's process died in an earlier call "
+                        "of this test",
+                    )
+                )
+        return self.check(test, calls, outcomes, t_out, crashed)
+
+    def _ensure_child(self) -> None:
+        if self.child is None and not self.exec_error:
+            try:
+                self.start_child()
+            except ExecFailed as exc:
+                self.exec_error = str(exc)
+
+    def check(self, test, calls, outcomes, t_out, crashed) -> TestResult:
+        w = float(test.weight)
+        try:
+            score = test.check(calls, outcomes, self.r.opt.reveal)
+            if not isinstance(score, Score):
+                raise TypeError(f"check returned {type(score).__name__}, not Score")
+            frac = float(score.fraction)
+            if not (math.isfinite(frac) and -1e-9 <= frac <= 1 + 1e-9):
+                raise ValueError(f"check returned fraction {frac!r} outside [0, 1]")
+            frac = min(1.0, max(0.0, frac))
+            return TestResult(
+                test.name,
+                w,
+                frac,
+                str(score.feedback),
+                str(score.detail),
+                timed_out=t_out,
+                crashed=crashed,
+            )
+        except Exception:
+            tb = traceback.format_exc()
+            log.error("hidden test %s raised while scoring:\n%s", test.name, tb)
+            return TestResult(
+                test.name,
+                w,
+                0.0,
+                GRADER_PROBLEM,
+                tb[-2000:],
+                timed_out=t_out,
+                crashed=crashed,
+                grader_error=True,
+            )
+
+    # ------------------------------------------------------------------ all
+    def execute(self, result: SubmissionResult) -> None:
+        a = self.r.assignment
+        if self.nb.cells:
+            self._ensure_child()
+        else:
+            self.exec_error = ""
+        for i, test in enumerate(a.tests):
+            try:
+                result.tests.append(self.run_test(i))
+            except WireError as exc:  # a hidden test built an input that cannot be sent
+                log.error("hidden test %s: %s", test.name, exc)
+                result.tests.append(
+                    TestResult(
+                        test.name,
+                        float(test.weight),
+                        0.0,
+                        GRADER_PROBLEM,
+                        str(exc),
+                        grader_error=True,
+                    )
+                )
+        result.cells = [self.cells[n] for n in sorted(self.cells)]
+        problems = list(self.nb.warnings)
+        if not self.nb.cells:
+            problems.append("the notebook has no code cells")
+        for n in sorted(self.cells):
+            c = self.cells[n]
+            if c.status == "error":
+                what = f"{c.error_type}: {c.message}" if c.message else c.error_type
+                problems.append(f"code cell {n} raised {what} (later cells still ran)")
+            elif c.status in ("timeout", "crashed"):
+                problems.append(f"code cell {n} {c.message}")
+            for note in c.notes:
+                problems.append(f"code cell {n}: {note}")
+        missing = [f for f in a.functions if f not in self.functions]
+        for f in missing:
+            problems.append(missing_message(f, self.functions, a.functions))
+        if self.exec_error:
+            problems.append(self.exec_error)
+        result.problems = problems
+        timeouts = [
+            f"code cell {n}" for n, c in sorted(self.cells.items()) if c.status == "timeout"
+        ]
+        timeouts += [t.name for t in result.tests if t.timed_out]
+        crashes = [f"code cell {n}" for n, c in sorted(self.cells.items()) if c.status == "crashed"]
+        crashes += [t.name for t in result.tests if t.crashed]
+        reasons = []
+        if any(t.grader_error for t in result.tests):
+            result.status = GRADER_ERROR
+            reasons.append("a hidden test failed while scoring (see the log)")
+        elif self.timed_out or timeouts:
+            result.status = TIMEOUT
+            reasons.append("did not finish in time: " + (", ".join(timeouts) or "the notebook"))
+        elif self.crashed or crashes or self.exec_error:
+            result.status = CRASHED
+            reasons.append(
+                self.exec_error
+                or "the notebook's process died in: " + (", ".join(crashes) or "a cell")
+            )
+        elif any(c.status == "error" for c in self.cells.values()):
+            result.status = CELL_ERRORS
+            first = [p for p in problems if " raised " in p]
+            reasons.append(first[0] + (f" (and {len(first) - 1} more)" if len(first) > 1 else ""))
+        reasons += [missing_message(f, self.functions, a.functions) for f in missing]
+        result.reason = "; ".join(reasons)[:1000]
+
+
+def _int(v: object) -> int | None:
+    return v if isinstance(v, int) and not isinstance(v, bool) else None
+
+
+def _cell_report(n: int, msg: dict) -> CellReport:
+    err = msg.get("error")
+    notes = [str(x)[:200] for x in msg.get("notes", []) if isinstance(x, str)][:10]
+    output = str(msg.get("output", ""))[:20000]
+    sec = msg.get("seconds")
+    sec = float(sec) if isinstance(sec, (int, float)) and not isinstance(sec, bool) else 0.0
+    if isinstance(err, dict):
+        return CellReport(
+            n,
+            "error",
+            str(err.get("type", "Error"))[:100],
+            str(err.get("message", ""))[:2000],
+            str(err.get("traceback", ""))[:2000],
+            output,
+            notes,
+            sec,
+        )
+    return CellReport(n, "ok", output=output, notes=notes, seconds=sec)

@@ -1,0 +1,887 @@
+"""The only engine file a sandbox can see: a zygote that forks one process per submission.
+
+Run as a script inside the sandbox (never imported by the grader). It imports the heavy
+libraries once (numpy, sympy, matplotlib with Agg, IPython's cell transformer, rikin), then
+waits on its control socket. For each submission the grader sends ``fork`` together with a
+fresh socket; the zygote forks a child that sets its resource limits, moves into an empty
+working directory and serves JSON lines on that socket:
+
+grader -> child
+    {"op": "exec", "cells": [[index, source], ...], "output_limit": int}
+    {"op": "call", "id": int, "function": str, "kwargs": <wire>}
+child -> grader
+    {"event": "cell_start", "cell": i}
+    {"event": "cell_end", "cell": i, "error": ..., "output": ..., "seconds": ...}
+    {"event": "exec_done", "functions": [...]}
+    {"id": int, "value": <wire>} or {"id": int, "error_type": str, "error_message": str}
+
+Nothing here decides a score: values go back as JSON (never pickle) and the grader compares.
+Wire format: JSON plus one-key marker objects: {"$float": "nan"|"inf"|"-inf"},
+{"$complex": [re, im]}, {"$dict": [[key, value], ...]} (a dict with a "$" key),
+{"$tuple": [...]} and {"$ndarray": {"dtype", "shape", "data"}} (grader -> child only).
+
+Standard library only at import time; numpy is used when present. Keep this file
+self-contained: it is bind-mounted alone into the sandbox.
+"""
+
+import builtins
+import io
+import json
+import linecache
+import math
+import os
+import resource
+import shutil
+import signal
+import socket
+import sys
+import traceback
+
+# Bind the builtins this file uses as module globals, so a notebook that monkeypatches
+# builtins (isinstance = lambda *a: True, ...) cannot change how results are encoded.
+from builtins import (  # noqa: E402,A004,UP029
+    BaseException,
+    Exception,
+    any,
+    callable,
+    complex,
+    dict,
+    float,
+    getattr,
+    hasattr,
+    int,
+    isinstance,
+    len,
+    list,
+    max,
+    sorted,
+    str,
+    tuple,
+    type,
+)
+
+PROTOCOL = 1
+MIB = 1024 * 1024
+MAX_DEPTH = 64
+MAX_ELEMENTS = 1_000_000
+MAX_STR = 1_000_000
+MAX_ERROR_CHARS = 2000
+SCRATCH_KEEP = (".mpl",)  # entries of /tmp the zygote owns (font cache)
+
+_dumps = json.dumps
+_loads = json.loads
+_write = os.write
+_getpid = os.getpid
+_exit = os._exit
+_monotonic = __import__("time").monotonic
+_sleep = __import__("time").sleep
+
+np = None  # numpy, once preloaded
+
+
+class EncodeError(Exception):
+    """A return value the grader cannot read."""
+
+
+# ----------------------------------------------------------------------------- wire format
+def _enc_float(x):
+    if math.isfinite(x):
+        return x
+    return {"$float": "nan" if x != x else ("inf" if x > 0 else "-inf")}
+
+
+def encode(obj, depth=0, budget=None):
+    """Plain JSON-able data for ``obj``; raises EncodeError for anything else."""
+    if budget is None:
+        budget = [MAX_ELEMENTS]
+    budget[0] -= 1
+    if budget[0] < 0:
+        raise EncodeError(f"the result has more than {MAX_ELEMENTS} elements")
+    if depth > MAX_DEPTH:
+        raise EncodeError(f"the result is nested more than {MAX_DEPTH} levels deep")
+    t = type(obj)
+    if obj is None or t is bool:
+        return obj
+    if t is int:
+        if obj.bit_length() > 256:
+            raise EncodeError("the result contains an integer too large to send")
+        return obj
+    if t is float:
+        return _enc_float(obj)
+    if t is str:
+        if len(obj) > MAX_STR:
+            raise EncodeError(f"the result contains a string longer than {MAX_STR} characters")
+        return obj
+    if t is complex:
+        return {"$complex": [_enc_float(obj.real), _enc_float(obj.imag)]}
+    if t in (list, tuple):
+        return [encode(x, depth + 1, budget) for x in obj]
+    if t is dict:
+        out = {}
+        for k, v in obj.items():
+            if type(k) in (int, float, bool) or (np is not None and isinstance(k, np.generic)):
+                k = str(k.item() if hasattr(k, "item") else k)
+            elif type(k) is not str:
+                raise EncodeError(f"the result is a dict with a {type(k).__name__} key")
+            out[k] = encode(v, depth + 1, budget)
+        if any(k.startswith("$") for k in out):
+            return {"$dict": [[k, v] for k, v in out.items()]}
+        return out
+    if np is not None:
+        if isinstance(obj, np.ndarray):
+            if obj.size > MAX_ELEMENTS:
+                raise EncodeError(f"the result has more than {MAX_ELEMENTS} elements")
+            if obj.dtype.kind not in "biufcUSO":
+                raise EncodeError(f"the result is an array of dtype {obj.dtype}")
+            budget[0] -= int(obj.size)
+            return encode(np.ndarray.tolist(obj), depth, budget)
+        if isinstance(obj, np.generic):
+            return encode(obj.item(), depth, budget)
+    # bool/int/float subclasses (e.g. IntEnum), sympy numbers, Fraction, Decimal
+    if isinstance(obj, bool):
+        return bool(obj)
+    if isinstance(obj, int):
+        return encode(int(obj), depth, budget)
+    if isinstance(obj, float):
+        return _enc_float(float(obj))
+    if isinstance(obj, (list, tuple)):
+        return [encode(x, depth + 1, budget) for x in obj]
+    mod = type(obj).__module__ or ""
+    if mod.startswith("sympy"):
+        free = getattr(obj, "free_symbols", None)
+        if free:
+            names = ", ".join(sorted(str(s) for s in free)[:5])
+            raise EncodeError(
+                f"the result is a sympy expression with free symbols ({names}); "
+                "return numbers (substitute values and use float())"
+            )
+        try:
+            z = complex(obj)
+        except Exception:
+            raise EncodeError(f"the result is a sympy {type(obj).__name__} object") from None
+        return _enc_float(z.real) if z.imag == 0 else encode(z, depth, budget)
+    if hasattr(obj, "__array__") and np is not None:
+        try:
+            arr = np.asarray(obj)
+        except Exception:
+            arr = None
+        if arr is not None and arr.dtype.kind in "biufc":
+            return encode(arr, depth, budget)
+    if hasattr(obj, "__float__") and not hasattr(obj, "__len__"):
+        try:
+            return _enc_float(float(obj))
+        except Exception:
+            pass
+    raise EncodeError(
+        f"the result is a {type(obj).__name__} object, which the grader cannot read; "
+        "return numbers, lists or numpy arrays"
+    )
+
+
+def decode(obj):
+    """Python values for wire data sent by the grader (numpy arrays where marked)."""
+    if type(obj) is list:
+        return [decode(x) for x in obj]
+    if type(obj) is dict:
+        if len(obj) == 1:
+            ((k, v),) = obj.items()
+            if k == "$float":
+                return float(v)
+            if k == "$complex":
+                return complex(decode(v[0]), decode(v[1]))
+            if k == "$dict":
+                return {kk: decode(vv) for kk, vv in v}
+            if k == "$tuple":
+                return tuple(decode(x) for x in v)
+            if k == "$ndarray":
+                data = decode(v["data"])
+                if np is None:
+                    return data
+                return np.array(data, dtype=v["dtype"]).reshape(v["shape"])
+        return {k: decode(v) for k, v in obj.items()}
+    return obj
+
+
+# ----------------------------------------------------------------------------- output capture
+class CappedText(io.TextIOBase):
+    """A text sink that keeps the first ``limit`` characters and counts the rest."""
+
+    def __init__(self, limit):
+        self.limit = limit
+        self.parts = []
+        self.kept = 0
+        self.dropped = 0
+
+    def writable(self):
+        return True
+
+    def write(self, s):
+        if not isinstance(s, str):
+            s = str(s)
+        n = len(s)
+        room = self.limit - self.kept
+        if room > 0:
+            piece = s[:room]
+            self.parts.append(piece)
+            self.kept += len(piece)
+        self.dropped += max(0, n - max(room, 0))
+        return n
+
+    def flush(self):
+        pass
+
+    def isatty(self):
+        return False
+
+    def text(self):
+        out = "".join(self.parts)
+        if self.dropped:
+            out += f"\n... [{self.dropped} more characters of output truncated]"
+        return out
+
+
+def _no_input(*args, **kwargs):
+    raise RuntimeError(
+        "input() is not available while grading: the notebook must not wait for typing; "
+        "set the value in the code instead"
+    )
+
+
+class _ShellStub:
+    """Enough of ``get_ipython()`` for magics that IPython's transformer emits."""
+
+    EXEC_CELL_MAGICS = ("time", "timeit", "capture", "prun")
+    EXEC_LINE_MAGICS = ("time", "timeit", "prun")
+
+    def __init__(self, ns):
+        self.ns = ns
+        self.user_ns = ns
+        self.notes = []
+
+    def run_line_magic(self, name, line, *args, **kwargs):
+        if name in self.EXEC_LINE_MAGICS:
+            src = line.strip()
+            if name == "timeit":  # drop timeit options such as -n1 -r1
+                while src.startswith("-"):
+                    src = src.split(None, 1)[1] if " " in src else ""
+            try:
+                return eval(compile(src, "<magic>", "eval"), self.ns)
+            except SyntaxError:
+                exec(compile(src, "<magic>", "exec"), self.ns)
+                return None
+        self.notes.append(f"%{name} ignored")
+        return None
+
+    def run_cell_magic(self, name, line, cell):
+        if name in self.EXEC_CELL_MAGICS:
+            exec(compile(cell, "<magic>", "exec"), self.ns)
+        else:
+            self.notes.append(f"%%{name} cell ignored")
+        return None
+
+    def system(self, cmd, *args, **kwargs):
+        self.notes.append("shell command ignored")
+        return None
+
+    def getoutput(self, cmd, *args, **kwargs):
+        self.notes.append("shell command ignored")
+        return []
+
+    def run_cell(self, *args, **kwargs):
+        raise RuntimeError("get_ipython().run_cell is not available while grading")
+
+    def __getattr__(self, name):
+        raise AttributeError(f"get_ipython().{name} is not available while grading")
+
+
+# ----------------------------------------------------------------------------- child process
+_PRISTINE_BUILTINS = dict(builtins.__dict__)
+
+
+class _CleanBuiltins:
+    """Run the engine's own code with the builtins as they were before any student code.
+
+    json's Python layer looks names up in ``builtins``; a notebook that replaced
+    ``builtins.isinstance`` must not break (or steer) how its results are sent.
+    """
+
+    def __enter__(self):
+        self.saved = dict(builtins.__dict__)
+        builtins.__dict__.update(_PRISTINE_BUILTINS)
+
+    def __exit__(self, *exc):
+        builtins.__dict__.clear()
+        builtins.__dict__.update(self.saved)
+        return False
+
+
+class Channel:
+    """JSON lines over the child's socket."""
+
+    def __init__(self, fd):
+        self.fd = fd
+        self.buf = b""
+
+    def send(self, msg):
+        with _CleanBuiltins():
+            data = (_dumps(msg, allow_nan=False, separators=(",", ":")) + "\n").encode()
+        view = memoryview(data)
+        while view:
+            n = _write(self.fd, view)
+            view = view[n:]
+
+    def recv(self):
+        while b"\n" not in self.buf:
+            chunk = os.read(self.fd, 1 << 20)
+            if not chunk:
+                return None
+            self.buf += chunk
+        line, self.buf = self.buf.split(b"\n", 1)
+        return _loads(line)
+
+
+def _short_error(exc, cell_name):
+    tb = traceback.TracebackException.from_exception(exc, limit=-8)
+    frames = [f for f in tb.stack if f.filename.startswith("<cell") or f.filename == "<magic>"]
+    lines = []
+    for f in frames[-4:]:
+        where = f.filename.strip("<>")
+        lines.append(
+            f"  {where}, line {f.lineno}" + (f", in {f.name}" if f.name != "<module>" else "")
+        )
+        if f.line:
+            lines.append(f"    {f.line.strip()}")
+    msg = str(exc)
+    if isinstance(exc, SyntaxError) and exc.lineno:
+        msg = f"{exc.msg} (line {exc.lineno})"
+    return {
+        "type": type(exc).__name__,
+        "message": msg[:MAX_ERROR_CHARS],
+        "traceback": "\n".join(lines)[:MAX_ERROR_CHARS],
+    }
+
+
+def _close_figures():
+    plt = sys.modules.get("matplotlib.pyplot")
+    if plt is not None:
+        try:
+            plt.close("all")
+        except Exception:
+            pass
+
+
+def _transformer():
+    try:
+        from IPython.core.inputtransformer2 import TransformerManager
+
+        return TransformerManager()
+    except Exception:
+        return None
+
+
+class Runner:
+    def __init__(self, chan, mypid):
+        self.chan = chan
+        self.mypid = mypid
+        self.ns = {"__name__": "__main__", "__builtins__": builtins}
+        self.shell = _ShellStub(self.ns)
+        self.ns["get_ipython"] = lambda: self.shell
+        self.tm = _transformer()
+        self.output_limit = 10_000
+
+    def _guard_fork(self):
+        # A process the student forked must never answer for the child.
+        if _getpid() != self.mypid:
+            _exit(0)
+
+    def _captured(self, func):
+        cap = CappedText(self.output_limit)
+        old = sys.stdout, sys.stderr
+        sys.stdout = sys.stderr = cap
+        try:
+            return func(), None, cap
+        except BaseException as exc:  # noqa: BLE001 - student code may raise anything
+            return None, exc, cap
+        finally:
+            self._guard_fork()
+            sys.stdout, sys.stderr = old
+            builtins.input = _no_input
+
+    def run_cells(self, cells):
+        for index, source in cells:
+            self.chan.send({"event": "cell_start", "cell": index})
+            name = f"<cell {index}>"
+            linecache.cache[name] = (len(source), None, source.splitlines(True), name)
+            self.shell.notes = []
+            code = self._compile(source, name)
+
+            def run(code=code):
+                if isinstance(code, BaseException):
+                    raise code
+                exec(code, self.ns)
+
+            t0 = _monotonic()
+            _, exc, cap = self._captured(run)
+            with _CleanBuiltins():
+                self._after_cell(index, exc, cap, _monotonic() - t0)
+        with _CleanBuiltins():
+            self._done()
+
+    def _compile(self, source, name):
+        """The cell's code object: plain Python as is, IPython syntax (%, !) transformed."""
+        with _CleanBuiltins():
+            try:
+                return compile(source, name, "exec")
+            except SyntaxError as exc:
+                if self.tm is None:
+                    return exc
+                try:
+                    return compile(self.tm.transform_cell(source), name, "exec")
+                except SyntaxError as exc2:
+                    return exc2
+                except Exception:
+                    return exc
+
+    def _after_cell(self, index, exc, cap, seconds):
+        name = f"<cell {index}>"
+        _close_figures()
+        err = None
+        if exc is not None:
+            try:
+                err = _short_error(exc, name)
+            except Exception:
+                err = {"type": type(exc).__name__, "message": "", "traceback": ""}
+            if isinstance(exc, SystemExit):
+                err["message"] = f"sys.exit({exc.code!r}) was called"
+        self.chan.send(
+            {
+                "event": "cell_end",
+                "cell": index,
+                "error": err,
+                "output": cap.text()[: self.output_limit + 200],
+                "notes": [str(n) for n in self.shell.notes[:10]],
+                "seconds": round(seconds, 4),
+            }
+        )
+
+    def _done(self):
+        functions = sorted(
+            k
+            for k, v in list(self.ns.items())
+            if isinstance(k, str)
+            and callable(v)
+            and not isinstance(v, type(sys))
+            and not k.startswith("__")
+            and k != "get_ipython"
+        )
+        self.chan.send({"event": "exec_done", "functions": functions[:2000]})
+
+    def call(self, msg):
+        cid = msg.get("id")
+        name = msg.get("function")
+        fn = self.ns.get(name)
+        if not callable(fn):
+            self.chan.send(
+                {
+                    "id": cid,
+                    "error_type": "NameError",
+                    "error_message": f"function {name} not found",
+                }
+            )
+            return
+        try:
+            with _CleanBuiltins():
+                kwargs = decode(msg.get("kwargs") or {})
+        except Exception as exc:
+            self.chan.send(
+                {
+                    "id": cid,
+                    "error_type": "GraderError",
+                    "error_message": f"could not decode the test input: {exc}",
+                }
+            )
+            return
+        value, exc, _ = self._captured(lambda: fn(**kwargs))
+        _close_figures()
+        if exc is not None:
+            msg = str(exc)
+            if isinstance(exc, SystemExit):
+                msg = f"sys.exit({exc.code!r}) was called"
+            self.chan.send(
+                {
+                    "id": cid,
+                    "error_type": type(exc).__name__,
+                    "error_message": msg[:MAX_ERROR_CHARS],
+                }
+            )
+            return
+        try:
+            with _CleanBuiltins():
+                wire = encode(value)
+            self.chan.send({"id": cid, "value": wire})
+        except RecursionError:
+            self.chan.send(
+                {
+                    "id": cid,
+                    "error_type": "UnsupportedResult",
+                    "error_message": "the result is nested too deeply",
+                }
+            )
+        except EncodeError as exc:
+            self.chan.send(
+                {"id": cid, "error_type": "UnsupportedResult", "error_message": str(exc)}
+            )
+
+    def serve(self):
+        while True:
+            with _CleanBuiltins():
+                msg = self.chan.recv()
+            if msg is None or msg.get("op") == "bye":
+                _exit(0)
+            op = msg.get("op")
+            if op == "exec":
+                self.output_limit = int(msg.get("output_limit", self.output_limit))
+                self.run_cells(msg["cells"])
+            elif op == "call":
+                self.call(msg)
+
+
+def set_limits(limits):
+    """Resource limits of one child, set before any student code runs."""
+
+    def lim(which, value):
+        if value is None:
+            return
+        value = int(value)
+        try:
+            resource.setrlimit(which, (value, value))
+        except (ValueError, OSError):
+            soft, hard = resource.getrlimit(which)
+            if hard == resource.RLIM_INFINITY or value <= hard:
+                resource.setrlimit(which, (value, hard))
+
+    lim(resource.RLIMIT_CORE, 0)
+    if limits.get("memory_mb") is not None:
+        base = _vm_size()
+        lim(resource.RLIMIT_AS, base + int(limits["memory_mb"]) * MIB)
+    lim(resource.RLIMIT_CPU, limits.get("cpu_seconds"))
+    lim(resource.RLIMIT_NPROC, limits.get("max_processes"))
+    if limits.get("max_file_mb") is not None:
+        lim(resource.RLIMIT_FSIZE, int(limits["max_file_mb"]) * MIB)
+    lim(resource.RLIMIT_NOFILE, limits.get("max_open_files"))
+
+
+def _vm_size():
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmSize:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return 512 * MIB
+
+
+def child_main(chan_fd, ctl_fd, limits, workdir):
+    try:
+        os.close(ctl_fd)
+        os.setsid()
+        try:  # die with the zygote (PR_SET_PDEATHSIG = 1)
+            import ctypes
+
+            ctypes.CDLL(None).prctl(1, signal.SIGKILL, 0, 0, 0)
+        except Exception:
+            pass
+        devnull = os.open(os.devnull, os.O_RDWR)
+        for fd in (0, 1, 2):
+            os.dup2(devnull, fd)
+        if chan_fd != 3:
+            os.dup2(chan_fd, 3)
+            chan_fd = 3
+        os.closerange(4, 65536)
+        signal.signal(signal.SIGPIPE, signal.SIG_DFL)
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        os.makedirs(workdir, exist_ok=True)
+        os.chdir(workdir)
+        os.environ["HOME"] = workdir
+        os.environ["TMPDIR"] = workdir
+        set_limits(limits)
+        builtins.input = _no_input
+        sys.stdin = io.StringIO("")
+        sys.argv = ["notebook"]
+        runner = Runner(Channel(chan_fd), _getpid())
+        runner.serve()
+    except BaseException:  # noqa: BLE001
+        pass
+    _exit(70)
+
+
+# ----------------------------------------------------------------------------- zygote
+def preload(modules):
+    """Import what every notebook needs once, before forking; returns failures."""
+    global np
+    errors = []
+    os.environ.setdefault("MPLBACKEND", "Agg")
+    for name in modules:
+        try:
+            __import__(name)
+        except Exception as exc:  # a missing optional library is reported, not fatal
+            errors.append(f"{name}: {type(exc).__name__}: {exc}")
+    np = sys.modules.get("numpy")
+    mpl = sys.modules.get("matplotlib")
+    if mpl is not None:
+        try:
+            mpl.use("Agg")
+            import matplotlib.pyplot  # noqa: F401
+        except Exception as exc:
+            errors.append(f"matplotlib.pyplot: {exc}")
+    _transformer()
+    _warm_up(errors)
+    return errors
+
+
+def _warm_up(errors):
+    """Exercise the lazy first-use paths once, so each forked child starts warm."""
+    try:
+        tm = _transformer()
+        if tm is not None:
+            tm.transform_cell("%matplotlib inline\nx = 1\n")
+        if np is not None:
+            np.linalg.solve(np.eye(3), np.ones(3))
+            np.testing.assert_allclose(np.ones(2), np.ones(2))
+        plt = sys.modules.get("matplotlib.pyplot")
+        if plt is not None:
+            fig, ax = plt.subplots()
+            ax.plot([0.0, 1.0], [0.0, 1.0], "o-", label="warm")
+            ax.set_title("warm")
+            ax.legend()
+            fig.canvas.draw()
+            fig = plt.figure()
+            ax3 = fig.add_subplot(projection="3d")  # arm drawings are often 3D
+            ax3.plot([0.0, 1.0], [0.0, 1.0], [0.0, 1.0], "o-")
+            ax3.set_xlabel("x")
+            fig.canvas.draw()
+            plt.close("all")
+        sympy = sys.modules.get("sympy")
+        if sympy is not None:
+            q = sympy.symbols("q1 q2")
+            sympy.simplify(sympy.cos(q[0]) ** 2 + sympy.sin(q[0]) ** 2)
+            sympy.Matrix(
+                [[sympy.cos(q[1]), -sympy.sin(q[1])], [sympy.sin(q[1]), sympy.cos(q[1])]]
+            ) * 2
+        rikin = sys.modules.get("rikin")
+        if rikin is not None and np is not None:
+            rikin.robots.planar_2r(1.0, 1.0).fk(np.zeros(2))
+    except Exception as exc:  # warming is an optimisation only
+        errors.append(f"warm-up: {type(exc).__name__}: {exc}")
+
+
+def describe_status(status):
+    """Words for a wait status, as the feedback shows them."""
+    if os.WIFSIGNALED(status):
+        sig = os.WTERMSIG(status)
+        name = signal.Signals(sig).name if sig in signal.Signals._value2member_map_ else str(sig)
+        why = {
+            "SIGKILL": "killed (SIGKILL)",
+            "SIGXCPU": "stopped at the CPU time limit (SIGXCPU)",
+            "SIGXFSZ": "stopped at the file size limit (SIGXFSZ)",
+            "SIGSEGV": "crashed (segmentation fault)",
+            "SIGABRT": "aborted (SIGABRT)",
+        }.get(name, f"killed by signal {name}")
+        return why
+    if os.WIFEXITED(status):
+        code = os.WEXITSTATUS(status)
+        return f"the process exited with code {code} (os._exit or a fatal error)"
+    return f"ended with wait status {status}"
+
+
+class Zygote:
+    def __init__(self, ctl, scratch, in_pidns):
+        self.ctl = ctl
+        self.scratch = scratch
+        self.in_pidns = in_pidns
+        self.children = {}
+        self.statuses = {}
+        self.counter = 0
+
+    def send(self, msg):
+        self.ctl.send(_dumps(msg).encode())
+
+    def reap(self):
+        while True:
+            try:
+                pid, status = os.waitpid(-1, os.WNOHANG)
+            except ChildProcessError:
+                return
+            if pid == 0:
+                return
+            self.statuses[pid] = status
+
+    def kill_all(self):
+        """Kill every process but this one (and the namespace's init)."""
+        if self.in_pidns:
+            # Everything else in the namespace descends from us (we are its init), so keep
+            # killing and reaping until /proc lists nobody else, zombies included.
+            deadline = _monotonic() + 3.0
+            while True:
+                try:
+                    os.kill(-1, signal.SIGKILL)
+                except OSError:
+                    pass
+                self.reap()
+                if not self._others_exist() or _monotonic() > deadline:
+                    break
+                _sleep(0.0005)
+        else:
+            for pid in list(self.children):
+                try:
+                    os.killpg(pid, signal.SIGKILL)
+                except OSError:
+                    pass
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except OSError:
+                    pass
+        for pid in list(self.children):
+            try:
+                _, status = os.waitpid(pid, 0)
+                self.statuses[pid] = status
+            except ChildProcessError:
+                pass
+        self.children.clear()
+        self.reap()
+
+    def _others_exist(self):
+        me = os.getpid()
+        try:
+            return any(p.isdigit() and int(p) not in (1, me) for p in os.listdir("/proc"))
+        except OSError:
+            return False
+
+    def wipe_scratch(self):
+        try:
+            entries = os.listdir(self.scratch)
+        except OSError:
+            return
+        for name in entries:
+            if name in SCRATCH_KEEP:
+                continue
+            path = os.path.join(self.scratch, name)
+            try:
+                if os.path.isdir(path) and not os.path.islink(path):
+                    shutil.rmtree(path, ignore_errors=True)
+                else:
+                    os.unlink(path)
+            except OSError:
+                pass
+
+    def wait(self, pid, timeout):
+        """The wait status of ``pid`` (killing it if it has not ended within ``timeout``)."""
+        import time
+
+        end = time.monotonic() + timeout
+        while True:
+            if pid in self.statuses:
+                break
+            try:
+                got, status = os.waitpid(pid, os.WNOHANG)
+            except ChildProcessError:
+                break
+            if got:
+                self.statuses[pid] = status
+                break
+            if time.monotonic() > end:
+                try:
+                    os.killpg(pid, signal.SIGKILL)
+                except OSError:
+                    pass
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except OSError:
+                    pass
+                end = time.monotonic() + 5
+            time.sleep(0.005)
+        self.children.pop(pid, None)
+        status = self.statuses.pop(pid, None)
+        return None if status is None else describe_status(status)
+
+    def fork(self, msg, fds):
+        self.kill_all()
+        self.wipe_scratch()
+        if not fds:
+            self.send({"ok": False, "error": "no channel received"})
+            return
+        chan_fd = fds[0]
+        for extra in fds[1:]:
+            os.close(extra)
+        self.counter += 1
+        workdir = os.path.join(self.scratch, f"work-{self.counter}")
+        pid = os.fork()
+        if pid == 0:
+            child_main(chan_fd, self.ctl.fileno(), msg.get("limits", {}), workdir)
+            _exit(70)
+        os.close(chan_fd)
+        self.children[pid] = True
+        self.send({"ok": True, "pid": pid})
+
+    def serve(self):
+        while True:
+            try:
+                data, fds, _flags, _addr = socket.recv_fds(self.ctl, 65536, 4)
+            except InterruptedError:
+                continue
+            if not data:
+                return
+            msg = _loads(data)
+            op = msg.get("op")
+            if op == "fork":
+                self.fork(msg, fds)
+            elif op == "kill":
+                self.kill_all()
+                self.wipe_scratch()
+                self.send({"ok": True})
+            elif op == "wait":
+                self.send(
+                    {
+                        "ok": True,
+                        "status": self.wait(int(msg["pid"]), float(msg.get("timeout", 1.0))),
+                    }
+                )
+            elif op == "quit":
+                self.kill_all()
+                return
+            else:
+                self.send({"ok": False, "error": f"unknown op {op!r}"})
+
+
+def main(argv):
+    config = _loads(argv[1])
+    # As the PID namespace's init, the zygote receives only signals it handles: handle none.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    ctl = socket.socket(fileno=int(config["ctl_fd"]))
+    os.environ.update({k: str(v) for k, v in config.get("env", {}).items()})
+    errors = preload(config.get("preload", []))
+    try:  # nobody may ptrace or read this process's memory, not even a student child
+        import ctypes
+
+        ctypes.CDLL(None).prctl(4, 0, 0, 0, 0)  # PR_SET_DUMPABLE = 4
+    except Exception:
+        pass
+    in_pidns = bool(config.get("pidns")) and os.getpid() <= 3
+    scratch = config.get("scratch", "/tmp")
+    zygote = Zygote(ctl, scratch, in_pidns)
+    zygote.send(
+        {
+            "ready": True,
+            "protocol": PROTOCOL,
+            "pid": os.getpid(),
+            "preload_errors": errors,
+            "python": sys.version.split()[0],
+        }
+    )
+    zygote.serve()
+
+
+if __name__ == "__main__":
+    main(sys.argv)

@@ -1,0 +1,419 @@
+"""The grader's side of a sandbox: start a zygote, fork children, talk to them with deadlines.
+
+A :class:`Sandbox` owns one zygote process (inside bubblewrap unless unsafe). Each
+submission gets a :class:`Child` forked from it; the grader talks JSON lines with the
+child over its own socket and never waits without a deadline. On a timeout the zygote
+kills every process in the sandbox but itself; if the zygote does not answer (a student
+stopped or killed it) the whole sandbox is killed and a fresh one started.
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import selectors
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+from ..wire import WireError, decode_message, encode_message
+from .config import (
+    CHILD_PATH,
+    MPL_DIR,
+    NOBODY,
+    SCRATCH,
+    Limits,
+    SandboxConfig,
+    SandboxUnavailable,
+    bwrap_command,
+    find_bwrap,
+    hidden_paths,
+    read_only_binds,
+    world_readable,
+)
+
+log = logging.getLogger("rikingrade.sandbox")
+
+HERE = Path(__file__).resolve().parent
+CHILD_SCRIPT = HERE / "child.py"
+LAUNCHER_SCRIPT = HERE / "launcher.py"
+START_TIMEOUT = 120.0  # seconds for a zygote to import numpy, sympy, matplotlib, rikin
+CONTROL_TIMEOUT = 2.0  # seconds for the zygote to answer a control message
+MAX_MESSAGE = 64 * 1024 * 1024  # bytes in one message from a child
+SANDBOX_STOPPED = (
+    "the sandbox itself was stopped (the notebook killed or stopped the grader's helper)"
+)
+
+
+class ChildDied(Exception):
+    """The child's socket closed: the process ended (crash, os._exit, limit)."""
+
+
+class ChildTimeout(Exception):
+    """No message from the child before the deadline."""
+
+
+class ProtocolError(Exception):
+    """The child sent something that is not a valid message."""
+
+
+class Child:
+    """One forked child: a socket and a pid inside the sandbox."""
+
+    def __init__(self, sock: socket.socket, pid: int) -> None:
+        self.sock = sock
+        self.pid = pid
+        self.buf = bytearray()
+        self.sock.setblocking(False)
+        self.sel = selectors.DefaultSelector()
+        self.sel.register(self.sock, selectors.EVENT_READ)
+        self.closed = False
+
+    def send(self, msg: dict[str, Any], deadline: float) -> None:
+        data = memoryview(encode_message(msg))
+        while data:
+            if time.monotonic() > deadline:
+                raise ChildTimeout("the notebook process did not read its input")
+            try:
+                n = self.sock.send(data)
+                data = data[n:]
+            except BlockingIOError:
+                time.sleep(0.001)
+            except (BrokenPipeError, ConnectionResetError, OSError) as exc:
+                raise ChildDied(str(exc)) from None
+
+    def recv(self, deadline: float) -> dict[str, Any]:
+        while True:
+            nl = self.buf.find(b"\n")
+            if nl >= 0:
+                line = bytes(self.buf[:nl])
+                del self.buf[: nl + 1]
+                try:
+                    return decode_message(line)
+                except WireError as exc:
+                    raise ProtocolError(str(exc)) from None
+            if len(self.buf) > MAX_MESSAGE:
+                raise ProtocolError(
+                    f"a message from the notebook process exceeded {MAX_MESSAGE} bytes"
+                )
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise ChildTimeout()
+            if not self.sel.select(timeout=left):
+                continue
+            try:
+                chunk = self.sock.recv(1 << 20)
+            except BlockingIOError:
+                continue
+            except (ConnectionResetError, OSError) as exc:
+                raise ChildDied(str(exc)) from None
+            if not chunk:
+                raise ChildDied("the notebook process ended")
+            self.buf += chunk
+
+    def close(self) -> None:
+        if not self.closed:
+            self.closed = True
+            try:
+                self.sel.close()
+            finally:
+                self.sock.close()
+
+
+class Sandbox:
+    """A zygote process that forks one child per submission.
+
+    Parameters
+    ----------
+    config : SandboxConfig
+        Sandboxed (bubblewrap) or not, what to bind and hide.
+    workdir : Path
+        A private directory of the grader for the files the sandbox needs
+        (the engine script, the font cache); created world-readable.
+    """
+
+    def __init__(self, config: SandboxConfig, workdir: Path) -> None:
+        self.config = config
+        self.workdir = Path(workdir)
+        self.proc: subprocess.Popen[bytes] | None = None
+        self.ctl: socket.socket | None = None
+        self.starts = 0
+        self.lock = threading.Lock()
+        self.stderr_path = self.workdir / f"zygote-{id(self):x}.stderr"
+        self.staging: Path | None = None
+
+    # ------------------------------------------------------------------ lifecycle
+    def start(self) -> None:
+        self.close()
+        self.starts += 1
+        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
+        argv, env, pass_fds = self._command(theirs.fileno())
+        stderr = open(self.stderr_path, "wb")
+        try:
+            self.proc = subprocess.Popen(
+                argv,
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=stderr,
+                pass_fds=pass_fds,
+                env=env,
+                start_new_session=True,
+                cwd=str(self.workdir),
+            )
+        finally:
+            stderr.close()
+            theirs.close()
+        self.ctl = ours
+        try:
+            msg = self._ctl_recv(START_TIMEOUT)
+        except Exception as exc:
+            err = self._stderr_tail()
+            self.close()
+            raise SandboxUnavailable(
+                f"the sandbox did not start ({exc}).\n{err}".rstrip()
+            ) from None
+        if not msg.get("ready"):
+            self.close()
+            raise SandboxUnavailable(f"the sandbox did not start: {msg}")
+        for e in msg.get("preload_errors", []):
+            log.warning("sandbox could not preload %s", e)
+        self.preload_errors = msg.get("preload_errors", [])
+
+    def _stderr_tail(self) -> str:
+        try:
+            return self.stderr_path.read_text(errors="replace")[-3000:]
+        except OSError:
+            return ""
+
+    def _command(self, ctl_fd: int) -> tuple[list[str], dict[str, str], list[int]]:
+        cfg = self.config
+        env = {
+            "PATH": "/usr/bin:/bin",
+            "LANG": "C.UTF-8",
+            "MPLBACKEND": "Agg",
+            "MPLCONFIGDIR": MPL_DIR,
+            "OPENBLAS_NUM_THREADS": "1",
+            "OMP_NUM_THREADS": "1",
+            "MKL_NUM_THREADS": "1",
+            "NUMEXPR_NUM_THREADS": "1",
+            "PYTHONDONTWRITEBYTECODE": "1",
+            "PYTHONHASHSEED": "0",
+            "PYTHONIOENCODING": "utf-8",
+        }
+        child_cfg = {
+            "ctl_fd": ctl_fd,
+            "preload": list(cfg.preload),
+            "pidns": cfg.sandbox,
+            "scratch": SCRATCH if cfg.sandbox else str(self._unsafe_scratch()),
+            "env": {},
+        }
+        if not cfg.sandbox:
+            env["MPLCONFIGDIR"] = str(self.workdir / "mpl")
+            env["HOME"] = child_cfg["scratch"]
+            argv = [cfg.python, "-s", str(self.workdir / "child.py"), json.dumps(child_cfg)]
+            return argv, env, [ctl_fd]
+        bwrap = find_bwrap(cfg)
+        binds = read_only_binds(cfg)
+        hidden = hidden_paths(cfg, binds)
+        files = [(str(self.workdir / "child.py"), CHILD_PATH)]
+        font = self._font_cache()
+        if font is not None:
+            files.append((str(font), f"{MPL_DIR}/{font.name}"))
+        root = os.geteuid() == 0
+        stage: list[list[str]] = []
+        bind_pairs: list[tuple[str, str]] = []
+        if root:
+            self.staging = Path(tempfile.mkdtemp(prefix="rikingrade-stage-"))
+            os.chmod(self.staging, 0o755)
+        for i, b in enumerate(binds):
+            if root and not world_readable(b):
+                name = f"s{i}"
+                stage.append([str(b), name])
+                bind_pairs.append((str(self.staging / name), str(b)))
+            else:
+                bind_pairs.append((str(b), str(b)))
+        child_args = [cfg.python, "-s", CHILD_PATH, json.dumps(child_cfg)]
+        argv = bwrap_command(cfg, bind_pairs, hidden, files, child_args, env)
+        argv[0] = bwrap
+        log.debug("sandbox command: %s", argv)
+        self.command = argv
+        if root:
+            launcher = {
+                "uid": cfg.uid,
+                "gid": cfg.uid,
+                "staging": str(self.staging),
+                "stage": stage,
+                "argv": argv,
+            }
+            lpath = self.workdir / "launcher.py"
+            return (
+                [sys.executable, "-S", "-E", "-s", str(lpath), json.dumps(launcher)],
+                {},
+                [ctl_fd],
+            )
+        return argv, {}, [ctl_fd]
+
+    def _unsafe_scratch(self) -> Path:
+        d = self.workdir / f"scratch-{id(self):x}"
+        d.mkdir(exist_ok=True)
+        return d
+
+    def _font_cache(self) -> Path | None:
+        found = sorted(self.workdir.glob("fontlist-v*.json"))
+        return found[0] if found else None
+
+    def close(self) -> None:
+        """Stop the zygote and everything in its sandbox."""
+        if self.proc is not None and not self.config.sandbox and self.ctl is not None:
+            try:  # unsandboxed there is no PID namespace: let the zygote kill its children
+                self.ctl.send(json.dumps({"op": "quit"}).encode())
+                self.proc.wait(timeout=1.0)
+            except (OSError, subprocess.TimeoutExpired):
+                pass
+        if self.proc is not None:
+            # Nothing inside needs a clean exit: kill bwrap (its --die-with-parent child and
+            # the whole PID namespace follow) or, unsandboxed, the zygote's process group.
+            try:
+                os.killpg(self.proc.pid, signal.SIGKILL)
+            except OSError:
+                pass
+            try:
+                self.proc.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                log.error("sandbox process %s did not exit after SIGKILL", self.proc.pid)
+            self.proc = None
+        if self.ctl is not None:
+            self.ctl.close()
+            self.ctl = None
+        if self.staging is not None:
+            try:
+                os.rmdir(self.staging)
+            except OSError:
+                pass
+            self.staging = None
+        if not self.config.sandbox:
+            shutil.rmtree(self.workdir / f"scratch-{id(self):x}", ignore_errors=True)
+
+    @property
+    def alive(self) -> bool:
+        return self.proc is not None and self.proc.poll() is None and self.ctl is not None
+
+    # ------------------------------------------------------------------ control
+    def _ctl_recv(self, timeout: float) -> dict[str, Any]:
+        assert self.ctl is not None
+        self.ctl.settimeout(timeout)
+        data = self.ctl.recv(65536)
+        if not data:
+            raise ChildDied("the sandbox's zygote ended")
+        msg = json.loads(data)
+        if not isinstance(msg, dict):
+            raise ProtocolError("bad control message")
+        return msg
+
+    def _ctl(
+        self, msg: dict[str, Any], fds: list[int] | None = None, timeout: float = CONTROL_TIMEOUT
+    ) -> dict[str, Any]:
+        assert self.ctl is not None
+        self.ctl.settimeout(timeout)
+        data = json.dumps(msg).encode()
+        if fds:
+            socket.send_fds(self.ctl, [data], fds)
+        else:
+            self.ctl.send(data)
+        return self._ctl_recv(timeout)
+
+    def spawn(self, limits: Limits) -> Child:
+        """A fresh child forked from the zygote (restarting the sandbox if needed)."""
+        for _attempt in range(2):
+            if not self.alive:
+                self.start()
+            ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
+            try:
+                reply = self._ctl({"op": "fork", "limits": limits.as_dict()}, [theirs.fileno()])
+            except (OSError, ValueError, ChildDied, ProtocolError) as exc:
+                log.warning("zygote did not fork (%s); restarting the sandbox", exc)
+                ours.close()
+                self.close()
+                continue
+            finally:
+                theirs.close()
+            if reply.get("ok"):
+                return Child(ours, int(reply["pid"]))
+            ours.close()
+            log.warning("zygote refused to fork: %s", reply)
+            self.close()
+        raise SandboxUnavailable("could not start a notebook process in the sandbox")
+
+    def reset(self) -> None:
+        """Kill every process in the sandbox but the zygote and wipe its scratch space.
+
+        A zygote that does not answer in time is replaced by a fresh sandbox.
+        """
+        if not self.alive:
+            self.close()
+            return
+        try:
+            reply = self._ctl({"op": "kill"})
+            if reply.get("ok"):
+                return
+        except (OSError, ValueError, ChildDied, ProtocolError) as exc:
+            log.info("zygote did not answer kill (%s); restarting the sandbox", exc)
+        self.close()
+
+    def status_of(self, pid: int, timeout: float = 1.0) -> str:
+        """Why child ``pid`` ended, in words ("killed (SIGKILL)", "exited with code 0")."""
+        if not self.alive:
+            return SANDBOX_STOPPED
+        try:
+            reply = self._ctl(
+                {"op": "wait", "pid": pid, "timeout": timeout}, timeout=timeout + CONTROL_TIMEOUT
+            )
+        except (OSError, ValueError, ChildDied, ProtocolError):
+            self.close()
+            return SANDBOX_STOPPED
+        return reply.get("status") or "ended"
+
+
+def prepare_workdir(workdir: Path, sandboxed: bool) -> None:
+    """Copy the engine scripts and a matplotlib font cache where the sandbox can read them."""
+    workdir.mkdir(parents=True, exist_ok=True)
+    os.chmod(workdir, 0o755)
+    for script in (CHILD_SCRIPT, LAUNCHER_SCRIPT):
+        dest = workdir / script.name
+        shutil.copyfile(script, dest)
+        os.chmod(dest, 0o644)
+    try:  # build the font cache once here, so no sandbox spends a second rebuilding it
+        import matplotlib
+        from matplotlib import font_manager
+
+        cache = Path(matplotlib.get_cachedir())
+        name = f"fontlist-v{font_manager.FontManager.__version__}.json"
+        if (cache / name).exists():
+            dest = workdir / name
+            shutil.copyfile(cache / name, dest)
+            os.chmod(dest, 0o644)
+            if not sandboxed:
+                (workdir / "mpl").mkdir(exist_ok=True)
+                shutil.copyfile(cache / name, workdir / "mpl" / name)
+    except Exception as exc:  # pragma: no cover - matplotlib missing: plots are just slower
+        log.info("no matplotlib font cache to share with the sandbox: %s", exc)
+
+
+__all__ = [
+    "Child",
+    "ChildDied",
+    "ChildTimeout",
+    "ProtocolError",
+    "Sandbox",
+    "SandboxUnavailable",
+    "prepare_workdir",
+    "NOBODY",
+]

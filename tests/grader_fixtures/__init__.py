@@ -1,0 +1,1 @@
+"""Fixtures of the grader tests: a fake exercise, its solution and the hostile corpus."""

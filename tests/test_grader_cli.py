@@ -1,0 +1,188 @@
+"""The command line, its agreement with the API, outputs, reveal, and the Gradescope bundle."""
+
+from __future__ import annotations
+
+import inspect
+import json
+import os
+import re
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+from grader_fixtures.helpers import ASSIGNMENT, FAST, SOLUTION, require_bwrap
+from rikingrade import cli
+from rikingrade.api import grade
+from rikingrade.gradescope import gradescope_bundle, gradescope_run
+
+PY = sys.executable
+
+
+def run_cli(*args: str, env: dict[str, str] | None = None) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [PY, "-m", "rikingrade.cli", *args], capture_output=True, text=True, env=env, timeout=300
+    )
+
+
+def test_help_explains_every_option_with_the_api_defaults(capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["--help"])
+    assert exc.value.code == 0
+    text = " ".join(capsys.readouterr().out.split())
+    sig = inspect.signature(grade).parameters
+    options = [n for n, p in sig.items() if p.kind is inspect.Parameter.KEYWORD_ONLY]
+    assert {n for n, _ in cli.GRADE_OPTIONS} == set(options)
+    for name in options:
+        flag = "--" + name.replace("_", "-")
+        assert flag in text, flag
+        default = sig[name].default
+        if default is not None and not isinstance(default, bool):
+            assert f"{flag} {name.upper()}" in text and f"(default: {default})" in text, name
+    for word in ("gradescope-bundle", "check-sandbox", "--out", "SUBMISSIONS"):
+        assert word in text
+
+
+def test_parsed_defaults_are_the_api_defaults():
+    ns = cli.grade_parser().parse_args(["scara", "subs/", "--out", "o"])
+    for name, p in inspect.signature(grade).parameters.items():
+        if p.kind is inspect.Parameter.KEYWORD_ONLY:
+            assert getattr(ns, name) == p.default, name
+
+
+def test_subcommand_help():
+    for sub in ("gradescope-bundle", "gradescope-run", "check-sandbox"):
+        r = run_cli(sub, "--help")
+        assert r.returncode == 0 and "usage: rikin-grade " + sub in r.stdout
+
+
+def test_bad_assignment_is_a_usage_error(tmp_path):
+    r = run_cli("no_such_exercise", str(tmp_path), "--out", str(tmp_path / "o"))
+    assert r.returncode == 2
+    assert "no assignment named 'no_such_exercise'" in r.stderr
+
+
+def test_missing_bwrap_exit_code_and_instructions(tmp_path):
+    env = dict(os.environ, PATH=str(tmp_path))
+    (tmp_path / "s.ipynb").write_bytes(SOLUTION.read_bytes())
+    r = run_cli(str(ASSIGNMENT), str(tmp_path / "s.ipynb"), "--out", str(tmp_path / "o"), env=env)
+    assert r.returncode == 3
+    assert "apt-get install -y bubblewrap" in r.stderr and "--unsafe-no-sandbox" in r.stderr
+
+
+def test_cli_grades_a_class_and_writes_every_output(tmp_path):
+    require_bwrap()
+    cls = tmp_path / "class"
+    (cls / "bob").mkdir(parents=True)
+    (cls / "alice.ipynb").write_bytes(SOLUTION.read_bytes())
+    nb = json.loads(SOLUTION.read_text())
+    for c in nb["cells"]:
+        if "def add(" in "".join(c["source"]):
+            c["source"] = "def add(a, b):\n    return a - b"
+    (cls / "bob" / "fake2r.ipynb").write_text(json.dumps(nb))
+    out = tmp_path / "out"
+    r = run_cli(
+        str(ASSIGNMENT),
+        str(cls),
+        "--out",
+        str(out),
+        "--memory-mb",
+        "512",
+        "--workers",
+        "2",
+        "--seed",
+        "3",
+        "--reveal",
+    )
+    assert r.returncode == 0, r.stderr
+    assert re.search(r"graded 2 of 2 .*mean score 4/5", r.stdout), r.stdout
+    rows = (out / "grades.csv").read_text().splitlines()
+    assert rows[1].startswith("alice,ok,5,5,1,1,2,1,")
+    assert rows[2].startswith("bob,cell-errors,3,5,0,0,2,1,")
+    for student in ("alice", "bob"):
+        gs = json.loads((out / "results" / f"{student}.json").read_text())
+        assert set(gs) >= {"score", "tests", "output"}
+        assert all(
+            set(t) >= {"name", "score", "max_score", "status", "output"} for t in gs["tests"]
+        )
+        assert (out / "feedback" / f"{student}.html").read_text().startswith("<!DOCTYPE html>")
+    md = (out / "feedback" / "bob.md").read_text()
+    assert "[fail] **add_int** (0/1)" in md and "[pass] **fk_2r** (2/2)" in md
+    assert "(input {" in md  # --reveal shows the hidden inputs
+    assert "bob: 3/5 cell-errors" in (out / "grading.log").read_text()
+    assert json.loads((out / "summary.json").read_text())["graded"] == 2
+    assert not list(out.rglob("*.tmp"))
+
+
+def test_gradescope_bundle_runs_locally(tmp_path):
+    require_bwrap()
+    bundle = gradescope_bundle(ASSIGNMENT, tmp_path / "bundle.zip", cell_timeout=5, memory_mb=512)
+    with zipfile.ZipFile(bundle) as z:
+        names = set(z.namelist())
+        assert {
+            "setup.sh",
+            "run_autograder",
+            "assignment.py",
+            "packages/rikin/pyproject.toml",
+            "packages/rikingrade/pyproject.toml",
+            "packages/rikingrade/rikingrade/spec.py",
+            "packages/rikingrade/rikingrade/sandbox/child.py",
+            "packages/rikin/rikin/__init__.py",
+        } <= names
+        assert not [n for n in names if "__pycache__" in n]
+        assert (z.getinfo("run_autograder").external_attr >> 16) & 0o111
+        assert (
+            "apt-get install -y --no-install-recommends bubblewrap" in z.read("setup.sh").decode()
+        )
+        root = tmp_path / "autograder"
+        z.extractall(root / "source")
+    (root / "submission").mkdir()
+    nb = json.loads(SOLUTION.read_text())
+    nb["cells"] = [c for c in nb["cells"] if "def fk_2r_batch(" not in "".join(c["source"])]
+    (root / "submission" / "fake2r.ipynb").write_text(json.dumps(nb))
+    env = dict(os.environ, AUTOGRADER_ROOT=str(root), RIKIN_GRADE_PYTHON=PY)
+    r = subprocess.run(
+        ["bash", str(root / "source" / "run_autograder")],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
+    assert r.returncode == 0, r.stdout + r.stderr
+    results = json.loads((root / "results" / "results.json").read_text())
+    assert results["score"] == 4
+    assert [t["status"] for t in results["tests"]] == ["passed", "passed", "passed", "failed"]
+    assert "function fk_2r_batch not found" in results["output"]
+
+
+def test_gradescope_run_without_a_notebook(tmp_path):
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "answers.txt").write_text("I forgot")
+    res = gradescope_run(
+        str(ASSIGNMENT),
+        submission=str(tmp_path / "sub"),
+        results=str(tmp_path / "r" / "results.json"),
+    )
+    assert res.status == "invalid"
+    data = json.loads((tmp_path / "r" / "results.json").read_text())
+    assert data["score"] == 0 and "No .ipynb notebook found" in data["output"]
+
+
+def test_api_accepts_a_single_path_and_progress_lines(tmp_path, capsys):
+    require_bwrap()
+    (tmp_path / "x.ipynb").write_bytes(SOLUTION.read_bytes())
+    opts = dict(FAST, quiet=False)
+    report = grade(
+        str(ASSIGNMENT),
+        tmp_path / "x.ipynb",
+        tmp_path / "o",
+        workers=1,
+        progress=True,
+        **{k: v for k, v in opts.items() if k != "quiet"},
+    )
+    err = capsys.readouterr()
+    assert report.results[0].score == 5
+    assert "1/1 x: 5/5 ok" in err.err
+    assert "graded 1 of 1" in err.out
+    assert Path(report.out) == (tmp_path / "o").resolve()

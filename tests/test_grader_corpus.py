@@ -1,0 +1,149 @@
+"""The hostile and broken corpus: every submission gets exactly its score, the batch survives.
+
+One batch grades the whole corpus (tests/grader_fixtures/corpus.py) in the bubblewrap
+sandbox with 2 workers; each case then checks its score, its status and what its feedback
+says. Other tests check what must hold for the whole batch: no hidden input in any
+feedback, the host's files untouched, the gradebook complete, and resuming.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from grader_fixtures import corpus
+from grader_fixtures.helpers import ASSIGNMENT, FAST, require_bwrap
+from rikingrade import grade
+from rikingrade.assignment import load_assignment
+
+import rikin
+
+SEED = 7
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory):
+    require_bwrap()
+    root = tmp_path_factory.mktemp("corpus")
+    cases = corpus.write_corpus(root / "class")
+    report = grade(ASSIGNMENT, [root / "class"], root / "out", workers=2, seed=SEED, **FAST)
+    return root, cases, report
+
+
+@pytest.mark.parametrize("case", corpus.CASES, ids=[c.name for c in corpus.CASES])
+def test_case_scores_exactly(graded, case):
+    root, _, report = graded
+    res = report.by_student()[case.name]
+    assert res.score == pytest.approx(case.score, abs=1e-9), (res.status, res.reason, res.problems)
+    assert res.max_score == corpus.MAX
+    assert res.status == case.status, (res.reason, res.problems)
+    feedback = (root / "out" / "feedback" / f"{case.name}.md").read_text()
+    for text in case.says:
+        assert text in feedback, f"{text!r} not in feedback:\n{feedback}"
+
+
+def test_every_submission_is_in_the_gradebook(graded):
+    root, cases, report = graded
+    rows = (root / "out" / "grades.csv").read_text().splitlines()
+    assert rows[0].split(",")[:8] == [
+        "student",
+        "status",
+        "score",
+        "max_score",
+        "add_int",
+        "add_float",
+        "fk_2r",
+        "fk_2r_batch",
+    ]
+    assert sorted(r.split(",")[0] for r in rows[1:]) == sorted(cases)
+    assert report.summary["submissions"] == len(cases)
+    assert report.summary["invalid"] == sum(c.status == "invalid" for c in corpus.CASES)
+    assert report.summary["timed_out"] == sum(c.status == "timeout" for c in corpus.CASES)
+    for name in cases:
+        data = json.loads((root / "out" / "results" / f"{name}.json").read_text())
+        assert {t["name"] for t in data["tests"]} == {
+            "add_int",
+            "add_float",
+            "fk_2r",
+            "fk_2r_batch",
+        }
+        assert data["score"] == pytest.approx(report.by_student()[name].score)
+
+
+def test_feedback_never_shows_hidden_inputs(graded):
+    root, cases, _ = graded
+    a = load_assignment(ASSIGNMENT)
+    secrets = set()
+    for calls in a.calls(SEED):
+        for c in calls:
+            for v in c.kwargs.values():
+                if isinstance(v, float) and len(repr(v)) >= 12:
+                    secrets.add(repr(v)[:9])
+    assert secrets
+    for name in cases:
+        for suffix in ("md", "html"):
+            text = (root / "out" / "feedback" / f"{name}.{suffix}").read_text()
+            leaked = [s for s in secrets if s in text]
+            assert not leaked, (name, leaked)
+        text = (root / "out" / "results" / f"{name}.json").read_text()
+        assert not [s for s in secrets if s in text], name
+    # ... while the instructor's log has them
+    log = (root / "out" / "grading.log").read_text()
+    assert any(s in log for s in secrets)
+
+
+def test_student_text_cannot_inject_html(graded):
+    root, cases, _ = graded
+    for name in cases:
+        for f in ("feedback/{}.md", "feedback/{}.html", "results/{}.json"):
+            assert "<script>" not in (root / "out" / f.format(name)).read_text(), (name, f)
+
+
+def test_fake_pass_output_is_ignored(graded):
+    root, _, report = graded
+    res = report.by_student()["fake_all_passed_output"]
+    assert res.score == 0
+    text = (root / "out" / "results" / "fake_all_passed_output.json").read_text()
+    assert "All tests passed" not in text
+
+
+def test_host_files_survive_deleting_submission(graded):
+    # the delete_files case tried to remove these inside its sandbox
+    assert Path(rikin.__file__).is_file()
+    import numpy
+
+    assert Path(numpy.__file__).is_file()
+    assert ASSIGNMENT.is_file() and corpus.SOLUTION.is_file()
+
+
+def test_resume_skips_unchanged_and_regrades_changed(graded, tmp_path):
+    root, cases, first = graded
+    out = root / "out"
+    # Unchanged files and settings: nothing is graded again, no sandbox is even started.
+    again = grade(ASSIGNMENT, [root / "class"], out, workers=2, seed=SEED, **FAST)
+    assert again.summary["resumed"] == len(cases)
+    assert {s: r.score for s, r in again.by_student().items()} == {
+        s: r.score for s, r in first.by_student().items()
+    }
+    assert not list(out.rglob("*.tmp")), "a temporary file was left behind"
+    # Another seed is another grading key: everything would be regraded; a changed file too.
+    sub = root / "class2"
+    sub.mkdir()
+    for name in ("solution", "renamed_fk"):
+        (sub / f"{name}.ipynb").write_bytes((root / "class" / f"{name}.ipynb").read_bytes())
+    grade(ASSIGNMENT, [sub], out, workers=1, seed=SEED, **FAST)
+    (sub / "renamed_fk.ipynb").write_bytes((root / "class" / "solution.ipynb").read_bytes())
+    third = grade(ASSIGNMENT, [sub], out, workers=1, seed=SEED, **FAST)
+    assert third.summary["resumed"] == 1
+    assert third.by_student()["renamed_fk"].score == 5
+
+
+def test_huge_output_is_truncated(graded):
+    _, _, report = graded
+    res = report.by_student()["huge_output_cell"]
+    noisy = [c for c in res.cells if "truncated" in c.output]
+    assert len(noisy) == 1
+    assert len(noisy[0].output) < 10_000 + 200
+    # 5,000,001 + 588,890 characters printed, 10,000 kept (the default output_limit)
+    assert noisy[0].output.endswith("[5578891 more characters of output truncated]")

@@ -1,0 +1,95 @@
+"""Reading notebooks as data and finding submissions (no code runs here)."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+from grader_fixtures.helpers import SOLUTION
+from rikingrade.notebook import NotebookError, discover, pick_notebook, read_notebook, safe_id
+
+
+def test_solution_cells_in_file_order():
+    nb = read_notebook(SOLUTION)
+    assert [n for n, _ in nb.cells] == list(range(1, len(nb.cells) + 1))
+    assert nb.cells[0][1].startswith("import matplotlib.pyplot as plt\nimport numpy as np")
+    assert "def add(a, b)" in nb.cells[1][1]
+    assert nb.nbformat == "4.5"
+
+
+@pytest.mark.parametrize(
+    "data, message",
+    [
+        (b"", "empty"),
+        (b'{"cells": [', "not valid notebook JSON (line 1"),
+        (b'"just a string"', "not a notebook"),
+        (b'{"metadata": {}}', "has no 'cells'"),
+        (b"\xff\xfe\x00", "not UTF-8"),
+    ],
+)
+def test_unreadable_files_get_a_reason(tmp_path, data, message):
+    p = tmp_path / "x.ipynb"
+    p.write_bytes(data)
+    with pytest.raises(NotebookError, match=re.escape(message)):
+        read_notebook(p)
+
+
+def test_lenient_reading(tmp_path):
+    cells = [
+        {"cell_type": "code", "source": ["a = 1\n", "b = 2"], "id": "x"},
+        {"cell_type": "markdown", "source": "text", "id": "x"},
+        {"cell_type": "code", "source": None},
+        "not a cell",
+        {"cell_type": "raw", "source": "raw"},
+    ]
+    p = tmp_path / "n.ipynb"
+    p.write_text("\ufeff" + json.dumps({"nbformat": 4, "nbformat_minor": 2, "cells": cells}))
+    nb = read_notebook(p)
+    assert nb.cells == [(1, "a = 1\nb = 2"), (2, "")]
+    assert any("duplicated" in w for w in nb.warnings)
+
+
+def test_discover_files_folders_and_student_folders(tmp_path):
+    cls = tmp_path / "class"
+    (cls / "carol").mkdir(parents=True)
+    (cls / "dave" / "sub").mkdir(parents=True)
+    (cls / "erin" / ".ipynb_checkpoints").mkdir(parents=True)
+    (cls / "empty").mkdir()
+    (cls / "alice.ipynb").write_text("{}")
+    (cls / "notes.txt").write_text("")
+    (cls / "carol" / "fake2r.ipynb").write_text("{}")
+    (cls / "carol" / "scratch.ipynb").write_text("{}")
+    (cls / "dave" / "sub" / "my work.ipynb").write_text("{}")
+    (cls / "erin" / ".ipynb_checkpoints" / "fake2r-checkpoint.ipynb").write_text("{}")
+    (tmp_path / "bob smith (late).ipynb").write_text("{}")
+    subs, notes = discover(
+        [cls, tmp_path / "bob smith (late).ipynb", tmp_path / "missing"], "fake2r.ipynb"
+    )
+    got = {s.student: s.path.name for s in subs}
+    assert got == {
+        "alice": "alice.ipynb",
+        "carol": "fake2r.ipynb",
+        "dave": "my work.ipynb",
+        "bob_smith_late": "bob smith (late).ipynb",
+    }
+    text = "\n".join(notes)
+    assert "erin: no .ipynb inside" in text or "erin" in text
+    assert "missing: no such file" in text
+    assert "carol: several notebooks found; graded fake2r.ipynb" in text
+
+
+def test_duplicate_student_ids_are_renamed(tmp_path):
+    (tmp_path / "a").mkdir()
+    (tmp_path / "b").mkdir()
+    (tmp_path / "a" / "x.ipynb").write_text("{}")
+    (tmp_path / "b" / "x.ipynb").write_text("{}")
+    subs, notes = discover([tmp_path / "a" / "x.ipynb", tmp_path / "b" / "x.ipynb"], "x.ipynb")
+    assert [s.student for s in subs] == ["x", "x-2"]
+    assert "two submissions named x" in notes[0]
+
+
+def test_safe_ids_and_picking():
+    assert safe_id("../../etc/passwd") == "etc_passwd"
+    assert safe_id("José García") == "José_García"
+    assert pick_notebook([], "a.ipynb") == (None, "")

@@ -1,0 +1,159 @@
+"""The sandbox itself: what a notebook can see and do, and isolation between submissions."""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+import pytest
+import rikingrade
+from grader_fixtures.helpers import ASSIGNMENT, FAST, SOLUTION, require_bwrap
+from rikingrade import check_sandbox, grade
+from rikingrade.sandbox import SandboxUnavailable
+
+COURSE = Path(rikingrade.__file__).resolve().parent.parent.parent
+
+
+def _nb_with(*sources: str) -> str:
+    nb = json.loads(SOLUTION.read_text())
+    for src in sources:
+        nb["cells"].append(
+            {
+                "cell_type": "code",
+                "metadata": {},
+                "outputs": [],
+                "execution_count": None,
+                "source": src,
+            }
+        )
+    return json.dumps(nb)
+
+
+def test_probe_sees_no_course_no_network_no_writable_dirs():
+    require_bwrap()
+    info = check_sandbox(paths=[str(ASSIGNMENT), str(SOLUTION)])
+    probe = info["probe"]
+    assert info["ok"], probe
+    assert probe["uid"] == 65534 and probe["gid"] == 65534
+    assert probe["visible"] == []
+    assert probe["network"] is False
+    assert probe["writable"] == []
+    assert probe["cwd"].startswith("/tmp/")
+    assert "work" in probe["root"] and "usr" in probe["root"]
+    _only_what_python_needs(info["command"])
+    # The sandbox's real uid on the host is never root (root is exempt from RLIMIT_NPROC):
+    # a root grader drops to nobody before starting bubblewrap.
+    assert info["sandbox_host_uid"] not in (0, None)
+    if os.geteuid() == 0:
+        assert info["sandbox_host_uid"] == 65534
+
+
+def _only_what_python_needs(cmd: list[str]) -> None:
+    """The bubblewrap command binds Python's files, never the course around them."""
+    dests = [cmd[i + 2] for i, a in enumerate(cmd) if a == "--ro-bind"]
+    for forbidden in (COURSE, COURSE / "grader", COURSE / "solutions", COURSE / "tests"):
+        assert str(forbidden) not in dests
+    # rikin is bound alone (its package directory), never the repository around it
+    rikin_dir = Path(__import__("rikin").__file__).resolve().parent
+    assert any(d == str(rikin_dir) or rikin_dir.is_relative_to(d) for d in dests)
+    for d in dests:
+        assert not COURSE.is_relative_to(d) or d in ("/",), d
+    assert "--unshare-all" in cmd and "--as-pid-1" in cmd and "--disable-userns" in cmd
+
+
+def test_no_trace_of_one_submission_in_the_next(tmp_path):
+    """A submission's files, /tmp entries and background processes are gone for the next."""
+    require_bwrap()
+    writer = _nb_with(
+        "import os, time\n"
+        "open('/tmp/answers.txt', 'w').write('42')\n"
+        "open('left_in_cwd.txt', 'w').write('42')\n"
+        "if os.fork() == 0:\n"
+        "    os.setsid()\n"
+        "    if os.fork() == 0:\n"
+        "        while True:\n"
+        "            time.sleep(0.01)\n"
+        "    os._exit(0)\n"
+    )
+    reader = _nb_with(
+        "import os\n"
+        "me = os.getpid()\n"
+        "others = [p for p in os.listdir('/proc') if p.isdigit() and int(p) not in (1, me)]\n"
+        "leftovers = [n for n in os.listdir('/tmp') if n not in ('.mpl', os.path.basename(os.getcwd()))]\n"  # noqa: E501
+        "seen = others + leftovers + [n for n in os.listdir('.')]\n"
+        "def add(a, b):\n"
+        "    return a + b if not seen else -999\n"
+    )
+    cls = tmp_path / "class"
+    cls.mkdir()
+    (cls / "a_writer.ipynb").write_text(writer)
+    (cls / "b_reader.ipynb").write_text(reader)
+    report = grade(ASSIGNMENT, [cls], tmp_path / "out", workers=1, **FAST)
+    res = report.by_student()
+    assert res["a_writer"].score == 5
+    assert res["b_reader"].score == 5, res["b_reader"].tests
+
+
+def test_student_code_never_runs_in_the_grader(tmp_path):
+    marker = tmp_path / "ran-here"
+    nb = _nb_with(f"open({str(marker)!r}, 'w').write('student code ran on the host')")
+    (tmp_path / "s.ipynb").write_text(nb)
+    require_bwrap()
+    report = grade(ASSIGNMENT, [tmp_path / "s.ipynb"], tmp_path / "out", workers=1, **FAST)
+    res = report.results[0]
+    assert res.score == 5
+    assert not marker.exists()
+    assert any(
+        "FileNotFoundError" in p or "Read-only" in p or "PermissionError" in p for p in res.problems
+    )
+
+
+def test_endless_loops_cost_their_timeouts_only(tmp_path):
+    require_bwrap()
+    nb = _nb_with(
+        "def fk_2r(l1, l2, q1, q2):\n    while True:\n        pass",
+        "def fk_2r_batch(l1, l2, q):\n    while True:\n        pass",
+    )
+    (tmp_path / "loops.ipynb").write_text(nb)
+    report = grade(ASSIGNMENT, [tmp_path], tmp_path / "out", workers=1, timeout=0.5, **FAST)
+    res = report.results[0]
+    assert res.score == 2  # add only
+    assert res.status == "timeout"
+    # two tests time out once each (0.5 s); each costs a fresh child (cells re-run)
+    assert res.elapsed < 2.0 + 2 * 0.5 + 3.0
+    assert [t.timed_out for t in res.tests] == [False, False, True, True]
+
+
+def test_missing_bubblewrap_fails_loudly(tmp_path, monkeypatch):
+    monkeypatch.setenv("PATH", str(tmp_path))
+    (tmp_path / "s.ipynb").write_bytes(SOLUTION.read_bytes())
+    with pytest.raises(SandboxUnavailable, match="apt-get install -y bubblewrap"):
+        grade(ASSIGNMENT, [tmp_path / "s.ipynb"], tmp_path / "out", **FAST)
+    with pytest.raises(SandboxUnavailable, match="unsafe-no-sandbox"):
+        check_sandbox()
+
+
+def test_unsafe_mode_grades_without_bubblewrap(tmp_path, monkeypatch):
+    monkeypatch.setenv("PATH", os.pathsep.join([str(tmp_path), "/usr/bin", "/bin"]))
+    monkeypatch.setattr("shutil.which", lambda name, *a, **k: None)
+    (tmp_path / "s.ipynb").write_bytes(SOLUTION.read_bytes())
+    report = grade(
+        ASSIGNMENT, [tmp_path / "s.ipynb"], tmp_path / "out", unsafe_no_sandbox=True, **FAST
+    )
+    assert report.results[0].score == 5
+    assert "UNSAFE" in (tmp_path / "out" / "grading.log").read_text()
+
+
+def test_paths_inside_bound_directories_can_be_masked():
+    """An installed (non-editable) rikingrade sits in site-packages: it must be masked."""
+    require_bwrap()
+    import nbformat
+
+    pkg = Path(nbformat.__file__).resolve().parent  # stands in for site-packages/rikingrade
+    single = Path(pytest.__file__).resolve()  # a single file in a bound directory
+    seen = check_sandbox(paths=[str(pkg)])  # not masked: visible (so the check below can fail)
+    assert seen["probe"]["visible"] == [str(pkg)] and not seen["ok"]
+    masked = check_sandbox(hidden=[pkg, pkg / "sign.py", single])
+    assert masked["ok"], masked["probe"]
+    assert masked["probe"]["visible"] == []

@@ -1,0 +1,111 @@
+"""The JSON wire format: strict, explicit about NaN/inf, never pickle, both directions."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+from fractions import Fraction
+
+import numpy as np
+import pytest
+import sympy
+from rikingrade.wire import WireError, decode_message, encode_input, encode_message
+
+# child.py is a standalone script (it runs inside the sandbox); load it as a module here
+# only to test its encoder against the grader's decoder.
+_spec = importlib.util.spec_from_file_location(
+    "rikingrade_child_under_test",
+    importlib.util.find_spec("rikingrade.sandbox").submodule_search_locations[0] + "/child.py",
+)
+child = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(child)
+child.np = np
+
+
+def roundtrip_result(value):
+    """A student's return value as the grader sees it."""
+    line = json.dumps({"id": 1, "value": child.encode(value)}, allow_nan=False)
+    return decode_message(line)["value"]
+
+
+def roundtrip_input(value):
+    """A hidden test's input as the student's function receives it."""
+    return child.decode(
+        json.loads(encode_message({"kwargs": {"x": encode_input(value)}}))["kwargs"]["x"]
+    )
+
+
+def test_arrays_become_lists_with_explicit_nonfinite_values():
+    got = roundtrip_result(np.array([[1.5, np.nan], [np.inf, -np.inf]]))
+    assert got[0][0] == 1.5 and math.isnan(got[0][1])
+    assert got[1] == [math.inf, -math.inf]
+    assert roundtrip_result(np.float32(0.25)) == 0.25
+    assert roundtrip_result(np.int64(7)) == 7 and isinstance(roundtrip_result(np.int64(7)), int)
+    assert roundtrip_result((1, (2, 3))) == [1, [2, 3]]
+    assert roundtrip_result(np.array([True, False])) == [True, False]
+    assert roundtrip_result(1 + 2j) == complex(1, 2)
+    assert roundtrip_result(np.array([1j])) == [1j]
+
+
+def test_numbers_from_other_libraries_become_floats():
+    assert roundtrip_result(sympy.Rational(1, 4)) == 0.25
+    assert roundtrip_result(sympy.pi) == pytest.approx(math.pi)
+    assert roundtrip_result(Fraction(3, 4)) == 0.75
+    with pytest.raises(child.EncodeError, match="free symbols"):
+        child.encode(sympy.Symbol("q1") + 1)
+
+
+def test_dicts_keep_keys_and_dollar_keys_do_not_fake_markers():
+    assert roundtrip_result({"a": [1, 2], 3: "x"}) == {"a": [1, 2], "3": "x"}
+    tricky = {"$float": "nan"}
+    assert roundtrip_result(tricky) == {"$float": "nan"}
+
+
+@pytest.mark.parametrize(
+    "value, message",
+    [
+        ((x for x in [1]), "generator object"),
+        (object(), "object object"),
+        (np.zeros(2_000_000), "more than"),
+        (np.array(["a", object()], dtype=object), "object object"),
+    ],
+)
+def test_unreadable_results_get_a_clear_error(value, message):
+    with pytest.raises(child.EncodeError, match=message):
+        child.encode(value)
+
+
+def test_deep_nesting_is_refused():
+    v = 1
+    for _ in range(200):
+        v = [v]
+    with pytest.raises(child.EncodeError, match="nested"):
+        child.encode(v)
+
+
+def test_inputs_keep_numpy_arrays_and_tuples():
+    q = np.arange(6.0).reshape(3, 2)
+    got = roundtrip_input(q)
+    assert isinstance(got, np.ndarray) and got.dtype == np.float64 and got.shape == (3, 2)
+    np.testing.assert_array_equal(got, q)
+    assert roundtrip_input((1, 2)) == (1, 2)
+    assert math.isnan(roundtrip_input(float("nan")))
+    got = roundtrip_input({"T": np.eye(4), "$k": [np.inf]})
+    assert got["$k"] == [math.inf] and got["T"].shape == (4, 4)
+    assert roundtrip_input(np.array([1, 2], dtype=np.int32)).dtype == np.int32
+
+
+def test_grader_refuses_what_is_not_plain_json():
+    with pytest.raises(WireError):
+        decode_message('{"value": NaN}')  # non-finite floats must use markers
+    with pytest.raises(WireError):
+        decode_message("[1, 2]")
+    with pytest.raises(WireError):
+        decode_message("{" * 100000)
+    with pytest.raises(WireError):
+        decode_message('{"value": {"$float": "1e999"}}')
+    with pytest.raises(WireError, match="cannot send"):
+        encode_input(object())
+    with pytest.raises(WireError, match="dtype"):
+        encode_input(np.array(["a"]))
