@@ -39,8 +39,8 @@ def test_probe_sees_no_course_no_network_no_writable_dirs():
     assert probe["visible"] == []
     assert probe["network"] is False
     assert probe["writable"] == []
-    assert probe["cwd"].startswith("/tmp/")
-    assert "work" in probe["root"] and "usr" in probe["root"]
+    assert probe["cwd"].startswith("/scratch/")
+    assert "scratch" in probe["root"] and "usr" in probe["root"]
     _only_what_python_needs(info["command"])
     # The sandbox's real uid on the host is never root (root is exempt from RLIMIT_NPROC):
     # a root grader drops to nobody before starting bubblewrap.
@@ -63,11 +63,11 @@ def _only_what_python_needs(cmd: list[str]) -> None:
 
 
 def test_no_trace_of_one_submission_in_the_next(tmp_path):
-    """A submission's files, /tmp entries and background processes are gone for the next."""
+    """A submission's files, /scratch entries and background processes are gone for the next."""
     require_bwrap()
     writer = _nb_with(
         "import os, time\n"
-        "open('/tmp/answers.txt', 'w').write('42')\n"
+        "open('/scratch/answers.txt', 'w').write('42')\n"
         "open('left_in_cwd.txt', 'w').write('42')\n"
         "if os.fork() == 0:\n"
         "    os.setsid()\n"
@@ -80,7 +80,7 @@ def test_no_trace_of_one_submission_in_the_next(tmp_path):
         "import os\n"
         "me = os.getpid()\n"
         "others = [p for p in os.listdir('/proc') if p.isdigit() and int(p) not in (1, me)]\n"
-        "leftovers = [n for n in os.listdir('/tmp') if n not in ('.mpl', os.path.basename(os.getcwd()))]\n"  # noqa: E501
+        "leftovers = [n for n in os.listdir('/scratch') if n not in ('.mpl', os.path.basename(os.getcwd()))]\n"  # noqa: E501
         "seen = others + leftovers + [n for n in os.listdir('.')]\n"
         "def add(a, b):\n"
         "    return a + b if not seen else -999\n"

@@ -112,7 +112,7 @@ def grade(
     max_file_mb : int
         Largest file a notebook may write (MiB).
     tmp_mb : int
-        Size of the sandbox's private, wiped ``/tmp`` (MiB).
+        Size of the sandbox's private, wiped ``/scratch`` (MiB).
     output_limit : int
         Characters of printed output kept per cell (the rest is counted and dropped).
     regrade : bool
@@ -410,7 +410,7 @@ def probe(paths):
     except OSError as e:
         r["network"] = False
     written = []
-    for d in ("/", "/usr", "/etc", os.path.dirname(os.__file__), "/opt", "/dev", "/dev/shm"):
+    for d in ("/", "/tmp", "/usr", "/etc", os.path.dirname(os.__file__), "/opt", "/dev", "/dev/shm"):
         try:
             with open(os.path.join(d, "rikingrade-probe"), "w") as f:
                 f.write("x")
@@ -448,7 +448,7 @@ def check_sandbox(
     (use it for paths inside a bound directory) and must be unreadable too.
 
     Returns a dict with ``ok`` (True when none of those paths, the grader package or the
-    course is readable, there is no network and nothing outside ``/tmp`` is writable), the
+    course is readable, there is no network and nothing outside the private ``/scratch`` is writable), the
     probe's raw findings and the bubblewrap command used.
     """
     config = SandboxConfig(sandbox=not unsafe_no_sandbox)

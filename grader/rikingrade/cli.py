@@ -65,7 +65,7 @@ GRADE_OPTIONS: list[tuple[str, str]] = [
     ("cpu_seconds", "CPU seconds per notebook process (a backstop behind the wall-clock limits)"),
     ("max_processes", "processes and threads per sandbox (stops fork bombs)"),
     ("max_file_mb", "largest file a notebook may write, MiB"),
-    ("tmp_mb", "size of the sandbox's private /tmp, MiB (wiped between submissions)"),
+    ("tmp_mb", "size of the sandbox's private /scratch, MiB (wiped between submissions)"),
     ("output_limit", "characters of printed output kept per cell (the rest is dropped)"),
     (
         "regrade",

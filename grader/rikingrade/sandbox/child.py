@@ -66,7 +66,7 @@ MAX_DEPTH = 64
 MAX_ELEMENTS = 1_000_000
 MAX_STR = 1_000_000
 MAX_ERROR_CHARS = 2000
-SCRATCH_KEEP = (".mpl",)  # entries of /tmp the zygote owns (font cache)
+SCRATCH_KEEP = (".mpl",)  # entries of /scratch the zygote owns (font cache)
 
 _dumps = json.dumps
 _loads = json.loads
@@ -869,7 +869,7 @@ def main(argv):
     except Exception:
         pass
     in_pidns = bool(config.get("pidns")) and os.getpid() <= 3
-    scratch = config.get("scratch", "/tmp")
+    scratch = config.get("scratch", "/scratch")
     zygote = Zygote(ctl, scratch, in_pidns)
     zygote.send(
         {

@@ -6,7 +6,7 @@ site-packages and the directory of each preloaded package that lives elsewhere (
 installed editable: its package directory alone, never the course repository). Everything
 else is absent: the course, the grader package with its hidden tests and reference, the
 submissions and the output folder (hidden even when they sit inside a bound directory).
-``/tmp`` is a small private tmpfs; there is no network, a new PID/IPC/UTS namespace and an
+``/scratch`` (not /tmp, so a checkout under /tmp stays visible) is a small private tmpfs; there is no network, a new PID/IPC/UTS namespace and an
 unprivileged user.
 """
 
@@ -26,8 +26,10 @@ from pathlib import Path
 PRELOAD = ("numpy", "sympy", "matplotlib", "IPython.core.inputtransformer2", "rikin")
 #: Where the engine script and the matplotlib font cache appear inside the sandbox.
 CHILD_PATH = "/opt/rikingrade/child.py"
-SCRATCH = "/tmp"
-MPL_DIR = "/tmp/.mpl"
+# The private writable scratch is not /tmp: a checkout or venv under /tmp (a CI clone) must be
+# bound read-only at its own path without a tmpfs shadowing it.
+SCRATCH = "/scratch"
+MPL_DIR = "/scratch/.mpl"
 #: The uid a root grader drops to before starting bubblewrap (so process limits apply).
 NOBODY = 65534
 
@@ -211,13 +213,8 @@ def bwrap_command(
             cmd += ["--ro-bind", str(host), str(host)]
     if os.path.exists("/etc/ld.so.cache"):
         cmd += ["--ro-bind", "/etc/ld.so.cache", "/etc/ld.so.cache"]
-    for src, dest in binds:
-        cmd += ["--ro-bind", src, dest]
-    for h in hidden:  # mask what must stay invisible even inside a bound directory
-        if h.is_dir():
-            cmd += ["--tmpfs", str(h), "--remount-ro", str(h)]
-        else:
-            cmd += ["--ro-bind", "/dev/null", str(h)]
+    # /tmp first: a checkout or venv that itself lives under /tmp (a CI clone) is bound on
+    # top of the private tmpfs instead of being hidden by it
     cmd += [
         "--proc",
         "/proc",
@@ -232,6 +229,13 @@ def bwrap_command(
         "--dir",
         MPL_DIR,
     ]
+    for src, dest in binds:
+        cmd += ["--ro-bind", src, dest]
+    for h in hidden:  # mask what must stay invisible even inside a bound directory
+        if h.is_dir():
+            cmd += ["--tmpfs", str(h), "--remount-ro", str(h)]
+        else:
+            cmd += ["--ro-bind", "/dev/null", str(h)]
     for src, dest in files:
         cmd += ["--ro-bind", src, dest]
     cmd += ["--remount-ro", "/", "--chdir", SCRATCH]
