@@ -246,25 +246,13 @@ def r_to_zyz(R: Any, *, branch: int = 1, degrees: bool = False) -> FloatArray:
     """
     if branch not in (1, -1):
         raise InputError(f"branch must be 1 or -1, got {branch!r}")
+    from .ik.kernels import spherical_wrist  # the one ZYZ decomposition (imported late: cycle)
+
     Rm = as_rotation(R, "R")
-    out = wrap_angle(_zyz(Rm, float(branch)))
+    phi, theta, psi, _ = spherical_wrist(Rm)
+    slot = 0 if branch == 1 else 1
+    out = wrap_angle(np.stack([phi[..., slot], theta[..., slot], psi[..., slot]], axis=-1))
     return np.degrees(out) if degrees else out
-
-
-def _zyz(M: FloatArray, sign: float) -> FloatArray:
-    """ZYZ angles with theta's sign chosen by ``sign``; phi = 0 when singular."""
-    s = np.hypot(M[..., 0, 2], M[..., 1, 2])
-    theta = np.arctan2(sign * s, M[..., 2, 2])
-    sing = s < SINGULAR_TOL
-    phi = np.where(sing, 0.0, np.arctan2(sign * M[..., 1, 2], sign * M[..., 0, 2]))
-    # singular: M = Rz(phi + psi) (theta = 0) or Rz(phi - psi) Ry(pi) (theta = pi)
-    psi_sing = np.where(
-        M[..., 2, 2] > 0,
-        np.arctan2(M[..., 1, 0], M[..., 0, 0]),
-        np.arctan2(M[..., 1, 0], -M[..., 0, 0]),
-    )
-    psi = np.where(sing, psi_sing, np.arctan2(sign * M[..., 2, 1], -sign * M[..., 2, 0]))
-    return np.stack([phi, theta, psi], axis=-1)
 
 
 def wrap_angle(theta: Any) -> FloatArray:
