@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Benchmark: grade the same generated class with rikin-grade and (if installed) nbgrader.
 
-    python benchmarks/bench_grade.py                 # 200 submissions, 2 workers
-    python benchmarks/bench_grade.py --n 40 --nbgrader-n 40
-    python benchmarks/bench_grade.py --assignment scara --solution solutions/scara.ipynb
+    python benchmarks/bench_grade.py                 # SCARA exercise, 200 submissions, 2 workers
+    python benchmarks/bench_grade.py --assignment cartesian --n 40 --nbgrader-n 40
+    python benchmarks/bench_grade.py --assignment tests/grader_fixtures/fake2r.py \
+        --solution tests/grader_fixtures/fake2r_solution.ipynb   # the engine's tiny test exercise
 
 Submissions are made from a solution notebook: mostly correct (each with a unique comment
 cell, so every file hash differs), some wrong (a required function redefined to return
@@ -198,8 +199,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--workers", type=int, default=2, help="rikin-grade workers (default 2)")
     p.add_argument(
         "--assignment",
-        default=None,
-        help="exercise name or hidden-test .py (default: the fake 2R exercise of the tests)",
+        default="scara",
+        help="exercise name (cartesian, cylindrical, spherical, scara) or hidden-test .py "
+        "(default: scara)",
     )
     p.add_argument("--solution", default=None, help="solution notebook the class is made from")
     p.add_argument("--nbgrader", default=None, help="path of the nbgrader executable")
@@ -216,13 +218,14 @@ def main(argv: list[str] | None = None) -> int:
 
     from rikingrade.assignment import load_assignment
 
-    assignment = args.assignment or str(FAKE_ASSIGNMENT)
+    assignment = args.assignment
     a = load_assignment(assignment)
-    solution_path = (
-        Path(args.solution)
-        if args.solution
-        else (FAKE_SOLUTION if args.assignment is None else ROOT / "solutions" / a.notebook)
-    )
+    if args.solution:
+        solution_path = Path(args.solution)
+    elif Path(assignment).resolve() == FAKE_ASSIGNMENT:
+        solution_path = FAKE_SOLUTION
+    else:
+        solution_path = ROOT / "solutions" / a.notebook
     solution = json.loads(solution_path.read_text())
     class_ = make_class(solution, list(a.functions), args.n)
     work = Path(tempfile.mkdtemp(prefix="bench-grade-"))

@@ -16,6 +16,7 @@ The arm's pose is ``T_world_tcp = base @ T_0_n(q) @ tool``.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Any, Literal
 
@@ -23,6 +24,7 @@ import numpy as np
 
 from ._validate import FloatArray, as_float_array, as_pose, check_radians
 from .errors import InputError
+from .tolerances import DEGREES_SUSPECT
 from .transforms import _inv_transform
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -86,6 +88,8 @@ def link_transform(link: Link, q: FloatArray, convention: Convention) -> FloatAr
 
     Returns an array of shape ``(..., 4, 4)``. Inputs are trusted (already validated).
     """
+    if q.ndim == 0:
+        return _link_transform_one(link, float(q), convention)
     if link.is_revolute:
         theta = q + link.offset
         d = np.full_like(q, link.d)
@@ -122,6 +126,32 @@ def link_transform(link: Link, q: FloatArray, convention: Convention) -> FloatAr
         T[..., 2, 3] = ca * d
     T[..., 3, 3] = 1.0
     return T
+
+
+def _link_transform_one(link: Link, q: float, convention: Convention) -> FloatArray:
+    """:func:`link_transform` for one joint value, in scalar arithmetic (same formulas)."""
+    if link.is_revolute:
+        theta, d = q + float(link.offset), float(link.d)
+    else:
+        theta, d = float(link.theta), q + float(link.d) + float(link.offset)
+    ct, st = math.cos(theta), math.sin(theta)
+    alpha, a = float(link.alpha), float(link.a)
+    ca, sa = math.cos(alpha), math.sin(alpha)
+    if convention == "standard":
+        rows = [
+            [ct, -st * ca, st * sa, a * ct],
+            [st, ct * ca, -ct * sa, a * st],
+            [0.0, sa, ca, d],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    else:
+        rows = [
+            [ct, -st, 0.0, a],
+            [st * ca, ct * ca, -sa, -sa * d],
+            [st * sa, ct * sa, ca, ca * d],
+            [0.0, 0.0, 0.0, 1.0],
+        ]
+    return np.array(rows)
 
 
 @dataclass(frozen=True, eq=False)
@@ -177,9 +207,12 @@ class SerialArm:
                         f"link {i} field {fname} must be a number for a numeric arm, got {val!r}; "
                         "use rikin.symbolic for symbolic tables"
                     ) from exc
-                if not np.isfinite(fval):
+                if not math.isfinite(fval):
                     raise InputError(f"link {i} field {fname} is {fval}")
         object.__setattr__(self, "links", links)
+        revolute = np.array([lk.is_revolute for lk in links])
+        revolute.setflags(write=False)
+        object.__setattr__(self, "_revolute", revolute)
         object.__setattr__(self, "base", as_pose(self.base, "base").copy())
         object.__setattr__(self, "tool", as_pose(self.tool, "tool").copy())
         self.base.setflags(write=False)
@@ -193,8 +226,8 @@ class SerialArm:
 
     @property
     def revolute(self) -> FloatArray:
-        """Boolean mask, shape ``(n,)``: True where the joint is revolute."""
-        return np.array([lk.is_revolute for lk in self.links])
+        """Boolean mask, shape ``(n,)``: True where the joint is revolute (read-only)."""
+        return self._revolute  # type: ignore[attr-defined]
 
     @property
     def qlim(self) -> FloatArray:
@@ -257,10 +290,10 @@ class SerialArm:
                 f"{name} must have shape ({self.n},) or (N, {self.n}) for this {self.n}-joint arm "
                 f"({self.joint_types}), got shape {arr.shape}"
             )
-        rev = self.revolute
-        if rev.any():
+        angles = np.where(self.revolute, arr, 0.0)
+        if np.abs(angles).max(initial=0.0) > DEGREES_SUSPECT:  # say which joint, in words
             names = [f"{name}[{i}] (joint {i + 1})" for i in range(self.n)]
-            check_radians(np.where(rev, arr, 0.0), name, names)
+            check_radians(angles, name, names)
         return arr
 
     def fk(self, q: Any, *, frames: bool = False) -> FloatArray:

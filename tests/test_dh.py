@@ -135,3 +135,34 @@ def test_batched_jacobian_and_axes_shapes():
     assert J.shape == (5, 6, 6)
     for i in range(5):
         assert np.allclose(J[i], arm.jacobian(q[i]))
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+@pytest.mark.parametrize("joint", ["R", "P"])
+def test_one_pose_fast_path_matches_the_batched_formulas(convention, joint):
+    # FK of one q uses scalar arithmetic; it must give the batched (array) result.
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        d, a, alpha, offset, theta = rng.uniform(-3, 3, 5)
+        link = Link(joint, d=d, a=a, alpha=alpha, offset=offset, theta=theta)
+        q = rng.uniform(-3, 3)
+        one = rikin.dh.link_transform(link, np.float64(q), convention)
+        batch = rikin.dh.link_transform(link, np.array([q, q + 1.0]), convention)[0]
+        assert one.shape == (4, 4)
+        np.testing.assert_allclose(one, batch, rtol=0, atol=1e-15)
+
+
+def test_one_pose_validation_still_rejects_bad_base_and_tool():
+    links = (Link(a=1.0), Link(a=1.0))
+    flipped = np.diag([1.0, 1.0, -1.0, 1.0])  # a reflection: det = -1
+    with pytest.raises(InputError, match="reflection"):
+        SerialArm(links, base=flipped)
+    skewed = np.eye(4)
+    skewed[0, 1] = 0.1  # columns no longer orthonormal
+    with pytest.raises(InputError, match="orthonormal"):
+        SerialArm(links, tool=skewed)
+    bottom = np.eye(4)
+    bottom[3, 0] = 0.5
+    with pytest.raises(InputError, match="last row"):
+        SerialArm(links, tool=bottom)
+    assert SerialArm(links).revolute.flags.writeable is False

@@ -16,6 +16,7 @@ from grader_fixtures.helpers import ASSIGNMENT, FAST, SOLUTION, require_bwrap
 from rikingrade import cli
 from rikingrade.api import grade
 from rikingrade.gradescope import gradescope_bundle, gradescope_run
+from rikingrade.report import GRADER_ERROR
 
 PY = sys.executable
 
@@ -186,3 +187,34 @@ def test_api_accepts_a_single_path_and_progress_lines(tmp_path, capsys):
     assert "1/1 x: 5/5 ok" in err.err
     assert "graded 1 of 1" in err.out
     assert Path(report.out) == (tmp_path / "o").resolve()
+
+
+def test_gradescope_run_writes_results_even_when_the_sandbox_cannot_start(tmp_path, monkeypatch):
+    # Gradescope shows a student nothing useful unless results.json exists: a sandbox
+    # that cannot start must give a results.json that says so (not a traceback).
+    monkeypatch.setenv("PATH", str(tmp_path))  # no bwrap on PATH
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "fake2r.ipynb").write_bytes(SOLUTION.read_bytes())
+    res = gradescope_run(
+        str(ASSIGNMENT),
+        submission=str(tmp_path / "sub"),
+        results=str(tmp_path / "r" / "results.json"),
+    )
+    assert res.status == GRADER_ERROR
+    data = json.loads((tmp_path / "r" / "results.json").read_text())
+    assert data["score"] == 0 and "not a problem with your work" in data["output"]
+    assert {t["output"] for t in data["tests"]} == {"not run: the autograder could not start"}
+
+
+def test_gradescope_setup_fails_the_image_build_without_a_sandbox(tmp_path):
+    # The instructor must learn at upload time, not from every student's submission.
+    for unsafe in (False, True):
+        bundle = gradescope_bundle(
+            ASSIGNMENT, tmp_path / f"b{unsafe}.zip", unsafe_no_sandbox=unsafe
+        )
+        with zipfile.ZipFile(bundle) as z:
+            setup = z.read("setup.sh").decode()
+        assert setup.startswith("#!/usr/bin/env bash") and "set -euo pipefail" in setup
+        check = re.search(r"if ! (.*check-sandbox.*); then\n(.*?)\nfi", setup, re.S)
+        assert check and "exit 1" in check.group(2)
+        assert ("--unsafe-no-sandbox" in check.group(1)) == unsafe

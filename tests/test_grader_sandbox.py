@@ -125,6 +125,43 @@ def test_endless_loops_cost_their_timeouts_only(tmp_path):
     assert [t.timed_out for t in res.tests] == [False, False, True, True]
 
 
+def test_the_timeout_is_per_call_not_per_test(tmp_path):
+    # fk_2r answers each call in 0.3 s: four calls take 1.2 s, each within its 0.5 s.
+    require_bwrap()
+    nb = _nb_with(
+        "import time\n_slow_fk = fk_2r\n"
+        "def fk_2r(l1, l2, q1, q2):\n    time.sleep(0.3)\n    return _slow_fk(l1, l2, q1, q2)"
+    )
+    (tmp_path / "slow.ipynb").write_text(nb)
+    report = grade(ASSIGNMENT, [tmp_path], tmp_path / "out", workers=1, timeout=0.5, **FAST)
+    res = report.results[0]
+    fk = next(t for t in res.tests if t.name.startswith("fk") and "batch" not in t.name)
+    assert (fk.fraction, fk.timed_out) == (1.0, False)
+    assert res.score == 5
+
+
+def test_a_call_that_hangs_keeps_the_answers_before_it(tmp_path):
+    # The third fk_2r call never returns: calls 1-2 count, 3 times out, 4 is not run,
+    # and the next test starts in a fresh child (cells re-run) and passes.
+    require_bwrap()
+    nb = _nb_with(
+        "_calls = [0]\n_good_fk = fk_2r\n"
+        "def fk_2r(l1, l2, q1, q2):\n"
+        "    _calls[0] += 1\n"
+        "    while _calls[0] == 3:\n        pass\n"
+        "    return _good_fk(l1, l2, q1, q2)"
+    )
+    (tmp_path / "hang.ipynb").write_text(nb)
+    report = grade(ASSIGNMENT, [tmp_path], tmp_path / "out", workers=1, timeout=0.5, **FAST)
+    res = report.results[0]
+    names = [t.name for t in res.tests]
+    fk = res.tests[2]
+    assert "fk" in names[2] and "batch" in names[3]
+    assert (fk.fraction, fk.timed_out) == (0.5, True)
+    assert res.tests[3].fraction == 1.0 and not res.tests[3].timed_out
+    assert res.status == "timeout"
+
+
 def test_missing_bubblewrap_fails_loudly(tmp_path, monkeypatch):
     monkeypatch.setenv("PATH", str(tmp_path))
     (tmp_path / "s.ipynb").write_bytes(SOLUTION.read_bytes())

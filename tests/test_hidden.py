@@ -307,3 +307,41 @@ def test_dh_table_rows_are_validated():
                        ([good[0], good[1], dict(good[2], theta=np.pi / 2)], "axes are not")):
         s = test.check(calls, [Outcome(value=bad)], False)
         assert s.fraction == 0.0 and words in s.feedback.lower(), (words, s.feedback)
+
+
+def test_reference_answers_are_remembered_per_call_not_shared_between_calls():
+    # Every submission is scored on the same calls, so the reference's answers are kept;
+    # a different call must still get its own answer, and unreachable must raise each time.
+    spec = _spec()
+    kw, Q = _ik_call()
+    first = spec.ref_ik(kw)
+    assert spec.ref_ik(dict(kw)) is first                     # same inputs: kept
+    other = dict(kw, p=ARMS["scara"].fk([-1.0, 0.7, 0.5], **{"l1": 4.0, "l2": 3.0, "l3": 2.0})[
+        :3, 3].tolist())
+    assert not np.allclose(spec.ref_ik(other).q, first.q)      # other inputs: their own
+    far = dict(kw, p=[50.0, 0.0, 1.0])
+    for _ in range(3):
+        with pytest.raises(ValueError) as info:
+            spec.ref_ik(far)
+        assert len(list(_frames(info.value.__traceback__))) <= 3  # no traceback growth
+    # scoring the same answer twice gives the same result (the second from the memo)
+    assert compare_ik(spec, kw, Q.tolist()) == compare_ik(spec, kw, Q.tolist())
+
+
+def _frames(tb):
+    while tb is not None:
+        yield tb
+        tb = tb.tb_next
+
+
+def test_a_timeout_says_which_call_hung_and_which_were_not_run():
+    m = module("scara")
+    test = next(t for t in m.TESTS if t.name.startswith("fk") and "6" not in t.name)
+    calls = test.make_calls(np.random.default_rng(0))
+    hung = Outcome(timed_out=True, detail="timed out: no result within 2 s")
+    skipped = Outcome(timed_out=True, detail="not run: an earlier call of this test timed out")
+    outs = [hung] + [skipped] * (len(calls) - 1)
+    s = test.check(calls, outs, False)
+    assert s.fraction == 0.0
+    assert "no result within 2 s (1x)" in s.feedback
+    assert f"not run: an earlier call of this test timed out ({len(calls) - 1}x)" in s.feedback

@@ -293,16 +293,17 @@ def show_arm(rows, q, *, wrist_rows=(), tool=0.0, ax=None, title=""):
     path.append(P[-1])
     ax.plot(*np.array(path).T, "-", color="0.3", lw=3)
     ax.plot(*P[:-1].T, "o", color="0.3", ms=4)
-    shown = set()
+    shown, frames = set(), []
     for k, Tk in enumerate(F):
         key = tuple(np.round(Tk[:3, :].ravel(), 6))
-        if key in shown:
-            continue
-        shown.add(key)
-        for axis, colour in zip(range(3), "rgb", strict=True):
-            ax.quiver(*Tk[:3, 3], *(size * Tk[:3, axis]), color=colour, lw=1.5)
-        label = "TCP" if k == len(F) - 1 else str(k)
-        ax.text(*(Tk[:3, 3] + 0.3 * size), label, fontsize=9)
+        if key not in shown:  # frames that coincide are drawn once
+            shown.add(key)
+            frames.append(k)
+            label = "TCP" if k == len(F) - 1 else str(k)
+            ax.text(*(Tk[:3, 3] + 0.3 * size), label, fontsize=9)
+    origins = F[frames, :3, 3]
+    for axis, colour in zip(range(3), "rgb", strict=True):  # one call draws every frame
+        ax.quiver(*origins.T, *(size * F[frames, :3, axis]).T, color=colour, lw=1.5)
     lo, hi = P.min(axis=0) - size, P.max(axis=0) + size
     centre, half = (lo + hi) / 2, (hi - lo).max() / 2
     ax.set_xlim(centre[0] - half, centre[0] + half)

@@ -24,7 +24,7 @@ from .assignment import load_assignment
 from .notebook import _notebooks_in, pick_notebook
 from .outputs import atomic_write
 from .report import GRADER_ERROR, SubmissionResult
-from .sandbox.config import package_dir
+from .sandbox.config import SandboxUnavailable, package_dir
 
 SETUP_SH = """#!/usr/bin/env bash
 # Gradescope runs this once while building the autograder image (Ubuntu, as root).
@@ -36,8 +36,14 @@ apt-get install -y --no-install-recommends bubblewrap python3 python3-venv pytho
 python3 -m venv /opt/rikin-venv
 /opt/rikin-venv/bin/pip install --upgrade pip
 /opt/rikin-venv/bin/pip install ./packages/rikin ./packages/rikingrade
-/opt/rikin-venv/bin/python -m rikingrade.cli check-sandbox {check_flag}\
-    || echo "WARNING: the sandbox check failed"
+# Fail the image build (Gradescope shows this log on the Configure Autograder page) rather
+# than every student's submission later, if student code cannot be isolated here.
+if ! /opt/rikin-venv/bin/python -m rikingrade.cli check-sandbox {check_flag}; then
+    echo "ERROR: bubblewrap cannot isolate student code in this container." >&2
+    echo "Rebuild the bundle with: rikin-grade gradescope-bundle ... --unsafe-no-sandbox" >&2
+    echo "(then each submission is isolated only by Gradescope's own container)." >&2
+    exit 1
+fi
 """
 
 RUN_AUTOGRADER = """#!/usr/bin/env bash
@@ -182,20 +188,11 @@ def gradescope_run(
     nb, note = pick_notebook(_notebooks_in(sub_dir) if sub_dir.is_dir() else [], a.notebook)
     results_path = Path(results)
     if nb is None:
-        data = {
-            "score": 0.0,
-            "output": f"No .ipynb notebook found in the upload: submit {a.notebook}.",
-            "tests": [
-                {
-                    "name": t.name,
-                    "score": 0.0,
-                    "max_score": t.weight,
-                    "status": "failed",
-                    "output": "not run: no notebook submitted",
-                }
-                for t in a.tests
-            ],
-        }
+        data = _not_graded(
+            a,
+            f"No .ipynb notebook found in the upload: submit {a.notebook}.",
+            "no notebook submitted",
+        )
         atomic_write(results_path, json.dumps(data, indent=2))
         return SubmissionResult(
             student="submission",
@@ -210,21 +207,34 @@ def gradescope_run(
         staged = work / "in" / "submission.ipynb"
         staged.parent.mkdir()
         shutil.copyfile(nb, staged)
-        report = grade(
-            a.source_path if a.source_path and str(assignment).endswith(".py") else assignment,
-            [staged],
-            work / "out",
-            workers=1,
-            seed=seed,
-            reveal=reveal,
-            timeout=timeout,
-            cell_timeout=cell_timeout,
-            memory_mb=memory_mb,
-            regrade=True,
-            unsafe_no_sandbox=unsafe_no_sandbox,
-            progress=False,
-            quiet=True,
-        )
+        try:
+            report = grade(
+                a.source_path if a.source_path and str(assignment).endswith(".py") else assignment,
+                [staged],
+                work / "out",
+                workers=1,
+                seed=seed,
+                reveal=reveal,
+                timeout=timeout,
+                cell_timeout=cell_timeout,
+                memory_mb=memory_mb,
+                regrade=True,
+                unsafe_no_sandbox=unsafe_no_sandbox,
+                progress=False,
+                quiet=True,
+            )
+        except SandboxUnavailable as exc:  # Gradescope must always get a results.json
+            print(f"rikin-grade: the sandbox could not start: {exc}")
+            data = _not_graded(a, SANDBOX_DOWN, "the autograder could not start")
+            atomic_write(results_path, json.dumps(data, indent=2))
+            return SubmissionResult(
+                student="submission",
+                path=str(nb),
+                sha256="",
+                status=GRADER_ERROR,
+                reason=f"the sandbox could not start: {exc}",
+                max_score=a.max_score,
+            )
         res = report.results[0]
         data = json.loads((work / "out" / "results" / f"{res.student}.json").read_text())
         if note:
@@ -235,3 +245,28 @@ def gradescope_run(
         return res
     finally:
         shutil.rmtree(work, ignore_errors=True)
+
+
+SANDBOX_DOWN = (
+    "Your notebook was not graded: the autograder could not start its sandbox on this "
+    "platform. This is not a problem with your work; your instructor needs to fix the "
+    "autograder and will regrade."
+)
+
+
+def _not_graded(a, output: str, why: str) -> dict:
+    """A Gradescope results.json for a submission that could not be graded."""
+    return {
+        "score": 0.0,
+        "output": output,
+        "tests": [
+            {
+                "name": t.name,
+                "score": 0.0,
+                "max_score": t.weight,
+                "status": "failed",
+                "output": f"not run: {why}",
+            }
+            for t in a.tests
+        ],
+    }

@@ -260,28 +260,43 @@ class _Run:
         return cell
 
     # ------------------------------------------------------------------ tests
-    def call(self, call: Call, timeout: float) -> tuple[Outcome, bool]:
-        """Run one call; returns (outcome, child still usable)."""
+    def call_batch(self, calls: list[Call], timeout: float) -> tuple[list[Outcome], bool, bool]:
+        """Run calls in order in the current child; returns (outcomes, timed out, crashed).
+
+        All calls go in one message and the child answers each as soon as it returns,
+        so the wall-clock ``timeout`` applies per call: call k's clock starts when
+        call k - 1's answer arrives (or when the batch is sent). A call that times out
+        or kills the child ends the batch: the child is dropped and the calls after it
+        are not run.
+        """
         assert self.child is not None
-        self.call_id += 1
-        cid = self.call_id
-        payload = {
-            "op": "call",
-            "id": cid,
-            "function": call.function,
-            "kwargs": {k: encode_input(v) for k, v in call.kwargs.items()},
-        }
+        ids = []
+        items = []
+        for call in calls:
+            self.call_id += 1
+            ids.append(self.call_id)
+            kwargs = {k: encode_input(v) for k, v in call.kwargs.items()}
+            items.append({"id": self.call_id, "function": call.function, "kwargs": kwargs})
+        outcomes: list[Outcome] = []
         deadline = time.monotonic() + timeout
         try:
-            self.child.send(payload, deadline)
-            while True:
-                msg = self.child.recv(deadline)
-                if msg.get("id") == cid:
-                    break
+            self.child.send({"op": "calls", "calls": items}, deadline)
+            for cid in ids:
+                while True:
+                    msg = self.child.recv(deadline)
+                    if msg.get("id") == cid:
+                        break
+                outcomes.append(_outcome(msg))
+                deadline = time.monotonic() + timeout
         except ChildTimeout:
             self.timed_out = True
             self._drop_child()
-            return Outcome(timed_out=True, detail=f"no result within {timeout:g} s"), False
+            outcomes.append(
+                Outcome(timed_out=True, detail=f"timed out: no result within {timeout:g} s")
+            )
+            rest = Outcome(timed_out=True, detail="not run: an earlier call of this test timed out")
+            outcomes += [rest] * (len(calls) - len(outcomes))
+            return outcomes, True, False
         except (ChildDied, ProtocolError) as exc:
             why = (
                 str(exc)
@@ -290,60 +305,46 @@ class _Run:
             )
             self.crashed = True
             self._drop_child()
-            return Outcome(crashed=True, detail=why), False
-        et = msg.get("error_type")
-        if et is not None:
-            return Outcome(
-                error_type=str(et)[:200], error_message=str(msg.get("error_message", ""))[:4000]
-            ), True
-        return Outcome(value=msg.get("value")), True
+            outcomes.append(Outcome(crashed=True, detail=why))
+            rest = Outcome(
+                crashed=True,
+                detail="not run: the notebook's process died in an earlier call of this test",
+            )
+            outcomes += [rest] * (len(calls) - len(outcomes))
+            return outcomes, False, True
+        return outcomes, False, False
 
     def run_test(self, index: int) -> TestResult:
         test = self.r.assignment.tests[index]
         calls = self.r.calls[index]
         timeout = self.r.opt.timeout if self.r.opt.timeout is not None else float(test.timeout)
-        outcomes: list[Outcome] = []
-        broken: Outcome | None = None
-        t_out = crashed = False
-        for call in calls:
-            if broken is not None:
-                outcomes.append(broken)
-                continue
+        outcomes: list[Outcome | None] = [None] * len(calls)
+        pending: list[int] = []  # the calls the notebook's functions must answer
+        for i, call in enumerate(calls):
             if self.exec_error:
-                outcomes.append(Outcome(crashed=True, detail=self.exec_error))
-                continue
-            if call.function not in self.functions:
-                outcomes.append(
-                    Outcome(
-                        error_type="NameError",
-                        error_message=missing_message(
-                            call.function, self.functions, self.r.assignment.functions
-                        ),
-                    )
+                outcomes[i] = Outcome(crashed=True, detail=self.exec_error)
+            elif call.function not in self.functions:
+                outcomes[i] = Outcome(
+                    error_type="NameError",
+                    error_message=missing_message(
+                        call.function, self.functions, self.r.assignment.functions
+                    ),
                 )
-                continue
+            else:
+                pending.append(i)
+        t_out = crashed = False
+        if pending:
             self._ensure_child()
             if self.child is None:
-                outcomes.append(
-                    Outcome(crashed=True, detail=self.exec_error or "the notebook could not be run")
+                lost = Outcome(
+                    crashed=True, detail=self.exec_error or "the notebook could not be run"
                 )
-                continue
-            outcome, usable = self.call(call, timeout)
-            outcomes.append(outcome)
-            if not usable:
-                t_out |= outcome.timed_out
-                crashed |= outcome.crashed
-                broken = (
-                    Outcome(
-                        timed_out=True, detail="not run: an earlier call of this test timed out"
-                    )
-                    if outcome.timed_out
-                    else Outcome(
-                        crashed=True,
-                        detail="not run: the notebook's process died in an earlier call "
-                        "of this test",
-                    )
-                )
+                for i in pending:
+                    outcomes[i] = lost
+            else:
+                answers, t_out, crashed = self.call_batch([calls[i] for i in pending], timeout)
+                for i, o in zip(pending, answers, strict=True):
+                    outcomes[i] = o
         return self.check(test, calls, outcomes, t_out, crashed)
 
     def _ensure_child(self) -> None:
@@ -452,6 +453,16 @@ class _Run:
             reasons.append(first[0] + (f" (and {len(first) - 1} more)" if len(first) > 1 else ""))
         reasons += [missing_message(f, self.functions, a.functions) for f in missing]
         result.reason = "; ".join(reasons)[:1000]
+
+
+def _outcome(msg: dict) -> Outcome:
+    """A child's answer to one call as an Outcome (value or exception name and message)."""
+    et = msg.get("error_type")
+    if et is not None:
+        return Outcome(
+            error_type=str(et)[:200], error_message=str(msg.get("error_message", ""))[:4000]
+        )
+    return Outcome(value=msg.get("value"))
 
 
 def _int(v: object) -> int | None:

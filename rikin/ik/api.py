@@ -103,9 +103,12 @@ def _limits_filter(
 
 
 def _dedupe(q: FloatArray, revolute: FloatArray) -> list[int]:
+    """Indices of the rows to keep: the first of each group equal modulo 2*pi."""
+    diff = np.abs(_wrap(q[:, None, :] - q[None, :, :], revolute)).max(axis=-1)
+    same = (diff <= SAME_SOLUTION_TOL).tolist()
     kept: list[int] = []
     for i in range(len(q)):
-        if not any(np.abs(_wrap(q[i] - q[j], revolute)).max() <= SAME_SOLUTION_TOL for j in kept):
+        if not any(same[i][j] for j in kept):
             kept.append(i)
     return kept
 

@@ -9,6 +9,7 @@ working directory and serves JSON lines on that socket:
 grader -> child
     {"op": "exec", "cells": [[index, source], ...], "output_limit": int}
     {"op": "call", "id": int, "function": str, "kwargs": <wire>}
+    {"op": "calls", "calls": [{"id", "function", "kwargs"}, ...]}  (answered one by one)
 child -> grader
     {"event": "cell_start", "cell": i}
     {"event": "cell_end", "cell": i, "error": ..., "output": ..., "seconds": ...}
@@ -544,6 +545,11 @@ class Runner:
                 self.run_cells(msg["cells"])
             elif op == "call":
                 self.call(msg)
+            elif op == "calls":  # a batch: each answer is sent as soon as it is ready
+                calls = msg.get("calls")
+                for one in calls if isinstance(calls, list) else []:
+                    if isinstance(one, dict):
+                        self.call(one)
 
 
 def set_limits(limits):
