@@ -56,3 +56,41 @@ def test_solution_full_marks_stub_and_cheat_nothing(exercise, tmp_path):
     assert res["stub"].score == 0
     assert res["stub"].status == "cell-errors"
     assert res["cheat"].score == 0, [(t.name, t.points) for t in res["cheat"].tests]
+
+
+def test_unreachable_must_raise_a_value_error_subclass_not_any_exception(tmp_path):
+    # The exercises ask for ValueError: a notebook's own subclass of it counts, its own
+    # subclass of Exception does not (the engine sends the exception's bases).
+    require_bwrap()
+    a = load_assignment("scara")
+    solution = json.loads((ROOT / "solutions" / a.notebook).read_text())
+    cls = tmp_path / "class"
+    cls.mkdir()
+    for name, base in (("own_value_error", "ValueError"), ("own_exception", "Exception")):
+        nb = json.loads(json.dumps(solution))
+        nb["cells"].append(
+            {
+                "cell_type": "code",
+                "metadata": {},
+                "outputs": [],
+                "execution_count": None,
+                "source": (
+                    f"class OutOfReach({base}):\n    pass\n\n"
+                    "_ik, _ik6 = ik_scara, ik_scara_6dof\n"
+                    "def _own(f):\n"
+                    "    def g(*args, **kwargs):\n"
+                    "        try:\n            return f(*args, **kwargs)\n"
+                    "        except ValueError as exc:\n            raise OutOfReach(str(exc))\n"
+                    "    return g\n"
+                    "ik_scara, ik_scara_6dof = _own(_ik), _own(_ik6)\n"
+                ),
+            }
+        )
+        (cls / f"{name}.ipynb").write_text(json.dumps(nb))
+    report = grade("scara", [cls], tmp_path / "out", workers=2, **dict(FAST, cell_timeout=30.0))
+    res = report.by_student()
+    assert res["own_value_error"].score == pytest.approx(a.max_score)
+    lost = {t.name: t.fraction for t in res["own_exception"].tests if t.fraction < 1}
+    assert lost == {"ik_unreachable": 0.0, "ik_6dof_unreachable": 0.0}
+    fb = next(t.feedback for t in res["own_exception"].tests if t.name == "ik_unreachable")
+    assert "raised OutOfReach" in fb and "instead of ValueError" in fb

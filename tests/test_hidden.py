@@ -25,6 +25,7 @@ from rikingrade.hidden._common import (
     describe_failure,
     is_value_error,
     mask_numbers,
+    raised_value_error,
 )
 from rikingrade.reference import ARMS
 from rikingrade.spec import Call, HiddenTest, Outcome
@@ -291,6 +292,20 @@ def test_outcome_failures_in_words():
     assert is_value_error("ValueError") and is_value_error("UnreachableError")
     assert not is_value_error("TypeError") and not is_value_error(None)
     assert is_value_error("TargetOutOfReach")      # a student's own class: benefit of the doubt
+    # with the exception's bases (what the engine sends) there is no doubt left
+    own_value = Outcome(error_type="OutOfReach",
+                        error_bases=("__main__.OutOfReach", "builtins.ValueError",
+                                     "builtins.Exception", "builtins.BaseException",
+                                     "builtins.object"))
+    own_other = Outcome(error_type="OutOfReach",
+                        error_bases=("__main__.OutOfReach", "builtins.Exception",
+                                     "builtins.BaseException", "builtins.object"))
+    fake_name = Outcome(error_type="ValueError",
+                        error_bases=("__main__.ValueError", "builtins.Exception",
+                                     "builtins.BaseException", "builtins.object"))
+    assert raised_value_error(own_value)
+    assert not raised_value_error(own_other) and not raised_value_error(fake_name)
+    assert raised_value_error(Outcome(error_type="MyUnreachable"))  # no bases: by name
 
 
 def test_dh_table_rows_are_validated():

@@ -459,8 +459,11 @@ def _outcome(msg: dict) -> Outcome:
     """A child's answer to one call as an Outcome (value or exception name and message)."""
     et = msg.get("error_type")
     if et is not None:
+        bases = msg.get("error_bases")
         return Outcome(
-            error_type=str(et)[:200], error_message=str(msg.get("error_message", ""))[:4000]
+            error_type=str(et)[:200],
+            error_message=str(msg.get("error_message", ""))[:4000],
+            error_bases=tuple(str(b)[:200] for b in bases[:20]) if isinstance(bases, list) else (),
         )
     return Outcome(value=msg.get("value"))
 

@@ -36,6 +36,9 @@ class Outcome:
 
     value : the JSON-decoded return value (lists for arrays), or None.
     error_type, error_message : the exception's class name and text, if it raised.
+    error_bases : the exception's class and its bases (its MRO) as ``"module.Name"``:
+        ``"builtins.ValueError"`` for Python's own, ``"__main__.Name"`` for a class the
+        notebook defines. Empty when unknown.
     timed_out : the call exceeded its wall-clock limit.
     crashed : the child died (memory, os._exit, signal); ``detail`` says how.
     """
@@ -43,6 +46,7 @@ class Outcome:
     value: Any = None
     error_type: str | None = None
     error_message: str | None = None
+    error_bases: tuple[str, ...] = ()
     timed_out: bool = False
     crashed: bool = False
     detail: str = ""

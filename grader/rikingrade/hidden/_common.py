@@ -93,11 +93,21 @@ def describe_failure(out: Outcome, reveal: bool, timeout: float, context: str = 
     return f"raised {out.error_type}{ctx}" + (f": {msg}" if msg else "")
 
 
+def raised_value_error(out: Outcome) -> bool:
+    """Whether the call raised ValueError or a subclass of it (a student's own included).
+
+    Decided from the exception's bases when the engine sent them, else from its name.
+    """
+    if out.error_bases:
+        return "builtins.ValueError" in out.error_bases
+    return is_value_error(out.error_type)
+
+
 def is_value_error(name: str | None) -> bool:
     """Whether an exception class name stands for ValueError or a subclass of it.
 
-    The engine passes only the class name. Builtin and rikin names are checked;
-    an unknown (student-defined) name is given the benefit of the doubt.
+    For outcomes without bases: builtin and rikin names are checked; an unknown
+    (student-defined) name is given the benefit of the doubt.
     """
     if not name:
         return False
@@ -635,7 +645,7 @@ def ik_test(
         for c, o in zip(calls, outcomes, strict=True):
             if not o.ok:
                 case = IKCase(expected=len(spec.ref_ik(c.kwargs)))
-                ctx = "on a reachable target" if is_value_error(o.error_type) else ""
+                ctx = "on a reachable target" if raised_value_error(o) else ""
                 case.failure = describe_failure(o, reveal, TIMEOUT, ctx)
             else:
                 case = compare_ik(spec, c.kwargs, o.value)
@@ -693,7 +703,7 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
                     "reachability yourself and say why in the message (half credit)"
                 )
                 credits.append(0.5)
-            elif is_value_error(o.error_type):
+            elif raised_value_error(o):
                 r = ""
                 credits.append(1.0)
             else:

@@ -14,7 +14,8 @@ child -> grader
     {"event": "cell_start", "cell": i}
     {"event": "cell_end", "cell": i, "error": ..., "output": ..., "seconds": ...}
     {"event": "exec_done", "functions": [...]}
-    {"id": int, "value": <wire>} or {"id": int, "error_type": str, "error_message": str}
+    {"id": int, "value": <wire>} or
+    {"id": int, "error_type": str, "error_message": str, "error_bases": ["mod.Name", ...]}
 
 Nothing here decides a score: values go back as JSON (never pickle) and the grader compares.
 Wire format: JSON plus one-key marker objects: {"$float": "nan"|"inf"|"-inf"},
@@ -362,6 +363,14 @@ def _short_error(exc, cell_name):
     }
 
 
+def _class_path(cls):
+    """An exception class and its bases as "module.Name" (a notebook's own: "__main__.X")."""
+    try:
+        return [f"{c.__module__}.{c.__qualname__}"[:200] for c in cls.__mro__[:20]]
+    except Exception:
+        return []
+
+
 def _close_figures():
     plt = sys.modules.get("matplotlib.pyplot")
     if plt is not None:
@@ -513,6 +522,7 @@ class Runner:
                     "id": cid,
                     "error_type": type(exc).__name__,
                     "error_message": msg[:MAX_ERROR_CHARS],
+                    "error_bases": _class_path(type(exc)),
                 }
             )
             return
