@@ -12,10 +12,9 @@ None) and a few hostile (an endless loop, a fork bomb, a memory bomb, os._exit, 
 monkeypatch with wrong answers, reading the course's files). rikin-grade grades them all
 with its default limits and timeouts, from scratch (no resume), sandbox start-up included.
 
-nbgrader autograde (found as $NBGRADER, ``nbgrader`` on PATH, or
-/work/nbgrader-venv/bin/nbgrader) runs on the correct and wrong submissions only: it
-executes notebooks without any sandbox or resource limit, so the hostile ones would run
-fork and memory bombs on this machine. Its rate (notebooks/min) is compared with
+nbgrader autograde (found as ``--nbgrader``, $NBGRADER or ``nbgrader`` on PATH) runs on
+the correct and wrong submissions only: it executes notebooks without any sandbox or
+resource limit, so the hostile ones would run fork and memory bombs on this machine. Its rate (notebooks/min) is compared with
 rikin-grade's on the whole set. Without nbgrader the script says so and prints our figures.
 """
 
@@ -91,7 +90,6 @@ def find_nbgrader(explicit: str | None) -> str | None:
         explicit,
         os.environ.get("NBGRADER"),
         shutil.which("nbgrader"),
-        "/work/nbgrader-venv/bin/nbgrader",
     ):
         if cand and Path(cand).exists():
             return cand
