@@ -14,8 +14,9 @@ with its default limits and timeouts, from scratch (no resume), sandbox start-up
 
 nbgrader autograde (found as ``--nbgrader``, $NBGRADER or ``nbgrader`` on PATH) runs on
 the correct and wrong submissions only: it executes notebooks without any sandbox or
-resource limit, so the hostile ones would run fork and memory bombs on this machine. Its rate (notebooks/min) is compared with
-rikin-grade's on the whole set. Without nbgrader the script says so and prints our figures.
+resource limit, so the hostile ones would run fork and memory bombs on this machine. Its
+rate (notebooks/min) is compared with rikin-grade's on the whole set. Without nbgrader the
+script says so and prints our figures.
 """
 
 from __future__ import annotations
