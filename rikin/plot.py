@@ -7,7 +7,8 @@ sampling). Planar arms (see :func:`is_planar`) are drawn in 2D, spatial
 arms in 3D with equal scale on all three axes.
 
 Artists carry a ``gid`` so that tests and notebooks can find them:
-``"arm"`` (the stick line through the frame origins), ``"joints"``,
+``"arm"`` (the links: the DH polyline through the frame origins, see
+:func:`link_path`), ``"joints"``,
 ``"tcp"``, ``"frame-x"``/``"frame-y"``/``"frame-z"`` (triads), ``"tool"``
 (a planar arm's tool direction), ``"target"``, ``"link1"``/``"link2"`` and
 ``"reach"`` (the triangle) and ``"tcp-region"``/``"wrist-region"``
@@ -33,8 +34,8 @@ from .errors import InputError, UnreachableError
 from .ik.kernels import elbow_above, reach_excess, two_link
 from .ik.result import IKResult
 
-__all__ = ["is_planar", "joint_points", "plot_arm", "plot_solutions", "plot_two_link_triangle",
-           "plot_workspace_planar"]
+__all__ = ["is_planar", "joint_points", "link_path", "plot_arm", "plot_solutions",
+           "plot_two_link_triangle", "plot_workspace_planar"]
 
 #: Colours of the frame triads' x, y and z axes.
 AXIS_COLOURS = ("tab:red", "tab:green", "tab:blue")
@@ -185,6 +186,40 @@ def joint_points(arm: SerialArm, F: FloatArray) -> FloatArray:
     return pts
 
 
+def link_path(arm: SerialArm, F: FloatArray) -> FloatArray:
+    """The arm's links as drawn: each DH link as its two straight pieces.
+
+    Standard DH: link i runs ``d_i`` along ``z_{i-1}``, then ``a_i`` along
+    ``x_i``; modified DH: ``a_{i-1}`` along ``x_{i-1}``, then ``d_i`` along
+    ``z_i``. The corner between the pieces is the projection of
+    ``o_i - o_{i-1}`` on ``z_{i-1}`` (standard) or ``x_{i-1}`` (modified), so
+    the path needs only the frames. A SCARA's first link thus rises up the
+    column, then reaches out, instead of cutting across.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    F : ndarray, shape (n + 2, 4, 4)
+        ``arm.fk(q, frames=True)``.
+
+    Returns
+    -------
+    ndarray, shape (2 n + 2, 3)
+        ``o_0, corner_1, o_1, ..., corner_n, o_n, TCP`` in world coordinates,
+        length units (a corner equals an origin where a piece has length 0).
+    """
+    o = F[:, :3, 3]
+    n = arm.n
+    step = o[1:n + 1] - o[:n]
+    axis = F[:n, :3, 0] if arm.convention == "modified" else F[:n, :3, 2]
+    corners = o[:n] + np.einsum("ij,ij->i", step, axis)[:, None] * axis
+    path = np.empty((2 * n + 2, 3))
+    path[0:2 * n:2] = o[:n]
+    path[1:2 * n:2] = corners
+    path[2 * n:] = o[n:]
+    return path
+
+
 def _group_joints(origins: FloatArray, tol: float) -> list[tuple[FloatArray, list[int]]]:
     """Joints (numbered from 1) that sit at the same point share one label."""
     groups: list[tuple[FloatArray, list[int]]] = []
@@ -202,10 +237,14 @@ def _draw_arm(ax: Axes, arm: SerialArm, q: FloatArray, *, frames: bool, frame_sc
               color: Any, label_joints: bool) -> None:
     three_d = ax.name == "3d"
     dims = 3 if three_d else 2
+    # the callers set the limits afterwards: rescaling after every line (in 3D a
+    # millisecond each) would be wasted
+    ax.set_autoscale_on(False)
     F = arm._fk(q, frames=True)            # (n + 2, 4, 4): base, frames 1..n, TCP
     P = F[:, :3, 3]
     col = ARM_COLOUR if color is None else color
-    ax.plot(*P[:, :dims].T, "-", color=col, lw=3.0, solid_capstyle="round", gid="arm", zorder=2)
+    ax.plot(*link_path(arm, F)[:, :dims].T, "-", color=col, lw=3.0, solid_capstyle="round",
+            gid="arm", zorder=2)
     origins = joint_points(arm, F)
     rev = arm.revolute
     for mask, marker in ((rev, "o"), (~rev, "s")):
@@ -248,13 +287,13 @@ def _q_text(arm: SerialArm, q: FloatArray) -> str:
 def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True,
              frame_scale: float | None = None, title: str | None = None, color: Any = None,
              label_joints: bool = True, limits: Any = None) -> Axes:
-    """Stick figure of the arm at ``q``: a line through the frame origins.
+    """Stick figure of the arm at ``q``: its links, frames, joints and TCP.
 
-    The line runs through frame 0 (the base), frames 1..n and the TCP, the
-    points of ``arm.fk(q, frames=True)``. Joints are dots (revolute) or
-    squares (prismatic) on their axes (see :func:`joint_points`), the TCP a
-    star. Planar arms are drawn
-    in 2D with an arrow for the tool direction; spatial arms in 3D.
+    The links run from frame 0 (the base) through frames 1..n to the TCP,
+    each DH link drawn as its ``d`` and ``a`` pieces (:func:`link_path`).
+    Joints are dots (revolute) or squares (prismatic) on their axes (see
+    :func:`joint_points`), the TCP a star. Planar arms are drawn in 2D with
+    an arrow for the tool direction; spatial arms in 3D.
 
     Parameters
     ----------

@@ -61,7 +61,7 @@ def test_a_tilted_base_makes_a_planar_table_spatial():
 
 # ---------------------------------------------------------------- plot_arm
 @pytest.mark.parametrize("name", sorted(robots.LESSON_ROBOTS))
-def test_plot_arm_line_runs_through_the_fk_frame_origins(name):
+def test_plot_arm_draws_each_dh_link_as_its_d_and_a_pieces(name):
     rng = np.random.default_rng(3)
     arm = robots.LESSON_ROBOTS[name]()
     q = np.where(arm.revolute, rng.uniform(-np.pi, np.pi, arm.n), rng.uniform(0.0, 5.0, arm.n))
@@ -69,11 +69,25 @@ def test_plot_arm_line_runs_through_the_fk_frame_origins(name):
     assert isinstance(ax, Axes)
     three_d = ax.name == "3d"
     assert three_d is (not is_planar(arm))
-    # independent: the origins of base, frames 1..n and the TCP from FK
-    origins = arm.fk(q, frames=True)[:, :3, 3]
+    # independent: the origins of base, frames 1..n and the TCP from FK, and between
+    # o_{i-1} and o_i the corner after d_i along z_{i-1} (standard DH) or after
+    # a_{i-1} along x_{i-1} (modified), from the DH parameters themselves
+    F = arm.fk(q, frames=True)
+    origins = F[:, :3, 3]
+    path = [origins[0]]
+    for i, lk in enumerate(arm.links):
+        if arm.convention == "modified":
+            path.append(origins[i] + lk.a * F[i, :3, 0])
+        else:
+            d = lk.d + (0.0 if lk.is_revolute else q[i] + lk.offset)
+            path.append(origins[i] + d * F[i, :3, 2])
+        path.append(origins[i + 1])
+    path.append(origins[-1])
     (stick,) = lines(ax, "arm")
     dims = 3 if three_d else 2
-    assert np.allclose(line_vertices(stick, three_d), origins[:, :dims], atol=1e-9 * arm.scale)
+    drawn_path = line_vertices(stick, three_d)
+    assert np.allclose(drawn_path, np.array(path)[:, :dims], atol=1e-9 * arm.scale)
+    assert np.allclose(drawn_path[0::2][: arm.n + 1], origins[: arm.n + 1, :dims])
     (tcp,) = lines(ax, "tcp")
     assert np.allclose(line_vertices(tcp, three_d)[0], origins[-1, :dims])
     # one marker per joint, on its axis where the DH common normal meets it
@@ -165,7 +179,10 @@ def test_plot_solutions_aula10_draws_all_eight_branches():
         assert f"{np.degrees(q[0]):.1f}°" in ax.get_title()
         # each subplot really draws its own solution, which reaches the target
         (stick,) = lines(ax, "arm")
-        assert np.allclose(line_vertices(stick, True), arm.fk(q, frames=True)[:, :3, 3])
+        origins = arm.fk(q, frames=True)[:, :3, 3]
+        drawn_path = line_vertices(stick, True)
+        assert np.allclose(drawn_path[0::2], origins[:-1])
+        assert np.allclose(drawn_path[-1], origins[-1])
         (target,) = lines(ax, "target")
         assert np.allclose(line_vertices(target, True)[0], result.target[:3, 3])
     assert {lab.split("/")[0] for lab in result.labels} == {"front", "back"}

@@ -270,47 +270,18 @@ def print_solutions(Q, names):
 
 
 def show_arm(rows, q, *, wrist_rows=(), tool=0.0, ax=None, title=""):
-    """Draw an arm from DH rows (dicts) at joint values q, with frames 0..n and the TCP.
+    """Draw an arm from DH rows (dicts) at joint values q: links, joints, frames and TCP.
 
-    Axes are drawn x red, y green, z blue. Returns the matplotlib Axes.
+    Each link is drawn as its d piece (along z) then its a piece (along x); frame axes
+    are x red, y green, z blue. Returns the matplotlib Axes (rikin.plot.plot_arm).
     """
     import matplotlib.pyplot as plt
 
+    import rikin.plot
+
     arm = rikin.SerialArm(tuple(rikin.Link(**r) for r in [*rows, *wrist_rows]),
                           tool=rikin.transl(0.0, 0.0, tool))
-    F = arm.fk(np.asarray(q, dtype=float), frames=True)
     if ax is None:
         fig = plt.figure(figsize=(5, 4.2), dpi=80)
         ax = fig.add_subplot(projection="3d")
-    P = F[:, :3, 3]
-    size = 0.12 * max(arm.scale, np.ptp(P, axis=0).max())
-    # each DH link is two straight pieces: d_i along z_{i-1}, then a_i along x_i
-    q = np.asarray(q, dtype=float)
-    path = [P[0]]
-    for i, link in enumerate(arm.links):
-        d = link.d + (q[i] + link.offset if link.joint == "P" else 0.0)
-        path += [P[i] + d * F[i, :3, 2], P[i + 1]]
-    path.append(P[-1])
-    ax.plot(*np.array(path).T, "-", color="0.3", lw=3)
-    ax.plot(*P[:-1].T, "o", color="0.3", ms=4)
-    shown, frames = set(), []
-    for k, Tk in enumerate(F):
-        key = tuple(np.round(Tk[:3, :].ravel(), 6))
-        if key not in shown:  # frames that coincide are drawn once
-            shown.add(key)
-            frames.append(k)
-            label = "TCP" if k == len(F) - 1 else str(k)
-            ax.text(*(Tk[:3, 3] + 0.3 * size), label, fontsize=9)
-    origins = F[frames, :3, 3]
-    for axis, colour in zip(range(3), "rgb", strict=True):  # one call draws every frame
-        ax.quiver(*origins.T, *(size * F[frames, :3, axis]).T, color=colour, lw=1.5)
-    lo, hi = P.min(axis=0) - size, P.max(axis=0) + size
-    centre, half = (lo + hi) / 2, (hi - lo).max() / 2
-    ax.set_xlim(centre[0] - half, centre[0] + half)
-    ax.set_ylim(centre[1] - half, centre[1] + half)
-    ax.set_zlim(centre[2] - half, centre[2] + half)
-    ax.set_xlabel("x0")
-    ax.set_ylabel("y0")
-    ax.set_zlabel("z0")
-    ax.set_title(title or f"q = {_fmt(q, 2)}")
-    return ax
+    return rikin.plot.plot_arm(arm, q, ax=ax, title=title or f"q = {_fmt(q, 2)}")
