@@ -179,11 +179,17 @@ def joint_points(arm: SerialArm, F: FloatArray) -> FloatArray:
     o = F[:, :3, 3]
     if arm.convention == "modified":
         return o[1:arm.n + 1].copy()
-    z = F[:arm.n, :3, 2]                     # axis of joint i is z_{i-1}
-    d = np.einsum("ij,ij->i", o[1:arm.n + 1] - o[:arm.n], z)
-    pts = o[:arm.n] + d[:, None] * z
+    pts = _corners(arm, F)                   # o_{i-1} + d_i z_{i-1}, on joint i's axis
     pts[-1] = o[arm.n - 1]
     return pts
+
+
+def _corners(arm: SerialArm, F: FloatArray) -> FloatArray:
+    """Per link, (n, 3): where its first piece ends (see :func:`link_path`)."""
+    o = F[:, :3, 3]
+    n = arm.n
+    axis = F[:n, :3, 0] if arm.convention == "modified" else F[:n, :3, 2]
+    return o[:n] + np.einsum("ij,ij->i", o[1:n + 1] - o[:n], axis)[:, None] * axis
 
 
 def link_path(arm: SerialArm, F: FloatArray) -> FloatArray:
@@ -210,12 +216,9 @@ def link_path(arm: SerialArm, F: FloatArray) -> FloatArray:
     """
     o = F[:, :3, 3]
     n = arm.n
-    step = o[1:n + 1] - o[:n]
-    axis = F[:n, :3, 0] if arm.convention == "modified" else F[:n, :3, 2]
-    corners = o[:n] + np.einsum("ij,ij->i", step, axis)[:, None] * axis
     path = np.empty((2 * n + 2, 3))
     path[0:2 * n:2] = o[:n]
-    path[1:2 * n:2] = corners
+    path[1:2 * n:2] = _corners(arm, F)
     path[2 * n:] = o[n:]
     return path
 
