@@ -220,38 +220,33 @@ class _Run:
                         self.child = child
                         return
             except ChildTimeout:
-                child.close()
-                self.r.sandbox.reset()
                 self.timed_out = True
-                current = self._blame(current, last)
-                if current is not None:
-                    self.cells[current] = CellReport(
-                        current,
-                        "timeout",
-                        message=f"did not finish within {opt.cell_timeout:g} s; "
-                        "skipped (later cells still ran)",
-                    )
-                    self.skip.add(current)
+                what = f"did not finish within {opt.cell_timeout:g} s"
+                self._skip_cell(child, current, last, "timeout", what)
             except (ChildDied, ProtocolError) as exc:
-                why = (
-                    str(exc)
-                    if isinstance(exc, ProtocolError)
-                    else self.r.sandbox.status_of(child.pid)
-                )
-                child.close()
-                self.r.sandbox.reset()
+                why = self._why_died(child, exc)
                 self.crashed = True
-                current = self._blame(current, last)
-                if current is not None:
-                    self.cells[current] = CellReport(
-                        current,
-                        "crashed",
-                        message=f"stopped the notebook's process ({why}); "
-                        "skipped (later cells still ran)",
-                    )
-                    self.skip.add(current)
+                self._skip_cell(
+                    child, current, last, "crashed", f"stopped the notebook's process ({why})"
+                )
 
-    def _blame(self, current: int | None, last: int | None) -> int | None:
+    def _why_died(self, child: Child, exc: Exception) -> str:
+        """Why a child stopped answering, in words ("killed (SIGKILL)", a protocol error)."""
+        return str(exc) if isinstance(exc, ProtocolError) else self.r.sandbox.status_of(child.pid)
+
+    def _skip_cell(
+        self, child: Child, current: int | None, last: int | None, status: str, what: str
+    ) -> None:
+        """Drop the child and mark the cell to blame, so the next child runs without it."""
+        child.close()
+        self.r.sandbox.reset()
+        cell = self._blame(current, last)
+        self.cells[cell] = CellReport(
+            cell, status, message=f"{what}; skipped (later cells still ran)"
+        )
+        self.skip.add(cell)
+
+    def _blame(self, current: int | None, last: int | None) -> int:
         """The cell to skip next time; ExecFailed when no retry could make progress."""
         cell = current if current is not None else last
         numbers = {n for n, _ in self.nb.cells}
@@ -298,11 +293,7 @@ class _Run:
             outcomes += [rest] * (len(calls) - len(outcomes))
             return outcomes, True, False
         except (ChildDied, ProtocolError) as exc:
-            why = (
-                str(exc)
-                if isinstance(exc, ProtocolError)
-                else self.r.sandbox.status_of(self.child.pid)
-            )
+            why = self._why_died(self.child, exc)
             self.crashed = True
             self._drop_child()
             outcomes.append(Outcome(crashed=True, detail=why))

@@ -100,14 +100,7 @@ class Planar2RSolver(_PlanarBase):
         A, B, ok, st, origin, up = self._two(x, y, L1, L2, 0.0 if hint is None else hint[0])
         ok &= _in_plane(T_0_n, L1 + L2, False)
         q = np.stack([A, B], axis=-1)
-        k2 = lambda m: np.repeat(m[:, None], 2, axis=1)  # noqa: E731
-        return RawSolutions(
-            q=q,
-            valid=k2(ok),
-            slots=(Branch(), Branch()),
-            elbow_up=up,
-            singular={"elbow": k2(st), "origin": k2(origin)},
-        )
+        return _two_slots(q, ok, st, origin, up)
 
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         L1, L2 = _lengths(arm, 2)
@@ -117,6 +110,19 @@ class Planar2RSolver(_PlanarBase):
         return self._explain_reach(
             float(np.hypot(T_0_n[0, 3], T_0_n[1, 3])), L1, L2, arm.units, "the target"
         )
+
+
+def _two_slots(q: FloatArray, ok: np.ndarray, stretched: np.ndarray, origin: np.ndarray,
+               up: np.ndarray) -> RawSolutions:
+    """The two elbow solutions of a planar arm; per-pose flags (N,) apply to both slots."""
+    both = lambda m: np.repeat(m[:, None], 2, axis=1)  # noqa: E731
+    return RawSolutions(
+        q=q,
+        valid=both(ok),
+        slots=(Branch(), Branch()),
+        elbow_up=up,
+        singular={"elbow": both(stretched), "origin": both(origin)},
+    )
 
 
 class Planar3RSolver(_PlanarBase):
@@ -139,14 +145,7 @@ class Planar3RSolver(_PlanarBase):
         A, B, ok, st, origin, up = self._two(e, c, L1, L2, 0.0 if hint is None else hint[0])
         ok &= _in_plane(T_0_n, L1 + L2 + L3, True)
         q = np.stack([A, B, phi[:, None] - A - B], axis=-1)
-        k2 = lambda m: np.repeat(m[:, None], 2, axis=1)  # noqa: E731
-        return RawSolutions(
-            q=q,
-            valid=k2(ok),
-            slots=(Branch(), Branch()),
-            elbow_up=up,
-            singular={"elbow": k2(st), "origin": k2(origin)},
-        )
+        return _two_slots(q, ok, st, origin, up)
 
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         L1, L2, L3 = _lengths(arm, 3)

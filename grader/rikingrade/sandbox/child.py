@@ -693,6 +693,15 @@ def _warm_up(errors):
         errors.append(f"warm-up: {type(exc).__name__}: {exc}")
 
 
+def _kill_hard(pid):
+    """SIGKILL a child and its process group (either may already be gone)."""
+    for kill in (os.killpg, os.kill):
+        try:
+            kill(pid, signal.SIGKILL)
+        except OSError:
+            pass
+
+
 def describe_status(status):
     """Words for a wait status, as the feedback shows them."""
     if os.WIFSIGNALED(status):
@@ -751,14 +760,7 @@ class Zygote:
                 _sleep(0.0005)
         else:
             for pid in list(self.children):
-                try:
-                    os.killpg(pid, signal.SIGKILL)
-                except OSError:
-                    pass
-                try:
-                    os.kill(pid, signal.SIGKILL)
-                except OSError:
-                    pass
+                _kill_hard(pid)
         for pid in list(self.children):
             try:
                 _, status = os.waitpid(pid, 0)
@@ -808,14 +810,7 @@ class Zygote:
                 self.statuses[pid] = status
                 break
             if time.monotonic() > end:
-                try:
-                    os.killpg(pid, signal.SIGKILL)
-                except OSError:
-                    pass
-                try:
-                    os.kill(pid, signal.SIGKILL)
-                except OSError:
-                    pass
+                _kill_hard(pid)
                 end = time.monotonic() + 5
             time.sleep(0.005)
         self.children.pop(pid, None)
