@@ -41,7 +41,8 @@ python3 -m venv /opt/rikin-venv
 if ! /opt/rikin-venv/bin/python -m rikingrade.cli check-sandbox {check_flag}; then
     echo "ERROR: bubblewrap cannot isolate student code in this container." >&2
     echo "Rebuild the bundle with: rikin-grade gradescope-bundle ... --unsafe-no-sandbox" >&2
-    echo "(then each submission is isolated only by Gradescope's own container)." >&2
+    echo "(only if you accept that student code then runs as root beside the grader" >&2
+    echo " and could read the hidden tests and the reference solutions)." >&2
     exit 1
 fi
 """
