@@ -99,7 +99,8 @@ def grade(
     reveal : bool
         Let feedback show hidden inputs and expected values.
     timeout : float or None
-        Wall-clock seconds per test call; None uses each hidden test's own timeout.
+        Wall-clock seconds per test call; None uses each hidden test's own timeout (2 s in
+        the four arm exercises).
     cell_timeout : float
         Wall-clock seconds per notebook cell; a slower cell is skipped (later cells run).
     memory_mb : int

@@ -52,7 +52,11 @@ GRADE_OPTIONS: list[tuple[str, str]] = [
     ("workers", "submissions graded in parallel, one sandbox each"),
     ("seed", "seed of the hidden tests' random inputs (the same inputs for every student)"),
     ("reveal", "let feedback show hidden inputs and expected values"),
-    ("timeout", "wall-clock seconds per test call (default: each hidden test's own timeout)"),
+    (
+        "timeout",
+        "wall-clock seconds per test call (default: each hidden test's own, 2 s in the "
+        "four arm exercises)",
+    ),
     (
         "cell_timeout",
         "wall-clock seconds per notebook cell; a slower cell is skipped and later cells still run",
