@@ -7,9 +7,13 @@ import json
 from pathlib import Path
 
 import pytest
+import rikingrade
+from grader_fixtures import corpus
 from grader_fixtures.helpers import FAST, require_bwrap
 from rikingrade import grade
 from rikingrade.assignment import available_exercises, load_assignment
+
+import rikin
 
 ROOT = Path(__file__).resolve().parent.parent
 EXERCISES = [e for e in available_exercises() if (ROOT / "solutions" / f"{e}.ipynb").is_file()]
@@ -94,3 +98,63 @@ def test_unreachable_must_raise_a_value_error_subclass_not_any_exception(tmp_pat
     assert lost == {"ik_unreachable": 0.0, "ik_6dof_unreachable": 0.0}
     fb = next(t.feedback for t in res["own_exception"].tests if t.name == "ik_unreachable")
     assert "raised OutOfReach" in fb and "instead of ValueError" in fb
+
+
+# Process-level hostility appended to each real solution (the required functions stay
+# right): the notebook must keep full marks, the batch must survive, and nothing may leak.
+_LEAK = "\nif found:\n    dh_table = None  # a leak would cost the DH test\n"
+_SOCKETS = corpus.SOCKETS.split("def add(")[0].replace("connected", "found") + _LEAK
+_READ = (
+    "import os\n"
+    f"found = []\nfor p in {[str(p) for p in (ROOT / 'grader', ROOT / 'solutions', ROOT / 'tests', ROOT / '.git', Path(rikingrade.__file__).parent, Path('/etc/shadow'))]!r}:\n"  # noqa: E501
+    "    try:\n"
+    "        os.listdir(p) if os.path.isdir(p) else open(p, 'rb').read(10)\n"
+    "        found.append(p)\n"
+    "    except OSError:\n"
+    "        pass\n"
+    "d = os.getcwd()\n"
+    "for _ in range(10):\n"
+    "    try:\n"
+    "        found += [n for n in os.listdir(d) if n in ('solutions', 'grader', 'hidden')]\n"
+    "    except OSError:\n"
+    "        pass\n"
+    "    d = os.path.dirname(d)\n"
+    "try:\n"
+    "    import rikingrade\n"
+    "    found.append('rikingrade importable')\n"
+    "except ImportError:\n"
+    "    pass\n" + _LEAK
+)
+HOSTILE_CELLS = {  # name: (cell, status, words in the feedback)
+    "fork_bomb": ("import os\nwhile True:\n    os.fork()", "cell-errors", "BlockingIOError"),
+    "memory_bomb": ("junk = bytearray(64 * 2**30)", "cell-errors", "MemoryError"),
+    "os_exit": ("import os\nos._exit(0)", "crashed", "stopped the notebook's process"),
+    "sockets": (_SOCKETS, "ok", ""),
+    "read_course": (_READ, "ok", ""),
+    "delete_files": (corpus.DELETE, "ok", ""),
+}
+
+
+@pytest.mark.parametrize("exercise", EXERCISES)
+def test_process_level_hostility_costs_nothing_and_leaks_nothing(exercise, tmp_path):
+    require_bwrap()
+    a = load_assignment(exercise)
+    solution = json.loads((ROOT / "solutions" / a.notebook).read_text())
+    cls = tmp_path / "class"
+    cls.mkdir()
+    for name, (cell, _, _) in HOSTILE_CELLS.items():
+        nb = json.loads(json.dumps(solution))
+        nb["cells"].append(
+            {"cell_type": "code", "metadata": {}, "outputs": [], "execution_count": None,
+             "source": cell}
+        )
+        (cls / f"{name}.ipynb").write_text(json.dumps(nb))
+    report = grade(exercise, [cls], tmp_path / "out", workers=2, **dict(FAST, cell_timeout=30.0))
+    res = report.by_student()
+    for name, (_, status, says) in HOSTILE_CELLS.items():
+        r = res[name]
+        assert r.score == pytest.approx(a.max_score), (name, r.status, r.problems)
+        assert r.status == status, (name, r.reason, r.problems)
+        feedback = (tmp_path / "out" / "feedback" / f"{name}.md").read_text()
+        assert says in feedback, (name, feedback)
+    assert (ROOT / "solutions" / a.notebook).is_file() and rikin.__file__
