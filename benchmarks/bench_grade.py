@@ -244,7 +244,8 @@ def main(argv: list[str] | None = None) -> int:
         false_pass = [s for s in not_full if res[s][0] >= res[s][1]]
         print(
             f"rikin-grade: {ours['n']} notebooks in {ours['seconds']:.1f} s = {ours['per_min']:.0f} "  # noqa: E501
-            f"notebooks/min ({args.workers} workers, sandbox start included)"
+            f"notebooks/min ({args.workers} workers, sandbox start included; "
+            f"1-minute load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs)"
         )
         print(
             f"  correct notebooks with full marks: {len(full) - len(missed)}/{len(full)}; "
