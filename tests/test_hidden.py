@@ -360,3 +360,11 @@ def test_a_timeout_says_which_call_hung_and_which_were_not_run():
     assert s.fraction == 0.0
     assert "no result within 2 s (1x)" in s.feedback
     assert f"not run: an earlier call of this test timed out ({len(calls) - 1}x)" in s.feedback
+
+
+def test_remembered_reference_answers_are_read_only():
+    spec = _spec()
+    kw, _ = _ik_call()
+    ref = spec.ref_ik(kw)
+    with pytest.raises(ValueError, match="read-only"):
+        ref.q[0, 0] = 0.0
