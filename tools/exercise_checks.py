@@ -49,10 +49,6 @@ def _fmt(v, digits=4):
     return "(" + ", ".join(f"{x:.{digits}f}".rstrip("0").rstrip(".") for x in np.ravel(a)) + ")"
 
 
-def _wrap(q):
-    return np.remainder(np.asarray(q, dtype=float) + np.pi, TWO_PI) - np.pi
-
-
 def _as_rows(Q, n, name):
     """The solutions returned by an IK function as an array (k, n), or CheckFailed."""
     try:
@@ -167,7 +163,7 @@ def _matches(row, expected, revolute):
             continue
         d = row[i] - e
         if revolute[i]:
-            d = _wrap(d)
+            d = rikin.wrap_angle(d)
         if abs(d) > CHECK_TOL:
             return False
     return True
@@ -192,7 +188,7 @@ def check_ik(ik, fk, lengths, target, expected, revolute):
                           "look like degrees. Return radians (np.radians converts).")
     distinct = []
     for row in Q:
-        if not any(np.abs(np.where(revolute, _wrap(row - d), row - d)).max() < CHECK_TOL
+        if not any(np.abs(np.where(revolute, rikin.wrap_angle(row - d), row - d)).max() < CHECK_TOL
                    for d in distinct):
             distinct.append(row)
     p_target = target if target.shape == (3,) else target[:3, 3]
@@ -279,8 +275,7 @@ def show_arm(rows, q, *, wrist_rows=(), tool=0.0, ax=None, title=""):
 
     import rikin.plot
 
-    arm = rikin.SerialArm(tuple(rikin.Link(**r) for r in [*rows, *wrist_rows]),
-                          tool=rikin.transl(0.0, 0.0, tool))
+    arm = _arm_from_rows([*rows, *wrist_rows]).replace(tool=rikin.transl(0.0, 0.0, tool))
     if ax is None:
         fig = plt.figure(figsize=(5, 4.2), dpi=80)
         ax = fig.add_subplot(projection="3d")
