@@ -8,7 +8,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .errors import InputError
-from .tolerances import DEGREES_SUSPECT, ORTHONORMAL_TOL
+from .tolerances import (
+    DEGREES_FAR,
+    DEGREES_ROUND,
+    DEGREES_SUSPECT,
+    MAX_ANGLE,
+    ORTHONORMAL_TOL,
+)
 
 FloatArray = NDArray[np.float64]
 
@@ -111,15 +117,56 @@ def as_vector(x: Any, n: int, name: str) -> FloatArray:
     return arr
 
 
-def check_radians(values: FloatArray, name: str, index_names: list[str] | None = None) -> None:
-    """Raise InputError when angles look like degrees (|value| > 2*pi)."""
-    big = np.abs(values) > DEGREES_SUSPECT
-    if np.any(big):
-        idx = np.argwhere(big)[0]
-        flat_pos = int(idx[-1]) if idx.size else 0
-        label = index_names[flat_pos] if index_names and flat_pos < len(index_names) else name
-        value = float(values[tuple(idx)])
+def check_radians(
+    values: FloatArray,
+    name: str,
+    index_names: list[str] | None = None,
+    *,
+    joint_vectors: bool = False,
+    degrees_hint: bool = True,
+) -> None:
+    """Raise InputError when angles (rad) are degrees beyond reasonable doubt.
+
+    Any angle is accepted and read modulo 2*pi (see the book's conventions
+    page), except:
+
+    * ``|value| > MAX_ANGLE``: too large to carry a meaningful fraction of a turn;
+    * a value beyond one turn that is a whole multiple of 5 in ``DEGREES_ROUND``
+      (10, 30, 45, 90, 180, ...): a round number of degrees;
+    * with ``joint_vectors=True`` (``values`` of shape ``(..., n)``, one joint
+      vector per row): two or more values of one row beyond ``DEGREES_FAR``
+      (four turns), as the lesson's ``[99.6, 9, 26.4, 68.4, 30, 151]`` is.
+
+    ``index_names`` names the entries of the last axis in the message.
+    ``degrees_hint=False`` keeps only the first check.
+    """
+    a = np.abs(values)
+    if a.size == 0 or a.max() <= DEGREES_SUSPECT:
+        return
+    lo, hi = DEGREES_ROUND
+    huge = a > MAX_ANGLE
+    whole5 = (a >= lo) & (a <= hi) & (np.remainder(a, 5.0) == 0.0) & degrees_hint
+    far = (a > DEGREES_FAR) & (joint_vectors and degrees_hint)
+    far_rows = (far.sum(axis=-1, keepdims=True) >= 2) & far
+    for mask, why in (
+        (huge, "huge"),
+        (whole5, "a round number of degrees"),
+        (far_rows, "one of several values beyond four turns"),
+    ):
+        if not np.any(mask):
+            continue
+        idx = tuple(int(i) for i in np.argwhere(mask)[0])
+        pos = idx[-1] if idx else 0
+        label = index_names[pos] if index_names and pos < len(index_names) else name
+        value = float(values[idx])
+        if why == "huge":
+            raise InputError(
+                f"{label} = {value:g} rad is too large for an angle: beyond {MAX_ANGLE:g} rad the "
+                "rounding of the value alone moves the angle by more than 1e-10 rad. Wrap it "
+                "first (rikin.wrap_angle) or check where it came from"
+            )
         raise InputError(
-            f"{label} = {value:g} looks like degrees: rikin takes radians "
-            f"(|angle| <= 2*pi). Convert with numpy.radians({value:g}) = {np.radians(value):.6g}"
+            f"{label} = {value:g} looks like degrees ({why}): rikin takes radians "
+            f"(any angle, read modulo 2*pi). Convert with numpy.radians({value:g}) = "
+            f"{np.radians(value):.6g}"
         )

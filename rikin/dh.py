@@ -282,8 +282,13 @@ class SerialArm:
         return "\n".join(rows)
 
     # ------------------------------------------------------------------ FK
-    def check_q(self, q: Any, name: str = "q") -> FloatArray:
-        """Validate joint values: shape ``(n,)`` or ``(N, n)``, finite, radians."""
+    def check_q(self, q: Any, name: str = "q", *, check_degrees: bool = True) -> FloatArray:
+        """Validate joint values: shape ``(n,)`` or ``(N, n)``, finite.
+
+        Revolute values are radians, any value (read modulo 2*pi); with
+        ``check_degrees`` (the default) values that are degrees beyond
+        reasonable doubt raise (see :func:`rikin._validate.check_radians`).
+        """
         arr = as_float_array(q, name)
         if arr.ndim not in (1, 2) or arr.shape[-1] != self.n:
             raise InputError(
@@ -293,10 +298,10 @@ class SerialArm:
         angles = np.where(self.revolute, arr, 0.0)
         if np.abs(angles).max(initial=0.0) > DEGREES_SUSPECT:  # say which joint, in words
             names = [f"{name}[{i}] (joint {i + 1})" for i in range(self.n)]
-            check_radians(angles, name, names)
+            check_radians(angles, name, names, joint_vectors=True, degrees_hint=check_degrees)
         return arr
 
-    def fk(self, q: Any, *, frames: bool = False) -> FloatArray:
+    def fk(self, q: Any, *, frames: bool = False, check_degrees: bool = True) -> FloatArray:
         """Pose of the tool centre point, ``T_world_tcp = base @ T_0_n(q) @ tool``.
 
         Parameters
@@ -305,6 +310,10 @@ class SerialArm:
             Joint values: radians (revolute), length units (prismatic).
         frames : bool
             Also return every intermediate frame.
+        check_degrees : bool
+            Refuse joint values that are degrees beyond reasonable doubt (a
+            round number of degrees such as 90, or several values beyond four
+            turns). False accepts every finite angle below ``MAX_ANGLE``.
 
         Returns
         -------
@@ -317,8 +326,9 @@ class SerialArm:
         ------
         InputError
             Wrong number of joints, NaN, or angles that look like degrees.
+            Any other angle is read modulo 2*pi: ``fk(q + 2*pi*k) == fk(q)``.
         """
-        qv = self.check_q(q)
+        qv = self.check_q(q, check_degrees=check_degrees)
         return self._fk(qv, frames)
 
     def _fk(self, q: FloatArray, frames: bool = False) -> FloatArray:

@@ -36,5 +36,18 @@ SAME_SOLUTION_TOL = 1e-9
 #: it means a bug in rikin, and raises instead of returning a wrong answer.
 FK_CHECK_TOL = 1e-8
 
-#: |q| above this for a revolute joint (rad) is taken as degrees by mistake.
+#: Angles are read modulo 2*pi; one above this (rad, one turn) in absolute value
+#: is checked for being degrees typed by mistake (see ``_validate.check_radians``).
 DEGREES_SUSPECT = 2 * 3.141592653589793 + 1e-9
+
+#: A value beyond one turn that is a whole multiple of 5 between these bounds
+#: (10 ... 720) is a round number of degrees, not radians.
+DEGREES_ROUND = (10.0, 720.0)
+
+#: Two or more joint values of one configuration beyond this (four turns, rad)
+#: are degrees: unwrapped radian solutions stay within a turn or two.
+DEGREES_FAR = 8 * 3.141592653589793
+
+#: An angle beyond this (rad) has lost its fractional turn to rounding
+#: (spacing of doubles there ~1e-10 rad): refused as meaningless.
+MAX_ANGLE = 1e6
