@@ -11,8 +11,13 @@ Artists carry a ``gid`` so that tests and notebooks can find them:
 :func:`link_path`), ``"joints"``,
 ``"tcp"``, ``"frame-x"``/``"frame-y"``/``"frame-z"`` (triads), ``"tool"``
 (a planar arm's tool direction), ``"target"``, ``"link1"``/``"link2"`` and
-``"reach"`` (the triangle) and ``"tcp-region"``/``"wrist-region"``
-(workspaces).
+``"reach"`` (the triangle), ``"tcp-region"``/``"wrist-region"``
+(planar workspaces), ``"gripper"`` (the two-finger gripper at the TCP),
+``"wrist-centre"`` and ``"approach"`` (:func:`plot_wrist_centre`),
+``"frame-label"`` (texts of :func:`plot_dh_frames`) and ``"workspace"``
+(:func:`plot_workspace_3d`).
+
+What the marks mean is :data:`MARKER_KEY`, the same words the book uses.
 """
 
 from __future__ import annotations
@@ -27,6 +32,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 from matplotlib.patches import Arc, PathPatch
 from matplotlib.path import Path
+from matplotlib.ticker import MaxNLocator
 
 from ._validate import FloatArray, as_float_array
 from .dh import SerialArm
@@ -34,8 +40,9 @@ from .errors import InputError, UnreachableError
 from .ik.kernels import elbow_above, reach_excess, two_link
 from .ik.result import IKResult
 
-__all__ = ["is_planar", "joint_points", "link_path", "plot_arm", "plot_solutions",
-           "plot_two_link_triangle", "plot_workspace_planar"]
+__all__ = ["MARKER_KEY", "gripper_path", "is_planar", "joint_points", "link_path", "plot_arm",
+           "plot_dh_frames", "plot_solutions", "plot_two_link_triangle", "plot_workspace_3d",
+           "plot_workspace_planar", "plot_wrist_centre", "same_joint_points", "wrist_centre"]
 
 #: Colours of the frame triads' x, y and z axes.
 AXIS_COLOURS = ("tab:red", "tab:green", "tab:blue")
@@ -49,6 +56,15 @@ ARM_COLOUR = "0.25"
 #: 3D view: camera elevation, and its azimuth relative to the arm's horizontal direction.
 VIEW_ELEVATION_DEG = 22.0
 VIEW_OFFSET_DEG = 60.0
+#: Frame-triad length and 3D zoom of the small panels of :func:`plot_solutions`.
+SOLUTIONS_FRAME_FRACTION = 0.14
+SOLUTIONS_ZOOM = 1.25
+#: What the marks of every arm drawing mean (shown under the all-solution figures).
+MARKER_KEY = ("frame axes: x red, y green, z blue  ·  ○ revolute joint, □ prismatic joint  ·  "
+              "★ TCP with the gripper (fingers open along y, approach along z)  ·  "
+              "red ring: the target")
+#: A joint point within this fraction of the arm's scale of another counts as the same point.
+SAME_POINT_TOL = 1e-6
 
 
 # ------------------------------------------------------------------ helpers
@@ -129,7 +145,18 @@ def _azimuth(arm: SerialArm, points: FloatArray) -> float:
     return float(psi - VIEW_OFFSET_DEG)
 
 
-def _apply_limits(ax: Axes, lim: FloatArray, arm: SerialArm, azim: float = -60.0) -> None:
+def _view(arm: SerialArm, points: FloatArray, view: Any) -> tuple[float, float]:
+    """The 3D camera ``(elevation, azimuth)``: ``view`` when given, else the default."""
+    if view is None:
+        return VIEW_ELEVATION_DEG, _azimuth(arm, points)
+    v = as_float_array(view, "view")
+    if v.shape != (2,):
+        raise InputError(f"view must be (elevation, azimuth) in degrees, got shape {v.shape}")
+    return float(v[0]), float(v[1])
+
+
+def _apply_limits(ax: Axes, lim: FloatArray, arm: SerialArm, azim: float = -60.0,
+                  elev: float = VIEW_ELEVATION_DEG, zoom: float = 1.0) -> None:
     u = _units(arm)
     ax.set_xlim(*lim[0])
     ax.set_ylim(*lim[1])
@@ -138,8 +165,8 @@ def _apply_limits(ax: Axes, lim: FloatArray, arm: SerialArm, azim: float = -60.0
     if ax.name == "3d":
         ax.set_zlim(*lim[2])
         ax.set_zlabel(f"z{u}")
-        ax.set_box_aspect((1.0, 1.0, 1.0))
-        ax.view_init(elev=VIEW_ELEVATION_DEG, azim=azim)
+        ax.set_box_aspect((1.0, 1.0, 1.0), zoom=zoom)
+        ax.view_init(elev=elev, azim=azim)
     else:
         ax.set_aspect("equal", adjustable="box")
         ax.grid(True, lw=0.4, alpha=0.5)
@@ -236,8 +263,40 @@ def _group_joints(origins: FloatArray, tol: float) -> list[tuple[FloatArray, lis
     return groups
 
 
+def gripper_path(T_tcp: FloatArray, size: float, planar: bool = False) -> FloatArray:
+    """A two-finger gripper at the TCP pose, as one polyline (NaN rows break it).
+
+    The fingers end at the TCP and open along the tool's y axis; the palm is
+    ``size`` behind the TCP along the approach direction, the tool's z axis
+    (x for a planar arm, whose tool direction is x), with a stub towards the
+    wrist. It shows the tool's orientation, not only its position.
+
+    Parameters
+    ----------
+    T_tcp : ndarray, shape (4, 4)
+        The TCP pose in the world frame.
+    size : float
+        Finger length, length units.
+    planar : bool
+        Approach along the tool's x axis instead of z.
+
+    Returns
+    -------
+    ndarray, shape (7, 3)
+        ``stub, palm centre, NaN, tip_a, palm_a, palm_b, tip_b`` (world, length units).
+    """
+    p = T_tcp[:3, 3]
+    approach = T_tcp[:3, 0] if planar else T_tcp[:3, 2]
+    opening = T_tcp[:3, 1]
+    palm = p - size * approach
+    half = 0.5 * size * opening
+    nan = np.full(3, np.nan)
+    return np.stack([palm - 0.6 * size * approach, palm, nan,
+                     p + half, palm + half, palm - half, p - half])
+
+
 def _draw_arm(ax: Axes, arm: SerialArm, q: FloatArray, *, frames: bool, frame_scale: float,
-              color: Any, label_joints: bool) -> None:
+              color: Any, label_joints: bool, gripper: bool = True) -> None:
     three_d = ax.name == "3d"
     dims = 3 if three_d else 2
     # the callers set the limits afterwards: rescaling after every line (in 3D a
@@ -254,6 +313,9 @@ def _draw_arm(ax: Axes, arm: SerialArm, q: FloatArray, *, frames: bool, frame_sc
         if mask.any():
             ax.plot(*origins[mask, :dims].T, marker, ms=8, mfc="white", mec=col, mew=2.0,
                     ls="none", gid="joints", zorder=4)
+    if gripper:
+        ax.plot(*gripper_path(F[-1], 0.9 * frame_scale, planar=not three_d)[:, :dims].T, "-",
+                color="tab:orange", lw=2.2, solid_capstyle="round", gid="gripper", zorder=5)
     ax.plot(*P[-1, :dims], "*", ms=14, color="tab:orange", mec="k", mew=0.6, ls="none",
             gid="tcp", zorder=5)
     if label_joints:
@@ -267,11 +329,13 @@ def _draw_arm(ax: Axes, arm: SerialArm, q: FloatArray, *, frames: bool, frame_sc
                 ax.annotate(text, p[:2], xytext=(6, 6), textcoords="offset points", fontsize=8,
                             bbox=box)
     if frames:
-        for T in F:
-            for k in range(dims):
-                seg = np.stack([T[:3, 3], T[:3, 3] + frame_scale * T[:3, k]])
-                ax.plot(*seg[:, :dims].T, "-", color=AXIS_COLOURS[k], lw=1.3,
-                        gid=f"frame-{'xyz'[k]}", zorder=3)
+        # one line per colour, the segments separated by NaN (one artist draws faster)
+        for k in range(dims):
+            seg = np.full((3 * len(F), 3), np.nan)
+            seg[0::3] = F[:, :3, 3]
+            seg[1::3] = F[:, :3, 3] + frame_scale * F[:, :3, k]
+            ax.plot(*seg[:, :dims].T, "-", color=AXIS_COLOURS[k], lw=1.6,
+                    gid=f"frame-{'xyz'[k]}", zorder=3)
     if not three_d:
         # the tool's direction (its x axis): the lessons' wrist angle phi
         tip = P[-1, :2] + 2.0 * frame_scale * F[-1, :2, 0]
@@ -289,7 +353,8 @@ def _q_text(arm: SerialArm, q: FloatArray) -> str:
 # ------------------------------------------------------------------ one arm
 def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True,
              frame_scale: float | None = None, title: str | None = None, color: Any = None,
-             label_joints: bool = True, limits: Any = None) -> Axes:
+             label_joints: bool = True, limits: Any = None, gripper: bool = True,
+             view: tuple[float, float] | None = None) -> Axes:
     """Stick figure of the arm at ``q``: its links, frames, joints and TCP.
 
     The links run from frame 0 (the base) through frames 1..n to the TCP,
@@ -320,6 +385,12 @@ def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True
         Axis limits ``[[xmin, xmax], [ymin, ymax](, [zmin, zmax])]``, length
         units. Default: a square (cube) around the drawing, or around the
         whole reach for a planar arm.
+    gripper : bool
+        Draw a two-finger gripper at the TCP (:func:`gripper_path`), so the
+        tool's orientation shows.
+    view : (float, float), optional
+        3D camera ``(elevation, azimuth)`` in degrees. Default: 22° up,
+        60° round from the arm's horizontal direction.
 
     Returns
     -------
@@ -344,7 +415,7 @@ def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True
     ax = _make_axes(three_d, ax)
     dims = 3 if three_d else 2
     F = arm._fk(qv, frames=True)
-    azim = _azimuth(arm, F[:, :3, 3])
+    elev, azim = _view(arm, F[:, :3, 3], view)
     if limits is None:
         if three_d:
             lim = _square_limits(_view_points(arm, F), 3, _min_half(arm))
@@ -357,8 +428,9 @@ def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True
     fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0])) if frame_scale is None else frame_scale
     if not np.isfinite(fs) or fs <= 0:
         raise InputError(f"frame_scale must be a positive length, got {frame_scale!r}")
-    _draw_arm(ax, arm, qv, frames=frames, frame_scale=fs, color=color, label_joints=label_joints)
-    _apply_limits(ax, lim, arm, azim)
+    _draw_arm(ax, arm, qv, frames=frames, frame_scale=fs, color=color, label_joints=label_joints,
+              gripper=gripper)
+    _apply_limits(ax, lim, arm, azim, elev)
     ax.set_title(f"{arm.name} at q = {_q_text(arm, qv)}" if title is None else title, fontsize=10)
     return ax
 
@@ -374,10 +446,56 @@ def _planar_limits(arm: SerialArm) -> FloatArray:
 
 
 # ------------------------------------------------------------------ all IK solutions
+def same_joint_points(arm: SerialArm, Q: Any) -> list[list[int]]:
+    """For each solution, the other solutions whose joints sit at the same points.
+
+    Without a shoulder offset, turning joint 1 by pi and mirroring joints 2
+    and 3 puts every joint where another solution has one (Aula 10's front
+    and back branches): the stick figures coincide and only the joint frames
+    and angles differ. A wrist flip moves no joint at all.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    Q : array_like, shape (k, n)
+        Solutions, one per row.
+
+    Returns
+    -------
+    list of list of int
+        ``twins[i]``: the solutions (numbered from 1) other than ``i + 1``
+        whose joint points (:func:`joint_points`) and drawn link path all lie
+        within ``SAME_POINT_TOL * arm.scale`` of solution ``i + 1``'s.
+    """
+    _check_arm(arm)
+    Qv = arm.check_q(Q, "Q")
+    Qv = Qv[None] if Qv.ndim == 1 else Qv
+    F = arm._fk(Qv, frames=True)
+    shapes = np.stack([np.vstack([joint_points(arm, f), link_path(arm, f)]) for f in F])
+    tol = SAME_POINT_TOL * arm.scale
+    gap = np.abs(shapes[:, None] - shapes[None]).max(axis=(2, 3))
+    return [[int(j) + 1 for j in np.flatnonzero(row <= tol) if j != i] for i, row in enumerate(gap)]
+
+
+def _few_ticks(ax: Axes, n: int = 3) -> None:
+    """At most ``n`` ticks per axis, small labels: small 3D panels stay readable."""
+    axes = (ax.xaxis, ax.yaxis, ax.zaxis) if ax.name == "3d" else (ax.xaxis, ax.yaxis)
+    for axis in axes:
+        axis.set_major_locator(MaxNLocator(n))
+    ax.tick_params(labelsize=6, pad=0)
+
+
 def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
-                   figsize: tuple[float, float] | None = None, frames: bool = False,
-                   target: Any = None) -> Figure:
-    """Every IK solution side by side: one subplot per solution, same limits in all.
+                   figsize: tuple[float, float] | None = None, frames: bool = True,
+                   target: Any = None, gripper: bool = True,
+                   view: tuple[float, float] | None = None, key: bool = True) -> Figure:
+    """Every IK solution side by side: one subplot per solution, same view in all.
+
+    Each subplot shows the links, the joints, every joint frame (so that
+    solutions whose joints coincide, such as a front and a back branch
+    without shoulder offset, or a wrist flip, still look different) and a
+    gripper at the TCP. Subplots whose stick figures coincide say so in their
+    titles (:func:`same_joint_points`).
 
     Parameters
     ----------
@@ -390,10 +508,16 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
     figsize : (float, float), optional
         Inches; default 3.3 x 3.8 per subplot.
     frames : bool
-        Draw the frame triads too.
+        Draw the frame triads (x red, y green, z blue).
     target : array_like, shape (4, 4), optional
         The target pose to mark (red ring); default ``result.target`` for
         an IKResult, none for a plain array.
+    gripper : bool
+        Draw the gripper at the TCP (:func:`gripper_path`).
+    view : (float, float), optional
+        3D camera ``(elevation, azimuth)`` in degrees, the same in every subplot.
+    key : bool
+        Write :data:`MARKER_KEY` under the subplots.
 
     Returns
     -------
@@ -439,7 +563,7 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
     cols = min(int(ncols), k)
     rows = math.ceil(k / cols)
     three_d = not is_planar(arm)
-    figsize = (3.3 * cols, 3.8 * rows) if figsize is None else figsize
+    figsize = (3.3 * cols, 3.8 * rows + (0.3 if key else 0.0)) if figsize is None else figsize
     fig = plt.figure(figsize=figsize)
     F = arm._fk(Q, frames=True)
     if three_d:
@@ -447,29 +571,38 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
         lim = _square_limits(_view_points(arm, F, extra), 3, _min_half(arm))
     else:
         lim = _planar_limits(arm)
-    fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
-    azim = _azimuth(arm, F[0, :, :3, 3] if T_target is None else T_target[None, :3, 3])
+    fs = float(SOLUTIONS_FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
+    elev, azim = _view(arm, F[0, :, :3, 3] if T_target is None else T_target[None, :3, 3], view)
+    twins = same_joint_points(arm, Q)
     for i in range(k):
         ax = fig.add_subplot(rows, cols, i + 1, projection="3d" if three_d else None)
         _draw_arm(ax, arm, Q[i], frames=frames, frame_scale=fs, color=None,
-                  label_joints=False)
+                  label_joints=False, gripper=gripper)
         if T_target is not None:
             p = T_target[:3, 3]
             ax.plot(*p[:3 if three_d else 2], "o", ms=13, mfc="none", mec="tab:red", mew=1.8,
                     ls="none", gid="target", zorder=6)
-        _apply_limits(ax, lim, arm, azim)
+        _apply_limits(ax, lim, arm, azim, elev, zoom=SOLUTIONS_ZOOM)
         head = f"{i + 1}: {labels[i]}" if labels[i] else f"solution {i + 1}"
-        ax.set_title(f"{head}\n{_q_text(arm, Q[i])}", fontsize=8)
-        ax.tick_params(labelsize=6)
+        title = f"{head}\n{_q_text(arm, Q[i])}"
+        if twins[i]:
+            title += "\njoints where #" + ", #".join(map(str, twins[i])) + " has them"
+        ax.set_title(title, fontsize=8)
+        _few_ticks(ax)
         if three_d:
             for label in (ax.xaxis.label, ax.yaxis.label, ax.zaxis.label):
                 label.set_fontsize(7)
     sup = f"{arm.name}: {k} IK solution{'s' if k != 1 else ''}"
     fig.suptitle(sup if note is None else f"{sup}\n{note}", fontsize=10)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0.0, 0.04 if key else 0.0, 1.0, 1.0))
     if three_d:
         # tight_layout ignores the 3D axis labels: leave room for them at both sides
         fig.subplots_adjust(left=0.04, right=0.96, wspace=0.3)
+    if key:
+        words = MARKER_KEY if three_d else MARKER_KEY.replace("approach along z",
+                                                              "approach along x")
+        fig.text(0.5, 0.005, words, ha="center", va="bottom", fontsize=7, color="0.25",
+                 wrap=True, gid="key")
     return fig
 
 
@@ -693,4 +826,206 @@ def plot_workspace_planar(arm: SerialArm, ax: Axes | None = None, n: int = 256) 
     _apply_limits(ax, lim, arm)
     ax.legend(loc="upper right", fontsize=8)
     ax.set_title(f"{arm.name}: reachable region", fontsize=10)
+    return ax
+
+
+def _sample_joints(arm: SerialArm, n: int, seed: int) -> FloatArray:
+    """``n`` seeded joint vectors inside the limits (revolute: all of (-pi, pi] if unlimited)."""
+    lim = arm.qlim.copy()
+    free = ~np.isfinite(lim)
+    if np.any(free.any(axis=1) & ~arm.revolute):
+        raise InputError("a prismatic joint without limits has no bounded workspace: give the arm "
+                         "joint limits (qlim) to draw it")
+    lim[:, 0] = np.where(free[:, 0], -np.pi, lim[:, 0])
+    lim[:, 1] = np.where(free[:, 1], np.pi, lim[:, 1])
+    rng = np.random.default_rng(seed)
+    return rng.uniform(lim[:, 0], lim[:, 1], size=(n, arm.n))
+
+
+def plot_workspace_3d(arm: SerialArm, ax: Axes | None = None, n: int = 4000, point: str = "tcp",
+                      seed: int = 0, q: Any = None) -> Axes:
+    """The reachable points of a spatial arm: a cloud of FK positions, coloured by height.
+
+    ``n`` joint vectors are drawn uniformly inside the joint limits (seeded,
+    so the figure is the same at every build); revolute joints without
+    limits turn all the way round. With ``point="wrist"`` the cloud is of
+    the wrist centre (:func:`wrist_centre`), which for a decoupled 6R
+    depends on the first three joints only.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    ax : 3D matplotlib Axes, optional
+    n : int
+        Number of sampled configurations (>= 100).
+    point : {"tcp", "wrist"}
+    seed : int
+        Seed of the sample.
+    q : array_like, shape (n,), optional
+        Also draw the arm at this configuration, for scale.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        3D Axes with a scatter ``gid="workspace"`` (its offsets are the points).
+
+    Raises
+    ------
+    InputError
+        Bad ``n``/``point``/``q``, 2D axes, or a prismatic joint without limits.
+    """
+    _check_arm(arm)
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 100:
+        raise InputError(f"n must be an integer >= 100 (sampled configurations), got {n!r}")
+    if point not in ("tcp", "wrist"):
+        raise InputError(f"point must be 'tcp' or 'wrist', got {point!r}")
+    Q = _sample_joints(arm, int(n), int(seed))
+    F = arm._fk(Q, frames=True)
+    pts = (np.stack([wrist_centre(arm, f) for f in F]) if point == "wrist"
+           else F[:, -1, :3, 3])
+    ax = _make_axes(True, ax)
+    sc = ax.scatter(*pts.T, c=pts[:, 2], cmap="viridis", s=2.0, alpha=0.35, depthshade=False,
+                    gid="workspace", linewidths=0)
+    lim = _square_limits(np.vstack([pts, arm.base[None, :3, 3]]), 3, _min_half(arm))
+    if q is not None:
+        qv = _check_q(arm, q)
+        _draw_arm(ax, arm, qv, frames=False, frame_scale=float(FRAME_FRACTION * np.ptp(lim[0])),
+                  color=None, label_joints=False)
+    _apply_limits(ax, lim, arm, azim=-60.0)
+    cb = ax.figure.colorbar(sc, ax=ax, shrink=0.6, pad=0.12)
+    cb.set_label(f"z{_units(arm)}", fontsize=8)
+    cb.solids.set_alpha(1.0)
+    what = "wrist centre" if point == "wrist" else "TCP"
+    ax.set_title(f"{arm.name}: {n} reachable {what} positions", fontsize=10)
+    return ax
+
+
+def wrist_centre(arm: SerialArm, F: FloatArray) -> FloatArray:
+    """The wrist centre of a drawn configuration: ``p - l z_n``, back from the TCP.
+
+    ``l`` is how far the TCP lies ahead of the last joint's point (for a
+    spherical wrist, the point where the three wrist axes meet) along the
+    TCP's z axis (the approach direction), so ``p - l z_n`` is that point
+    whenever the TCP is straight ahead of it.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    F : ndarray, shape (n + 2, 4, 4)
+        ``arm.fk(q, frames=True)``.
+
+    Returns
+    -------
+    ndarray, shape (3,)
+        World coordinates, length units.
+    """
+    p, z = F[-1, :3, 3], F[-1, :3, 2]
+    last = joint_points(arm, F)[-1]
+    return p - float(np.dot(p - last, z)) * z
+
+
+def plot_wrist_centre(arm: SerialArm, q: Any, ax: Axes | None = None,
+                      title: str | None = None) -> Axes:
+    """The arm at ``q`` with its wrist centre ``p_w = p - l z`` and the approach vector drawn.
+
+    The first step of kinematic decoupling: from the TCP position ``p``
+    step back the tool length ``l`` along the approach direction ``z`` (the
+    TCP's z axis) to the wrist centre, which the first three joints alone
+    must reach.
+
+    Parameters
+    ----------
+    arm : SerialArm
+        Spatial.
+    q : array_like, shape (n,)
+    ax : 3D matplotlib Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        With lines ``gid="approach"`` (from ``p_w`` to ``p``) and
+        ``gid="wrist-centre"`` (the marked point).
+    """
+    _check_arm(arm)
+    qv = _check_q(arm, q)
+    F = arm._fk(qv, frames=True)
+    w = wrist_centre(arm, F)
+    p = F[-1, :3, 3]
+    length = float(np.linalg.norm(p - w))
+    ax = plot_arm(arm, qv, ax=ax, frames=False, label_joints=False,
+                  title=title if title is not None else
+                  f"{arm.name}: wrist centre p_w = p − l·z (l = {length:.4g}{_units(arm)})")
+    three_d = ax.name == "3d"
+    dims = 3 if three_d else 2
+    z = F[-1, :3, 2]
+    ax.plot(*np.stack([w, p])[:, :dims].T, "--", color="tab:blue", lw=2.0, gid="approach",
+            zorder=6)
+    tip = p + 0.25 * max(length, 0.1 * arm.scale) * z
+    ax.plot(*np.stack([p, tip])[:, :dims].T, "-", color="tab:blue", lw=2.0, zorder=6)
+    ax.plot(*w[:dims], "X", ms=12, color="tab:red", mec="k", mew=0.6, ls="none",
+            gid="wrist-centre", zorder=7)
+    box = {"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1.0}
+    if three_d:
+        ax.text(*w, "  p_w", color="tab:red", fontsize=9, zorder=8, bbox=box)
+        ax.text(*p, "  p", color="tab:orange", fontsize=9, zorder=8, bbox=box)
+        ax.text(*tip, "  z", color="tab:blue", fontsize=9, zorder=8, bbox=box)
+    else:
+        ax.annotate("p_w", w[:2], xytext=(6, -12), textcoords="offset points", color="tab:red")
+    return ax
+
+
+def plot_dh_frames(arm: SerialArm, q: Any = None, ax: Axes | None = None,
+                   title: str | None = None, view: tuple[float, float] | None = None,
+                   frame_scale: float | None = None) -> Axes:
+    """The DH frame assignment: every frame's x and z axes, labelled ``x_i``, ``z_i``.
+
+    Frame 0 is the base, frames 1..n follow the links, and the TCP frame
+    ends the chain. Each joint i turns (or slides) about ``z_{i-1}``
+    (standard DH) and ``x_i`` points along the common normal from
+    ``z_{i-1}`` to ``z_i``, so the figure is the picture a DH table is read
+    from.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    q : array_like, shape (n,), optional
+        Joint values; default all zero (the home pose the DH table describes).
+    ax : matplotlib Axes, optional
+    title : str, optional
+    view : (float, float), optional
+        3D camera ``(elevation, azimuth)`` in degrees.
+    frame_scale : float, optional
+        Triad length, length units; default 9% of the view's side.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+        With texts ``gid="frame-label"``.
+    """
+    _check_arm(arm)
+    qv = _check_q(arm, np.zeros(arm.n) if q is None else q)
+    F = arm._fk(qv, frames=True)
+    ax = plot_arm(arm, qv, ax=ax, frames=True, label_joints=False, gripper=False, view=view,
+                  frame_scale=frame_scale, title=title if title is not None else
+                  f"{arm.name}: DH frames ({arm.convention}) at q = {_q_text(arm, qv)}")
+    three_d = ax.name == "3d"
+    fs = float(FRAME_FRACTION * np.ptp(ax.get_xlim())) if frame_scale is None else frame_scale
+    names = ["0"] + [str(i) for i in range(1, arm.n + 1)] + ["TCP"]
+    seen: list[tuple[FloatArray, int]] = []
+    for T, name in zip(F, names, strict=True):
+        o = T[:3, 3]
+        # frames at the same origin: push the labels of later ones further out
+        stack = sum(1 for p, _ in seen if np.linalg.norm(p - o) <= 1e-9 * arm.scale)
+        seen.append((o, 0))
+        reach = fs * (1.15 + 0.45 * stack)
+        for k in ((0, 2) if three_d else (0, 1)):
+            tip = o + reach * T[:3, k]
+            text = f"{'xyz'[k]}{name}" if name == "TCP" else f"${'xyz'[k]}_{{{name}}}$"
+            kw = {"color": AXIS_COLOURS[k], "fontsize": 8, "gid": "frame-label",
+                  "ha": "center", "va": "center"}
+            if three_d:
+                ax.text(*tip, text, **kw)
+            else:
+                ax.text(*tip[:2], text, **kw)
     return ax

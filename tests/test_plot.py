@@ -15,11 +15,18 @@ from matplotlib.path import Path
 import rikin
 from rikin import InputError, UnreachableError, robots
 from rikin.plot import (
+    MARKER_KEY,
+    gripper_path,
     is_planar,
     plot_arm,
+    plot_dh_frames,
     plot_solutions,
     plot_two_link_triangle,
+    plot_workspace_3d,
     plot_workspace_planar,
+    plot_wrist_centre,
+    same_joint_points,
+    wrist_centre,
 )
 
 AULA10_Q_DEG = [99.6, 9, 26.4, 68.4, 30, 151]
@@ -109,9 +116,21 @@ def test_plot_arm_draws_each_dh_link_as_its_d_and_a_pieces(name):
         mask = arm.revolute == revolute
         got = np.vstack(pts) if pts else np.zeros((0, dims))
         assert np.allclose(got, expected[mask, :dims], atol=1e-9 * arm.scale)
-    # a triad per frame: n + 2 frames, 3 axes in 3D, 2 in the plane
-    assert len(lines(ax, "frame-x")) == arm.n + 2
-    assert len(lines(ax, "frame-z")) == (arm.n + 2 if three_d else 0)
+    # a triad per frame: n + 2 frames, 3 axes in 3D, 2 in the plane; one line per colour,
+    # its segments (origin, origin + s * axis) separated by NaN
+    for k, name in enumerate("xyz"):
+        drawn_axes = lines(ax, f"frame-{name}")
+        if k == 2 and not three_d:
+            assert drawn_axes == []
+            continue
+        (axis_line,) = drawn_axes
+        v = line_vertices(axis_line, three_d)
+        assert v.shape[0] == 3 * (arm.n + 2) and np.isnan(v[2::3]).all()
+        assert np.allclose(v[0::3], origins[:, :dims])
+        d = v[1::3] - v[0::3]
+        unit = d / np.linalg.norm(d, axis=1, keepdims=True)
+        assert np.allclose(unit, F[:, :dims, k] / np.linalg.norm(F[:, :dims, k], axis=1,
+                                                                 keepdims=True))
     # everything drawn is inside the view
     lim = [ax.get_xlim(), ax.get_ylim()] + ([ax.get_zlim()] if three_d else [])
     for d in range(dims):
@@ -341,3 +360,149 @@ def test_workspace_rejects_spatial_or_limited_arms():
         plot_workspace_planar(limited)
     with pytest.raises(InputError, match="n must be"):
         plot_workspace_planar(robots.planar_2r(), n=3)
+
+
+# ---------------------------------------------------------------- telling solutions apart
+def test_gripper_follows_the_tool_frame():
+    arm = robots.aula10_6r()
+    q = rikin.rad(AULA10_Q_DEG)
+    T = arm.fk(q)
+    g = gripper_path(T, 2.0)
+    stub, palm, gap, tip_a, palm_a, palm_b, tip_b = g
+    assert np.isnan(gap).all()
+    # the fingers end at the TCP, 1 apart along y; the palm is 2 back along z (approach)
+    assert np.allclose((tip_a + tip_b) / 2, T[:3, 3])
+    assert np.allclose(tip_a - tip_b, 2.0 * T[:3, 1])
+    assert np.allclose(palm, T[:3, 3] - 2.0 * T[:3, 2])
+    assert np.allclose(palm_a - tip_a, -2.0 * T[:3, 2])
+    assert np.allclose(stub, palm - 1.2 * T[:3, 2])
+    ax = plot_arm(arm, q)
+    (drawn,) = lines(ax, "gripper")
+    v = line_vertices(drawn, True)
+    fs = 0.09 * np.ptp(ax.get_xlim())
+    assert np.allclose(v, gripper_path(T, 0.9 * fs), equal_nan=True)
+    assert lines(plot_arm(arm, q, gripper=False), "gripper") == []
+
+
+def test_planar_gripper_approaches_along_the_tool_x_axis():
+    arm = robots.planar_3r()
+    T = arm.fk([0.2, 0.4, 0.6])
+    g = gripper_path(T, 1.0, planar=True)
+    assert np.allclose(g[1], T[:3, 3] - T[:3, 0])
+
+
+def test_same_joint_points_finds_the_aula10_coincidences():
+    # no shoulder offset: front/down and back/down... share joint points (checked from FK
+    # here, not from rikin.plot), and the wrist flip moves no joint
+    arm = robots.aula10_6r()
+    res = arm.ik(arm.fk(rikin.rad(AULA10_Q_DEG)))
+    F = arm.fk(res.q, frames=True)
+    o = F[:, :, :3, 3]
+    twins = same_joint_points(arm, res.q)
+    for i in range(len(res)):
+        for j in range(len(res)):
+            if i == j:
+                continue
+            # joint 4..6 points coincide at the wrist centre; the origins of frames 1..n
+            # and the link corners decide
+            same = np.allclose(o[i, :-1], o[j, :-1], atol=1e-6) and np.allclose(
+                o[i, -1], o[j, -1], atol=1e-6)
+            if (j + 1 in twins[i]) and not same:
+                # drawn shapes equal although some origin differs: only possible when the
+                # origins that differ are not drawn; not the case for this arm
+                raise AssertionError((i, j))
+    assert sorted(map(len, twins)) == [3] * 8
+    assert twins[0] == [2, 7, 8]
+    # with a shoulder offset (the C4's a1) the elbows differ: only the wrist-flip partner
+    # (same shoulder and elbow) puts its joints at the same points
+    b = robots.epson_c4()
+    rb = b.ik(b.fk(rikin.rad([20, -30, 40, 10, 30, 0])))
+    assert len(rb) == 4
+    tw = same_joint_points(b, rb.q)
+    for i, t in enumerate(tw):
+        partner = [j + 1 for j, br in enumerate(rb.branches)
+                   if j != i and br[:2] == rb.branches[i][:2]]
+        assert t == partner, (i, t, rb.labels)
+
+
+def test_plot_solutions_says_which_solutions_coincide_and_has_a_key():
+    arm = robots.aula10_6r()
+    res = arm.ik(arm.fk(rikin.rad(AULA10_Q_DEG)))
+    fig = plot_solutions(arm, res)
+    titles = [ax.get_title() for ax in fig.axes]
+    assert "#2, #7, #8" in titles[0]
+    keys = [t for t in fig.texts if t.get_gid() == "key"]
+    assert len(keys) == 1 and keys[0].get_text() == MARKER_KEY
+    # the frames are drawn (default) and differ between solutions 1 and 7, whose joints
+    # coincide: what tells them apart is drawn
+    v1 = line_vertices(lines(fig.axes[0], "frame-z")[0], True)
+    v7 = line_vertices(lines(fig.axes[6], "frame-z")[0], True)
+    assert not np.allclose(v1, v7, equal_nan=True)
+    for ax in fig.axes:
+        assert len(lines(ax, "gripper")) == 1
+        for ticks, lim in ((ax.get_xticks(), ax.get_xlim()), (ax.get_zticks(), ax.get_zlim())):
+            shown = [t for t in ticks if lim[0] <= t <= lim[1]]
+            assert 2 <= len(shown) <= 4, shown
+    no_key = plot_solutions(arm, res, key=False, frames=False)
+    assert not [t for t in no_key.texts if t.get_gid() == "key"]
+    assert lines(no_key.axes[0], "frame-z") == []
+
+
+def test_plot_solutions_view_is_the_given_one():
+    arm = robots.angular_3r()
+    res = arm.ik([-9.545, 7.896, 23.192])
+    fig = plot_solutions(arm, res, view=(30.0, -45.0))
+    assert all(np.isclose(ax.elev, 30.0) and np.isclose(ax.azim, -45.0) for ax in fig.axes)
+    with pytest.raises(InputError, match="view"):
+        plot_solutions(arm, res, view=(1.0, 2.0, 3.0))
+
+
+# ---------------------------------------------------------------- new figures
+def test_wrist_centre_is_tcp_minus_l_z():
+    arm = robots.aula10_6r()
+    q = rikin.rad(AULA10_Q_DEG)
+    F = arm.fk(q, frames=True)
+    w = wrist_centre(arm, F)
+    # independent: for this arm's spherical wrist the centre is the origin of frame 4
+    # (= 5), and the TCP lies d6 ahead of it along z6
+    d6 = float(arm.links[5].d)
+    assert np.allclose(w, F[4, :3, 3]) and np.allclose(w, F[-1, :3, 3] - d6 * F[-1, :3, 2])
+    ax = plot_wrist_centre(arm, q)
+    (mark,) = lines(ax, "wrist-centre")
+    assert np.allclose(line_vertices(mark, True)[0], w)
+    (approach,) = lines(ax, "approach")
+    assert np.allclose(line_vertices(approach, True), [w, F[-1, :3, 3]])
+    assert f"l = {d6:.4g}" in ax.get_title()
+
+
+def test_dh_frames_labels_every_frame():
+    arm = robots.angular_3r()
+    ax = plot_dh_frames(arm)
+    labels = {t.get_text() for t in ax.texts if t.get_gid() == "frame-label"}
+    assert {"$x_{0}$", "$z_{0}$", "$x_{3}$", "$z_{3}$", "xTCP", "zTCP"} <= labels
+    assert len(labels) == 2 * (arm.n + 2)
+    planar = plot_dh_frames(robots.planar_2r(), [0.3, 0.4])
+    assert {"$x_{1}$", "$y_{1}$"} <= {t.get_text() for t in planar.texts}
+
+
+def test_workspace_3d_points_are_fk_of_joints_in_the_limits():
+    arm = robots.epson_c4()
+    ax = plot_workspace_3d(arm, n=300, seed=4)
+    (cloud,) = [c for c in ax.collections if c.get_gid() == "workspace"]
+    pts = np.column_stack(cloud._offsets3d)
+    assert pts.shape == (300, 3)
+    # every point is reachable: IK finds a solution within the limits for a sample of them
+    rng = np.random.default_rng(4)
+    Q = rng.uniform(arm.qlim[:, 0], arm.qlim[:, 1], size=(300, arm.n))
+    assert np.allclose(pts, arm.fk(Q)[:, :3, 3])
+    again = np.column_stack([c for c in plot_workspace_3d(arm, n=300, seed=4).collections
+                             if c.get_gid() == "workspace"][0]._offsets3d)
+    assert np.array_equal(pts, again)   # deterministic
+    wrist = plot_workspace_3d(robots.aula10_6r(), n=200, point="wrist")
+    assert "wrist centre" in wrist.get_title()
+    with pytest.raises(InputError, match="point"):
+        plot_workspace_3d(arm, point="elbow")
+    with pytest.raises(InputError, match="n must"):
+        plot_workspace_3d(arm, n=5)
+    with pytest.raises(InputError, match="limits"):
+        plot_workspace_3d(robots.pprrr())

@@ -7,6 +7,9 @@ Loaded from ``_config.yml`` (``sphinx.local_extensions``). It does two things:
   component, its fonts, the TeX extensions it may autoload, the menu and accessibility
   modules) are copied into the build from the ``sphinx-mathjax-offline`` package. A
   downloaded copy of the book typesets its formulas with no internet access.
+* **Interactive figures without a network.** Pages with a ``rikin.interactive``
+  figure load ``_static/plotly/plotly.min.js``, copied into the build from the
+  installed plotly package; other pages load nothing extra.
 * **No other network access.** sphinx-thebe's scripts (unused: the book has no live-code
   button) are dropped from every page.
 * **Chapters as notebooks.** Each chapter is a MyST markdown notebook, executed during
@@ -92,6 +95,31 @@ def copy_mathjax(app: Sphinx, exc: Exception | None) -> None:
             shutil.copy2(s, d)
 
 
+def _interactive() -> Any:
+    try:
+        import rikin.interactive as interactive
+    except ImportError as exc:  # pragma: no cover - rikin is installed with the book
+        raise ExtensionError(f"the book needs rikin installed to build: {exc}") from exc
+    return interactive
+
+
+def add_plotly(
+    app: Sphinx, pagename: str, templatename: str, context: dict[str, Any], doctree: Any
+) -> None:
+    """Load the local plotly.js on the pages that have an interactive figure."""
+    if app.builder.format == "html" and _interactive().HTML_MARKER in context.get("body", ""):
+        app.add_js_file(_interactive().PLOTLY_JS)
+
+
+def copy_plotly(app: Sphinx, exc: Exception | None) -> None:
+    if exc is not None or app.builder.format != "html":
+        return
+    interactive = _interactive()
+    dest = Path(app.outdir) / "_static" / interactive.PLOTLY_JS
+    dest.parent.mkdir(parents=True, exist_ok=True)
+    shutil.copy2(interactive.plotly_js(), dest)
+
+
 def install_cell(spec: str) -> nbformat.NotebookNode:
     cell = nbformat.v4.new_code_cell(INSTALL_CELL.format(spec=spec))
     cell.metadata["tags"] = [INSTALL_TAG, "remove-cell"]
@@ -147,6 +175,8 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.add_config_value("rikin_pip_spec", "rikin @ git+https://example.invalid/rikin.git", "env")
     app.connect("config-inited", set_mathjax_path)
     app.connect("build-finished", copy_mathjax)
+    app.connect("build-finished", copy_plotly)
+    app.connect("html-page-context", add_plotly)  # before drop_thebe_scripts (900)
     # before sphinx-book-theme's header buttons (priority 501), which read ipynb_source
     app.connect("html-page-context", publish_notebook, priority=500)
     app.connect("html-page-context", drop_thebe_scripts, priority=900)

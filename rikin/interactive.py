@@ -1,0 +1,569 @@
+"""Interactive arm figures that work offline: rotate, step through IK solutions, follow a path.
+
+The figures are plotly figures (``pip install "rikin[interactive]"``). In the
+built book they are plain HTML: the page loads ``plotly.min.js`` from the
+book's own ``_static/`` folder (copied there from the installed plotly
+package at build time, see :func:`plotly_js`), so nothing is fetched from
+the network. In Jupyter, JupyterLab and Colab the same objects display
+through plotly's own renderer.
+
+* :func:`solutions_figure`: every IK solution of one target, one at a time
+  (buttons ``1 .. k`` and ``all``), rotatable in 3D, with each solution's
+  branch and joint values in the title;
+* :func:`path_figure`: the target moves along a path (a slider and a play
+  button); at every step the arm is drawn in each branch that reaches it;
+* :func:`arm_figure`: one configuration, rotatable.
+
+Every drawing uses the geometry of :mod:`rikin.plot` (the links as DH
+pieces, the joint points, the gripper, the frames: x red, y green, z blue).
+
+Examples
+--------
+>>> import rikin
+>>> from rikin import interactive
+>>> arm = rikin.robots.aula10_6r()
+>>> res = arm.ik(arm.fk(rikin.rad([99.6, 9, 26.4, 68.4, 30, 151])))
+>>> fig = interactive.solutions_figure(arm, res)     # doctest: +SKIP
+>>> fig                                              # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ._validate import FloatArray, as_float_array
+from .dh import SerialArm
+from .errors import InputError, RikinError
+from .ik.result import IKResult
+from .plot import (
+    AXIS_COLOURS,
+    FRAME_FRACTION,
+    MARKER_KEY,
+    _check_arm,
+    _q_text,
+    _square_limits,
+    gripper_path,
+    is_planar,
+    joint_points,
+    link_path,
+)
+
+__all__ = ["InteractiveFigure", "PLOTLY_JS", "arm_figure", "path_figure", "plotly_js",
+           "solutions_figure"]
+
+#: Where the book serves plotly.js, relative to its ``_static/`` folder.
+PLOTLY_JS = "plotly/plotly.min.js"
+#: Marks an interactive figure in a page's HTML (the book loads plotly.js only on such pages).
+HTML_MARKER = "rikin-interactive"
+#: One colour per solution slot (the same order in every figure).
+SLOT_COLOURS = ("#4c72b0", "#dd8452", "#55a868", "#c44e52", "#8172b3", "#937860", "#da8bc3",
+                "#8c8c8c")
+_AXIS_HEX = {"tab:red": "#d62728", "tab:green": "#2ca02c", "tab:blue": "#1f77b4"}
+#: Traces drawn per solution: links, joints, gripper, TCP, frame x, y, z.
+TRACES_PER_ARM = 7
+
+
+def _plotly() -> Any:
+    try:
+        return importlib.import_module("plotly.graph_objects")
+    except ImportError as exc:  # pragma: no cover - exercised without the extra
+        raise RikinError(
+            "interactive figures need plotly: pip install 'rikin[interactive]' "
+            "(or pip install 'plotly>=5.18,<8')"
+        ) from exc
+
+
+def plotly_js() -> Path:
+    """The ``plotly.min.js`` of the installed plotly package (what the book copies to _static).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    RikinError
+        plotly is not installed, or its package has no bundled plotly.js.
+    """
+    _plotly()
+    import plotly
+
+    path = Path(plotly.__file__).parent / "package_data" / "plotly.min.js"
+    if not path.is_file():
+        raise RikinError(f"the installed plotly has no bundled plotly.js at {path}")
+    return path
+
+
+# ------------------------------------------------------------------ the figure object
+class InteractiveFigure:
+    """A plotly figure that displays offline in the book and in every notebook front end.
+
+    Attributes
+    ----------
+    figure : plotly.graph_objects.Figure
+        The figure itself (change it, or ``.figure.show()`` it).
+    """
+
+    def __init__(self, figure: Any, div_id: str) -> None:
+        self.figure = figure
+        self.div_id = div_id
+
+    def to_html(self) -> str:
+        """A ``<div>`` and the script that draws it; plotly.js must be loaded on the page.
+
+        The figure's JSON is written with sorted keys and a fixed div id, so a
+        rebuild writes the same page.
+        """
+        spec = self.figure.to_plotly_json()
+        data = json.dumps(spec.get("data", []), sort_keys=True, cls=_Encoder)
+        layout = json.dumps(spec.get("layout", {}), sort_keys=True, cls=_Encoder)
+        frames = json.dumps(spec.get("frames", []), sort_keys=True, cls=_Encoder)
+        config = json.dumps({"responsive": True, "displaylogo": False,
+                             "modeBarButtonsToRemove": ["toImage"]})
+        div = self.div_id
+        return (
+            f'<div class="{HTML_MARKER}" id="{div}" style="width:100%;max-width:100%;'
+            f'height:{int(self.figure.layout.height or 520)}px"></div>\n'
+            "<script>(function () {\n"
+            f'  var el = document.getElementById("{div}");\n'
+            "  if (!window.Plotly) {\n"
+            '    el.textContent = "This interactive figure needs plotly.js, which the book '
+            'serves itself; in a notebook, display the figure with fig.figure.show().";\n'
+            "    return;\n  }\n"
+            f"  var frames = {frames};\n"
+            f"  Plotly.newPlot(el, {data}, {layout}, {config}).then(function () {{\n"
+            "    if (frames.length) { return Plotly.addFrames(el, frames); }\n"
+            "  });\n"
+            "})();</script>"
+        )
+
+    def _repr_mimebundle_(self, include: Any = None, exclude: Any = None) -> dict[str, Any]:
+        if "google.colab" in sys.modules:
+            # Colab renders plotly's own output (its renderer loads plotly.js itself)
+            return dict(self.figure._repr_mimebundle_(include, exclude))
+        return {
+            "text/html": self.to_html(),
+            "application/vnd.plotly.v1+json": self.figure.to_plotly_json(),
+            "text/plain": f"<rikin interactive figure: {self.figure.layout.title.text}>",
+        }
+
+    def show(self) -> None:
+        """Display with plotly's renderer (a browser tab outside a notebook)."""
+        self.figure.show()
+
+
+class _Encoder(json.JSONEncoder):
+    def default(self, o: Any) -> Any:
+        if isinstance(o, np.ndarray):
+            return o.tolist()
+        if isinstance(o, np.generic):
+            return o.item()
+        return super().default(o)
+
+
+def _div_id(kind: str, arm: SerialArm, extra: Any) -> str:
+    """A deterministic div id: the same figure gets the same id at every build."""
+    import hashlib
+
+    h = hashlib.sha256(f"{kind}|{arm.name}|{np.asarray(extra).round(9).tobytes().hex()}".encode())
+    return f"{HTML_MARKER}-{kind}-{h.hexdigest()[:10]}"
+
+
+# ------------------------------------------------------------------ geometry as traces
+def _xyz(points: FloatArray, dims: int) -> dict[str, list[float | None]]:
+    """Plotly coordinate lists; NaN rows become gaps (None)."""
+    out: dict[str, list[float | None]] = {}
+    for k, name in enumerate("xyz"[:dims]):
+        out[name] = [None if not np.isfinite(v) else round(float(v), 6) for v in points[:, k]]
+    return out
+
+
+def _segments(starts: FloatArray, ends: FloatArray) -> FloatArray:
+    """Segments as one polyline with NaN gaps, shape (3 m, 3)."""
+    m = len(starts)
+    out = np.full((3 * m, 3), np.nan)
+    out[0::3] = starts
+    out[1::3] = ends
+    return out
+
+
+def _empty(dims: int) -> dict[str, list[Any]]:
+    return {name: [] for name in "xyz"[:dims]}
+
+
+def _arm_geometry(arm: SerialArm, q: FloatArray | None, fs: float, dims: int,
+                  frames: bool) -> list[dict[str, Any]]:
+    """Coordinates of the ``TRACES_PER_ARM`` traces of one arm (empty when ``q`` is None)."""
+    if q is None:
+        return [_empty(dims) for _ in range(TRACES_PER_ARM)]
+    F = arm._fk(q, frames=True)
+    geo = [_xyz(link_path(arm, F), dims), _xyz(joint_points(arm, F), dims),
+           _xyz(gripper_path(F[-1], 0.9 * fs, planar=dims == 2), dims),
+           _xyz(F[-1:, :3, 3], dims)]
+    for k in range(3):
+        if frames and k < dims:
+            o = F[:, :3, 3]
+            geo.append(_xyz(_segments(o, o + fs * F[:, :3, k]), dims))
+        else:
+            geo.append(_empty(dims))
+    return geo
+
+
+def _arm_traces(go: Any, dims: int, colour: str, name: str, group: str,
+                geo: list[dict[str, Any]], hover: str, show_legend: bool = True) -> list[Any]:
+    Scatter = go.Scatter3d if dims == 3 else go.Scatter
+    width = 7 if dims == 3 else 5
+    common = {"legendgroup": group, "hoverinfo": "text", "text": hover}
+    traces = [
+        Scatter(mode="lines", line={"color": colour, "width": width}, name=name,
+                showlegend=show_legend, **common, **geo[0]),
+        Scatter(mode="markers", marker={"size": 5 if dims == 3 else 9, "color": "white",
+                                        "line": {"color": colour, "width": 2}},
+                name=name + " joints", showlegend=False, **common, **geo[1]),
+        Scatter(mode="lines", line={"color": "#ff7f0e", "width": 5 if dims == 3 else 3},
+                name=name + " gripper", showlegend=False, **common, **geo[2]),
+        Scatter(mode="markers", marker={"size": 5 if dims == 3 else 11, "color": "#ff7f0e",
+                                        "symbol": "diamond"},
+                name=name + " TCP", showlegend=False, **common, **geo[3]),
+    ]
+    for k in range(3):
+        traces.append(Scatter(mode="lines", line={"color": _AXIS_HEX[AXIS_COLOURS[k]],
+                                                  "width": 3 if dims == 3 else 2},
+                              name=f"{name} {'xyz'[k]} axes", showlegend=False,
+                              hoverinfo="skip", legendgroup=group, **geo[4 + k]))
+    return traces
+
+
+def _layout(go: Any, arm: SerialArm, lim: FloatArray, dims: int, title: str,
+            height: int) -> dict[str, Any]:
+    u = f" ({arm.units})" if arm.units else ""
+    layout: dict[str, Any] = {
+        "title": {"text": title, "font": {"size": 14}, "x": 0.0, "xanchor": "left"},
+        "height": height,
+        "margin": {"l": 10, "r": 10, "t": 80, "b": 40},
+        "legend": {"orientation": "h", "y": -0.02, "font": {"size": 11}},
+        "autosize": True,
+        "uirevision": "keep",     # keep the user's rotation when the data change
+        "annotations": [{"text": MARKER_KEY.replace("★", "◆"), "showarrow": False,
+                         "xref": "paper", "yref": "paper", "x": 0.0, "y": 1.0,
+                         "xanchor": "left", "yanchor": "bottom", "font": {"size": 10,
+                                                                          "color": "#555"}}],
+    }
+    if dims == 3:
+        axes = {f"{'xyz'[k]}axis": {"range": [float(lim[k, 0]), float(lim[k, 1])],
+                                   "title": {"text": f"{'xyz'[k]}{u}"}, "nticks": 5}
+                for k in range(3)}
+        layout["scene"] = {**axes, "aspectmode": "cube",
+                           "domain": {"x": [0.0, 1.0], "y": [0.0, 1.0]},
+                           "camera": {"eye": {"x": 1.55, "y": -1.55, "z": 0.9}}}
+    else:
+        layout["xaxis"] = {"range": [float(lim[0, 0]), float(lim[0, 1])], "title": f"x{u}",
+                           "zeroline": False}
+        layout["yaxis"] = {"range": [float(lim[1, 0]), float(lim[1, 1])], "title": f"y{u}",
+                           "scaleanchor": "x", "scaleratio": 1, "zeroline": False}
+    return layout
+
+
+def _limits(arm: SerialArm, points: FloatArray, dims: int) -> FloatArray:
+    if dims == 2:
+        reach = sum(abs(float(lk.a)) for lk in arm.links) + float(np.linalg.norm(arm.tool[:2, 3]))
+        c = arm.base[:2, 3]
+        return np.stack([c - 1.12 * reach, c + 1.12 * reach], axis=1)
+    return _square_limits(np.vstack([points, arm.base[None, :3, 3]]), 3, 0.15 * arm.scale)
+
+
+def _target_trace(go: Any, dims: int, p: FloatArray, name: str = "target") -> Any:
+    Scatter = go.Scatter3d if dims == 3 else go.Scatter
+    return Scatter(mode="markers", name=name, hoverinfo="name",
+                   marker={"size": 9 if dims == 3 else 16, "color": "rgba(0,0,0,0)",
+                           "line": {"color": "#d62728", "width": 3}},
+                   **_xyz(p[None, :3], dims))
+
+
+def _as_result(arm: SerialArm,
+               result: Any) -> tuple[FloatArray, tuple[str, ...], FloatArray | None]:
+    if isinstance(result, IKResult):
+        Q = np.asarray(result.q, dtype=np.float64)
+        return Q, result.labels, result.target
+    Q = arm.check_q(result, "result")
+    Q = Q[None] if Q.ndim == 1 else Q
+    return Q, tuple("" for _ in Q), None
+
+
+def _check_height(height: Any) -> int:
+    if isinstance(height, bool) or not isinstance(height, (int, np.integer)) or height < 200:
+        raise InputError(f"height must be an integer number of pixels >= 200, got {height!r}")
+    return int(height)
+
+
+# ------------------------------------------------------------------ the public figures
+def solutions_figure(arm: SerialArm, result: Any, *, frames: bool = True, height: int = 560,
+                     title: str | None = None, selected: int = 1) -> InteractiveFigure:
+    """Every IK solution of one target, stepped through with buttons; rotatable in 3D.
+
+    Buttons ``1 .. k`` show one solution at a time (its branch and joint
+    values in the title), ``all`` shows every solution at once, each in its
+    own colour (click a legend entry to hide one). Drag to rotate, scroll to
+    zoom (3D).
+
+    Parameters
+    ----------
+    arm : SerialArm
+    result : IKResult or array_like, shape (k, n)
+    frames : bool
+        Draw every joint frame's axes (x red, y green, z blue): they tell
+        apart solutions whose joints lie at the same points.
+    height : int
+        Pixels.
+    title : str, optional
+        Default: the arm's name and the number of solutions.
+    selected : int
+        The solution shown first (numbered from 1).
+
+    Returns
+    -------
+    InteractiveFigure
+
+    Raises
+    ------
+    InputError
+        No solutions, a bad shape, ``selected`` out of range.
+    """
+    _check_arm(arm)
+    go = _plotly()
+    Q, labels, target = _as_result(arm, result)
+    if Q.ndim != 2 or len(Q) == 0:
+        raise InputError("there are no solutions to draw (the IK result is empty)")
+    Q = arm.check_q(Q, "result.q")
+    k = len(Q)
+    if isinstance(selected, bool) or not isinstance(selected, (int, np.integer)) \
+            or not 1 <= selected <= k:
+        raise InputError(f"selected must be a solution number 1..{k}, got {selected!r}")
+    height = _check_height(height)
+    dims = 2 if is_planar(arm) else 3
+    F = arm._fk(Q, frames=True)
+    pts = F[:, :, :3, 3].reshape(-1, 3)
+    if target is not None:
+        pts = np.vstack([pts, target[None, :3, 3]])
+    lim = _limits(arm, pts, dims)
+    fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
+    traces: list[Any] = []
+    heads = []
+    for i in range(k):
+        head = f"{i + 1}: {labels[i]}" if labels[i] else f"solution {i + 1}"
+        heads.append(f"{head}   q = {_q_text(arm, Q[i])}")
+        geo = _arm_geometry(arm, Q[i], fs, dims, frames)
+        traces += _arm_traces(go, dims, SLOT_COLOURS[i % len(SLOT_COLOURS)], head, f"s{i}", geo,
+                              heads[-1])
+    n_target = 0
+    if target is not None:
+        traces.append(_target_trace(go, dims, target[:3, 3]))
+        n_target = 1
+    base = f"{arm.name}: {k} IK solution{'s' if k != 1 else ''}" if title is None else title
+
+    def visible(which: int | None) -> list[bool]:
+        vis = [which is None or i == which for i in range(k) for _ in range(TRACES_PER_ARM)]
+        return vis + [True] * n_target
+
+    for tr, v in zip(traces, visible(selected - 1), strict=True):
+        tr.visible = v
+    buttons = [{"label": str(i + 1), "method": "update",
+                "args": [{"visible": visible(i)}, {"title.text": f"{base}<br>{heads[i]}"}]}
+               for i in range(k)]
+    every = f"{base}<br>all {k} solutions (legend: click to hide)"
+    buttons.append({"label": "all", "method": "update",
+                    "args": [{"visible": visible(None)}, {"title.text": every}]})
+    layout = _layout(go, arm, lim, dims, f"{base}<br>{heads[selected - 1]}", height)
+    layout["updatemenus"] = [{"type": "buttons", "direction": "right", "buttons": buttons,
+                              "active": selected - 1, "showactive": True, "x": 0.0, "y": -0.06,
+                              "xanchor": "left", "yanchor": "top", "pad": {"t": 4},
+                              "font": {"size": 12}}]
+    layout["legend"]["y"] = -0.16
+    layout["margin"]["b"] = 110
+    fig = go.Figure(data=traces, layout=layout)
+    return InteractiveFigure(fig, _div_id("solutions", arm, Q))
+
+
+def arm_figure(arm: SerialArm, q: Any, *, frames: bool = True, height: int = 520,
+               title: str | None = None) -> InteractiveFigure:
+    """One configuration of the arm, rotatable (3D) and zoomable.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    q : array_like, shape (n,)
+    frames : bool
+    height : int
+    title : str, optional
+
+    Returns
+    -------
+    InteractiveFigure
+    """
+    _check_arm(arm)
+    go = _plotly()
+    qv = arm.check_q(q)
+    if qv.ndim != 1:
+        raise InputError(f"q must be one configuration of shape ({arm.n},), got {qv.shape}; "
+                         "use solutions_figure for several")
+    height = _check_height(height)
+    dims = 2 if is_planar(arm) else 3
+    F = arm._fk(qv, frames=True)
+    lim = _limits(arm, F[:, :3, 3], dims)
+    fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
+    text = f"{arm.name} at q = {_q_text(arm, qv)}" if title is None else title
+    traces = _arm_traces(go, dims, SLOT_COLOURS[0], arm.name, "arm",
+                         _arm_geometry(arm, qv, fs, dims, frames), text)
+    fig = go.Figure(data=traces, layout=_layout(go, arm, lim, dims, text, height))
+    return InteractiveFigure(fig, _div_id("arm", arm, qv))
+
+
+def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: int = 600,
+                title: str | None = None, step_labels: Any = None) -> InteractiveFigure:
+    """The target moves along a path; at each step every branch that reaches it is drawn.
+
+    A slider (and a play button) moves the target through ``targets``. Each
+    branch keeps its colour and its legend entry along the whole path (click
+    an entry to hide that branch); a branch that cannot reach a step is left
+    out there, and a step no branch reaches says so in the title, with by
+    how much it is out of reach.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    targets : sequence of targets
+        Anything ``arm.ik`` takes, one per step (e.g. an array ``(m, 4, 4)``
+        of poses, or ``(m, 3)`` positions for a position-only arm).
+    frames : bool
+        Draw the joint frames too.
+    height : int
+    title : str, optional
+    step_labels : sequence of str, optional
+        The slider's label of each step; default ``1 .. m``.
+
+    Returns
+    -------
+    InteractiveFigure
+
+    Raises
+    ------
+    InputError
+        Fewer than 2 targets, a bad target, or labels of the wrong length.
+    """
+    _check_arm(arm)
+    go = _plotly()
+    steps = list(targets)
+    m = len(steps)
+    if m < 2:
+        raise InputError(f"a path needs at least 2 targets, got {m}")
+    labels_given = None if step_labels is None else [str(s) for s in step_labels]
+    if labels_given is not None and len(labels_given) != m:
+        raise InputError(f"step_labels has {len(labels_given)} entries for {m} targets")
+    height = _check_height(height)
+    dims = 2 if is_planar(arm) else 3
+    results: list[IKResult | None] = []
+    why: list[str] = []
+    for t in steps:
+        try:
+            results.append(arm.ik(t))
+            why.append("")
+        except InputError:
+            raise
+        except RikinError as exc:       # unreachable (or another IK error): say why
+            results.append(None)
+            why.append(str(exc))
+    branch_names: list[str] = []
+    for r in results:
+        for lab in (r.labels if r is not None else ()):
+            if lab not in branch_names:
+                branch_names.append(lab)
+    if not branch_names:
+        raise InputError("no target on the path is reachable: there is nothing to draw")
+    tpos = np.stack([_pose_position(arm, r, t) for r, t in zip(results, steps, strict=True)])
+    allpts = [tpos]
+    for r in results:
+        if r is not None:
+            allpts.append(arm._fk(np.asarray(r.q), frames=True)[:, :, :3, 3].reshape(-1, 3))
+    lim = _limits(arm, np.vstack(allpts), dims)
+    fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
+    base = f"{arm.name}: the target along a path" if title is None else title
+    nb = len(branch_names)
+
+    def step_data(s: int) -> tuple[list[dict[str, Any]], str]:
+        r = results[s]
+        data: list[dict[str, Any]] = []
+        for b in branch_names:
+            q = None
+            if r is not None and b in r.labels:
+                q = np.asarray(r.q[r.labels.index(b)])
+            data += _arm_geometry(arm, q, fs, dims, frames)
+        data.append(_xyz(tpos[s:s + 1], dims))
+        if r is None:
+            text = f"step {s + 1}: unreachable: {why[s]}"
+        else:
+            text = f"step {s + 1}: {len(r)} solution{'s' if len(r) != 1 else ''}"
+        return data, text
+
+    first, first_text = step_data(0)
+    traces: list[Any] = []
+    for j, b in enumerate(branch_names):
+        traces += _arm_traces(go, dims, SLOT_COLOURS[j % len(SLOT_COLOURS)], b, f"b{j}",
+                              first[j * TRACES_PER_ARM:(j + 1) * TRACES_PER_ARM], b)
+    Scatter = go.Scatter3d if dims == 3 else go.Scatter
+    traces.append(_target_trace(go, dims, tpos[0]))
+    traces.append(Scatter(mode="lines", name="path", hoverinfo="skip",
+                          line={"color": "#d62728", "width": 2, "dash": "dot"},
+                          **_xyz(tpos, dims)))
+    moving = list(range(nb * TRACES_PER_ARM + 1))
+    frames_out = []
+    slider_steps = []
+    for s in range(m):
+        data, text = step_data(s)
+        name = labels_given[s] if labels_given is not None else str(s + 1)
+        frames_out.append(go.Frame(
+            name=f"step{s}", traces=moving,
+            data=[Scatter(**d) for d in data],
+            layout={"title": {"text": f"{base}<br>{_short(text)}"}}))
+        slider_steps.append({"label": name, "method": "animate",
+                             "args": [[f"step{s}"], {"mode": "immediate",
+                                                     "frame": {"duration": 0, "redraw": True},
+                                                     "transition": {"duration": 0}}]})
+    layout = _layout(go, arm, lim, dims, f"{base}<br>{_short(first_text)}", height)
+    layout["sliders"] = [{"active": 0, "steps": slider_steps, "x": 0.12, "len": 0.88, "y": -0.02,
+                          "yanchor": "top", "currentvalue": {"prefix": "target ",
+                                                             "font": {"size": 12}},
+                          "pad": {"t": 30}}]
+    layout["updatemenus"] = [{"type": "buttons", "showactive": False, "x": 0.0, "y": -0.02,
+                              "xanchor": "left", "yanchor": "top", "pad": {"t": 40},
+                              "buttons": [{"label": "▶ play", "method": "animate",
+                                           "args": [None, {"frame": {"duration": 120,
+                                                                     "redraw": True},
+                                                           "fromcurrent": True,
+                                                           "transition": {"duration": 0}}]}]}]
+    layout["legend"]["y"] = -0.22
+    layout["margin"]["b"] = 140
+    fig = go.Figure(data=traces, layout=layout, frames=frames_out)
+    return InteractiveFigure(fig, _div_id("path", arm, tpos))
+
+
+def _short(text: str, width: int = 110) -> str:
+    return text if len(text) <= width else text[:width - 1] + "…"
+
+
+def _pose_position(arm: SerialArm, result: IKResult | None, target: Any) -> FloatArray:
+    """The target's position (3,) for drawing, reachable or not."""
+    if result is not None:
+        return np.asarray(result.target[:3, 3], dtype=np.float64)
+    t = as_float_array(target, "target")
+    if t.shape == (4, 4):
+        return t[:3, 3]
+    p = np.zeros(3)
+    n = min(len(t), 3 if not is_planar(arm) else 2)
+    p[:n] = t[:n]
+    return p

@@ -1,0 +1,145 @@
+"""Tables for the book and notebooks: HTML where HTML is shown, aligned text elsewhere.
+
+A notebook or the built book shows :class:`Table` as an HTML table that
+fits the page (numbers right-aligned, in a scrolling box on a narrow
+screen); ``print(table)`` gives the same rows as aligned text. Numbers are
+formatted here, so no ``np.float64(...)`` or ``np.int64(...)`` reaches the
+reader.
+
+>>> import rikin
+>>> from rikin.tables import solutions_table
+>>> arm = rikin.robots.planar_2r(10, 10)
+>>> print(solutions_table(arm.ik([15.0, 5.0]), decimals=2))
+#  branch  q1 (°)  q2 (°)
+1  down    -19.33   75.52
+2  up       56.20  -75.52
+"""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from .errors import InputError
+from .ik.result import IKResult
+
+__all__ = ["Table", "solutions_table", "table"]
+
+#: The CSS class of every table (the book's stylesheet may style it).
+CSS_CLASS = "rikin-table"
+
+
+def _cell(v: Any, decimals: int) -> str:
+    if isinstance(v, (bool, np.bool_)):
+        return "yes" if v else "no"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        f = float(v)
+        if not np.isfinite(f):
+            return str(f)
+        text = f"{f:.{decimals}f}"
+        return "0" + text[2:] if text.startswith("-0") and float(text) == 0 else text
+    return str(v)
+
+
+class Table:
+    """Rows of cells with a header; displays as HTML, prints as aligned text.
+
+    Parameters
+    ----------
+    header : sequence of str
+    rows : sequence of sequences
+        Numbers are formatted with ``decimals`` decimals (integers as they are).
+    decimals : int
+    caption : str, optional
+    """
+
+    def __init__(self, header: Sequence[str], rows: Sequence[Sequence[Any]], decimals: int = 4,
+                 caption: str | None = None) -> None:
+        self.header = [str(h) for h in header]
+        self.cells = [[_cell(v, decimals) for v in row] for row in rows]
+        for i, row in enumerate(self.cells):
+            if len(row) != len(self.header):
+                raise InputError(f"row {i + 1} has {len(row)} cells for {len(self.header)} columns")
+        self.caption = caption
+        self._numeric = [all(_is_number(r[j]) for r in self.cells) and bool(self.cells)
+                         for j in range(len(self.header))]
+
+    def __str__(self) -> str:
+        widths = [max([len(h)] + [len(r[j]) for r in self.cells])
+                  for j, h in enumerate(self.header)]
+
+        def line(cells: Sequence[str]) -> str:
+            return "  ".join(c.rjust(w) if num else c.ljust(w)
+                             for c, w, num in zip(cells, widths, self._numeric, strict=True)
+                             ).rstrip()
+
+        out = ([self.caption] if self.caption else []) + [line(self.header)]
+        return "\n".join(out + [line(r) for r in self.cells])
+
+    __repr__ = __str__
+
+    def _repr_html_(self) -> str:
+        def td(c: str, j: int, tag: str = "td") -> str:
+            style = ' style="text-align:right"' if self._numeric[j] else ""
+            return f"<{tag}{style}>{html.escape(c)}</{tag}>"
+
+        head = "".join(td(h, j, "th") for j, h in enumerate(self.header))
+        body = "".join("<tr>" + "".join(td(c, j) for j, c in enumerate(r)) + "</tr>"
+                       for r in self.cells)
+        cap = f"<caption>{html.escape(self.caption)}</caption>" if self.caption else ""
+        return (f'<div class="{CSS_CLASS}-wrap" style="max-width:100%;overflow-x:auto">'
+                f'<table class="{CSS_CLASS}">{cap}<thead><tr>{head}</tr></thead>'
+                f"<tbody>{body}</tbody></table></div>")
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
+def table(header: Sequence[str], rows: Any, decimals: int = 4, caption: str | None = None) -> Table:
+    """A :class:`Table` of any rows (lists, tuples or a 2-D array)."""
+    if isinstance(rows, np.ndarray):
+        if rows.ndim != 2:
+            raise InputError(f"rows must be 2-D, got shape {rows.shape}")
+        rows = rows.tolist()
+    return Table(header, rows, decimals, caption)
+
+
+def solutions_table(result: IKResult, decimals: int = 4, caption: str | None = None,
+                    units: str = "") -> Table:
+    """Every solution of an IK result: number, branch, joint values (degrees for revolute).
+
+    Parameters
+    ----------
+    result : IKResult
+    decimals : int
+    caption : str, optional
+        Default: none; a singular result says so in the caption.
+    units : str
+        Length units of the prismatic joints, for their column headers.
+
+    Returns
+    -------
+    Table
+    """
+    if not isinstance(result, IKResult):
+        raise InputError(f"result must be an IKResult, got {type(result).__name__}")
+    qd = result.degrees()
+    n = qd.shape[1] if qd.ndim == 2 else len(result.revolute)
+    suffix = f" ({units})" if units else ""
+    header = ["#", "branch"] + [f"q{j + 1} (°)" if r else f"q{j + 1}{suffix}"
+                                 for j, r in zip(range(n), result.revolute, strict=True)]
+    rows = [[i + 1, lab, *map(float, q)] for i, (lab, q) in enumerate(zip(result.labels, qd,
+                                                                          strict=True))]
+    if caption is None and result.singular:
+        caption = f"singular: {result.singularity}; free joints {result.free_joints}"
+    return Table(header, rows, decimals, caption)
