@@ -50,46 +50,51 @@ def test_lenient_reading(tmp_path):
     assert any("duplicated" in w for w in nb.warnings)
 
 
-def test_discover_files_folders_and_student_folders(tmp_path):
+def test_discover_student_folders_and_loose_files(tmp_path):
     cls = tmp_path / "class"
     (cls / "carol").mkdir(parents=True)
     (cls / "dave" / "sub").mkdir(parents=True)
     (cls / "erin" / ".ipynb_checkpoints").mkdir(parents=True)
     (cls / "empty").mkdir()
-    (cls / "alice.ipynb").write_text("{}")
     (cls / "notes.txt").write_text("")
+    (cls / "alice.ipynb").write_text("{}")
     (cls / "carol" / "fake2r.ipynb").write_text("{}")
     (cls / "carol" / "scratch.ipynb").write_text("{}")
     (cls / "dave" / "sub" / "my work.ipynb").write_text("{}")
     (cls / "erin" / ".ipynb_checkpoints" / "fake2r-checkpoint.ipynb").write_text("{}")
     (tmp_path / "bob smith (late).ipynb").write_text("{}")
-    subs, notes = discover(
-        [cls, tmp_path / "bob smith (late).ipynb", tmp_path / "missing"], "fake2r.ipynb"
-    )
+    subs, notes = discover([cls, tmp_path / "bob smith (late).ipynb"], "fake2r.ipynb")
     got = {s.student: s.path.name for s in subs}
+    bob = [k for k in got if k.startswith("bob_smith_late-")]
+    assert len(bob) == 1 and re.fullmatch(r"bob_smith_late-[0-9a-f]{6}", bob[0])
     assert got == {
         "alice": "alice.ipynb",
         "carol": "fake2r.ipynb",
         "dave": "my work.ipynb",
-        "bob_smith_late": "bob smith (late).ipynb",
+        bob[0]: "bob smith (late).ipynb",
     }
     text = "\n".join(notes)
-    assert "erin: no .ipynb inside" in text or "erin" in text
-    assert "missing: no such file" in text
+    assert "erin: no .ipynb inside" in text
     assert "carol: several notebooks found; graded fake2r.ipynb" in text
 
 
-def test_duplicate_student_ids_are_renamed(tmp_path):
+def test_same_name_from_two_folders_is_two_students_and_said(tmp_path):
     (tmp_path / "a").mkdir()
     (tmp_path / "b").mkdir()
     (tmp_path / "a" / "x.ipynb").write_text("{}")
     (tmp_path / "b" / "x.ipynb").write_text("{}")
     subs, notes = discover([tmp_path / "a" / "x.ipynb", tmp_path / "b" / "x.ipynb"], "x.ipynb")
-    assert [s.student for s in subs] == ["x", "x-2"]
-    assert "two submissions named x" in notes[0]
+    ids = [s.student for s in subs]
+    assert len(set(ids)) == 2 and all(re.fullmatch(r"x-[0-9a-f]{6}", i) for i in ids)
+    assert "2 submissions named x" in notes[0]
+    # The same two files in the other order get the same ids (traceable, not order-made).
+    again, _ = discover([tmp_path / "b" / "x.ipynb", tmp_path / "a" / "x.ipynb"], "x.ipynb")
+    assert {s.student: s.path for s in again} == {s.student: s.path for s in subs}
 
 
 def test_safe_ids_and_picking():
     assert safe_id("../../etc/passwd") == "etc_passwd"
     assert safe_id("José García") == "José_García"
+    for bad in ("+1", "-alice", "@bob", "=HYPERLINK(1)", "..x"):
+        assert safe_id(bad)[0] not in "+-@=.", bad
     assert pick_notebook([], "a.ipynb") == (None, "")

@@ -12,19 +12,22 @@ import logging
 import os
 import queue
 import shutil
+import sys
 import tempfile
 import threading
 import time
 import traceback
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from . import __version__
 from .assignment import Assignment, load_assignment
-from .notebook import Submission, discover
-from .outputs import atomic_write, grades_csv, load_state, write_submission
+from .gradebook import Gradebook
+from .lms import read_roster
+from .notebook import Submission, discover, shown
+from .policy import PolicyError, Rules, parse_time
 from .progress import Progress, summarize, summary_text
 from .report import GRADER_ERROR, SubmissionResult, TestResult
 from .runner import RunOptions, SubmissionRunner
@@ -37,6 +40,7 @@ from .sandbox import (
     prepare_workdir,
 )
 from .sandbox.config import package_dir
+from .views import export, write_student
 
 log = logging.getLogger("rikingrade")
 
@@ -73,11 +77,18 @@ def grade(
     tmp_mb: int = 64,
     output_limit: int = 10_000,
     regrade: bool = False,
+    gradebook: str | None = None,
+    roster: str | None = None,
+    due: str | None = None,
+    late_per_day: float = 0.0,
+    late_cap: float = 100.0,
+    grace_minutes: float = 0.0,
+    extensions: str | None = None,
     unsafe_no_sandbox: bool = False,
     progress: bool | None = None,
     quiet: bool = False,
 ) -> GradeReport:
-    """Grade notebooks against an assignment's hidden tests; write gradebooks and feedback.
+    """Grade notebooks against an assignment's hidden tests into the course gradebook.
 
     Parameters
     ----------
@@ -85,13 +96,15 @@ def grade(
         An exercise name (``"scara"`` means ``rikingrade.hidden.scara``), a dotted module
         name, or the path of a ``.py`` hidden-test module following ``rikingrade.spec``.
     submissions : path or sequence of paths
-        ``.ipynb`` files (student id = file name) and folders holding a class: each
-        ``.ipynb`` directly inside is a student, each sub-folder is a student (id = folder
-        name, as LMS exports give them).
+        ``.ipynb`` files and class folders as LMS give them (Canvas, Moodle, Blackboard,
+        Brightspace downloads, an nbgrader ``submitted/`` tree, a notebook or a folder per
+        student; see :func:`rikingrade.notebook.discover`). A folder that does not look
+        like a class is refused with what was found.
     out : path
-        Output folder: ``grades.csv``, ``summary.json``, ``grading.log``,
-        ``results/<student>.json`` (Gradescope format), ``feedback/<student>.md`` and
-        ``.html``. Created if missing.
+        Output folder: the gradebook (``gradebook.sqlite`` unless ``gradebook`` is given)
+        and its views: ``grades.csv``, ``summary.json``, ``canvas-<exercise>.csv``,
+        ``moodle-<exercise>.csv``, ``report/``, ``results/<student>.json`` (Gradescope
+        format), ``feedback/<student>.md`` and ``.html``; ``grading.log``.
     workers : int
         Submissions graded in parallel, one sandbox each.
     seed : int
@@ -117,8 +130,27 @@ def grade(
     output_limit : int
         Characters of printed output kept per cell (the rest is counted and dropped).
     regrade : bool
-        Grade everything again instead of resuming (by default a submission whose file
-        hash and grader settings are unchanged since the last run is not graded again).
+        Grade everything given again (a new result in the gradebook) instead of reusing the
+        result of a file already graded with the same settings.
+    gradebook : str or None
+        The course's SQLite gradebook (default ``<out>/gradebook.sqlite``); share one across
+        assignments by passing the same file.
+    roster : str or None
+        A roster CSV (id, name, email, SIS id, section; a Canvas gradebook export works):
+        submissions are matched to it by LMS id or name, and the LMS exports use its ids.
+    due : str or None
+        Due time (``2026-11-20 23:59``, local time, or ISO 8601 with an offset); with
+        ``late_per_day`` it sets the late penalty. Recorded in the gradebook: later runs
+        keep it until another is given.
+    late_per_day : float
+        Late penalty, percent of the maximum per started day after ``due``.
+    late_cap : float
+        Largest late penalty, percent of the maximum.
+    grace_minutes : float
+        Minutes after ``due`` that are not late.
+    extensions : str or None
+        A CSV of per-student due times: columns student (id, as in grades.csv, or LMS id),
+        due, reason.
     unsafe_no_sandbox : bool
         Run student code without bubblewrap (development only: no isolation at all).
     progress : bool or None
@@ -129,26 +161,39 @@ def grade(
     Returns
     -------
     GradeReport
-        Per-submission results and the summary (graded, failed to run, timed out, mean).
+        This run's results (graded or reused), the summary, and the discovery notes.
 
     Raises
     ------
     AssignmentError
         The assignment cannot be loaded.
+    SubmissionsError
+        A path does not exist, holds no notebook, or does not look like a class.
     SandboxUnavailable
         bubblewrap is missing or cannot run here (and ``unsafe_no_sandbox`` is False).
+    GradebookBusy
+        Another grader is writing the same gradebook.
     """
     t0 = time.monotonic()
     out = Path(out).resolve()
     out.mkdir(parents=True, exist_ok=True)
     handler = _attach_log(out / "grading.log")
+    gb: Gradebook | None = None
     try:
         a = load_assignment(assignment)
         if isinstance(submissions, (str, Path)):
             submissions = [submissions]
         subs, notes = discover(list(submissions), a.notebook)
+        if roster is not None:
+            notes += _match_roster(subs, read_roster(roster))
         for n in notes:
             log.warning("%s", n)
+            if not quiet:
+                print(f"rikin-grade: note: {n}", file=sys.stderr)
+        rules = Rules(
+            parse_time(due) if due else None, late_per_day, late_cap, grace_minutes
+        )
+        ext_rows = _read_extensions(extensions, subs) if extensions else []
         limits = Limits(
             memory_mb=int(memory_mb),
             cpu_seconds=int(cpu_seconds),
@@ -163,21 +208,42 @@ def grade(
             reveal=bool(reveal),
         )
         key = _grader_key(a, seed, options, tmp_mb)
+        gb_path = Path(gradebook).resolve() if gradebook else out / "gradebook.sqlite"
+        gb = Gradebook.open(gb_path)
+        gb.add_assignment(a.exercise, a.max_score, [(t.name, float(t.weight)) for t in a.tests])
+        if due or late_per_day:
+            gb.set_policy(a.exercise, rules.due, rules.per_day, rules.cap, rules.grace_minutes)
+        for sid, when, why in ext_rows:
+            gb.add_extension(sid, a.exercise, when, why)
+        sub_ids = _record_submissions(gb, subs, a.exercise)
+        run_id = gb.start_run(
+            a.exercise,
+            __version__,
+            seed,
+            key,
+            {"submissions": [shown(p) for p in submissions], "regrade": regrade,
+             "workers": workers, "reveal": reveal},
+        )
         log.info(
-            "rikin-grade %s: %s (%d tests, max %.4g), %d submissions, key %s",
+            "rikin-grade %s: %s (%d tests, max %.4g), %d submissions, key %s, run %d of %s",
             __version__,
             a.name,
             len(a.tests),
             a.max_score,
             len(subs),
             key,
+            run_id,
+            gb_path,
         )
         calls = a.calls(seed)
         results: dict[str, SubmissionResult] = {}
         todo: list[Submission] = []
         for s in subs:
-            prev = None if regrade else load_state(out, s.student)
-            if prev is not None and prev.key == key and prev.sha256 == s.hash():
+            prev = None if regrade else gb.cached(sub_ids[s.student], key)
+            if prev is not None:
+                prev.student = s.student
+                gb.record(run_id, sub_ids[s.student], prev, a.exercise, seed,
+                          reuse=prev.result_id)  # type: ignore[attr-defined]
                 results[s.student] = prev
             else:
                 todo.append(s)
@@ -185,36 +251,152 @@ def grade(
         bar = Progress(len(subs), enabled=progress, quiet=quiet)
         for r in results.values():
             bar.update(r, resumed=True)
-        if todo:
-            config = SandboxConfig(
-                sandbox=not unsafe_no_sandbox,
-                tmp_mb=int(tmp_mb),
-                hidden=_hidden_paths(a, out, subs),
-            )
-            if config.sandbox and shutil.which(config.bwrap) is None:
-                raise SandboxUnavailable(INSTALL_HINT)
-            if not config.sandbox:
-                log.warning(
-                    "UNSAFE: grading without a sandbox (--unsafe-no-sandbox); "
-                    "student code can read and change this machine's files"
+        state = "interrupted"
+        try:
+            if todo:
+                config = SandboxConfig(
+                    sandbox=not unsafe_no_sandbox,
+                    tmp_mb=int(tmp_mb),
+                    hidden=_hidden_paths(a, out, subs) + [gb_path.parent],
                 )
-            _run_pool(a, calls, options, key, config, todo, max(1, int(workers)), out, bar, results)
-        ordered = [results[s.student] for s in subs if s.student in results]
-        atomic_write(out / "grades.csv", grades_csv(ordered, [t.name for t in a.tests]), fsync=True)
-        summary = summarize(ordered, time.monotonic() - t0, resumed)
-        summary.update({"assignment": a.exercise, "grader_version": __version__, "key": key})
-        atomic_write(out / "summary.json", json.dumps(summary, indent=2))
+                if config.sandbox and shutil.which(config.bwrap) is None:
+                    raise SandboxUnavailable(INSTALL_HINT)
+                if not config.sandbox:
+                    log.warning(
+                        "UNSAFE: grading without a sandbox (--unsafe-no-sandbox); "
+                        "student code can read and change this machine's files"
+                    )
+
+                def done(sub: Submission, res: SubmissionResult) -> None:
+                    gb.record(run_id, sub_ids[sub.student], res, a.exercise, seed)
+                    write_student(out, res, a.exercise, None)
+
+                _run_pool(
+                    a, calls, options, key, config, todo, max(1, int(workers)), done, bar,
+                    results,
+                )
+            state = "finished"
+        finally:
+            ordered = [results[s.student] for s in subs if s.student in results]
+            summary = summarize(ordered, time.monotonic() - t0, resumed)
+            summary.update(
+                {"assignment": a.exercise, "grader_version": __version__, "key": key,
+                 "seed": int(seed), "run": run_id, "state": state}
+            )
+            gb.end_run(run_id, state, summary)
+            # The views are rewritten even after Ctrl-C: every committed grade is in them.
+            files = export(gb, a.exercise, a.exercise, out, run_id, summary)
         log.info("summary: %s", summary_text(summary))
         if not quiet:
             print(f"{a.exercise}: {summary_text(summary)}")
             print(
-                f"grades: {out / 'grades.csv'}  feedback: {out / 'feedback'}  "
+                f"gradebook: {gb_path} ({len(gb.current(a.exercise))} students)  "
+                f"grades: {files['grades']}  report: {files['report'][0]}  "
                 f"log: {out / 'grading.log'}"
             )
+            for lms_name in ("canvas", "moodle"):
+                if lms_name in files:
+                    left = files[f"{lms_name}_skipped"]
+                    print(
+                        f"{lms_name.capitalize()} import: {files[lms_name]}"
+                        + (f" (left out, no {lms_name} id: {', '.join(left[:5])}"
+                           f"{' ...' if len(left) > 5 else ''})" if left else "")
+                    )
         return GradeReport(out=out, results=ordered, summary=summary, notes=notes)
     finally:
+        if gb is not None:
+            gb.close()
         logging.getLogger("rikingrade").removeHandler(handler)
         handler.close()
+
+
+def _record_submissions(gb: Gradebook, subs: list[Submission], exercise: str) -> dict[str, int]:
+    """Students and files into the gradebook (earlier attempts kept); the counted file's id."""
+    ids = {}
+    for s in subs:
+        gb.add_student(
+            s.student,
+            name=s.name,
+            email=s.email,
+            sis_id=s.sis_id,
+            login=s.login,
+            section=s.section,
+            canvas_id=s.lms_id if s.lms == "canvas" else "",
+            moodle_id=s.lms_id if s.lms == "moodle" else "",
+            lms=s.lms,
+            lms_id=s.lms_id,
+        )
+        for e in s.earlier:
+            gb.add_submission(
+                s.student, exercise, e.hash(), e.shown_path, e.submitted_at, e.time_source,
+                e.late,
+            )
+        ids[s.student] = gb.add_submission(
+            s.student, exercise, s.hash(), s.shown_path, s.submitted_at, s.time_source, s.late
+        )
+    return ids
+
+
+def _match_roster(subs: list[Submission], roster: list) -> list[str]:
+    """Fill in each submission's roster details; notes on what did not match."""
+    from .lms import match_roster, parse_file, parse_folder
+
+    notes = []
+    matched = set()
+    for s in subs:
+        parsed = parse_file(os.fsdecode(s.path.name)) or parse_folder(
+            os.fsdecode(s.path.parent.name)
+        )
+        e = match_roster(parsed, s.name or s.student, roster)
+        if e is None:
+            notes.append(f"{s.student}: not on the roster ({s.shown_path})")
+            continue
+        matched.add(id(e))
+        s.name = e.name or s.name
+        s.email, s.sis_id, s.section, s.login = e.email, e.sis_id, e.section, e.login
+        if s.lms in ("canvas", "moodle") and not s.lms_id:
+            s.lms_id = e.id
+        elif not s.lms_id:
+            # No LMS id in the download names: the roster's id is the LMS id (a Canvas
+            # export's ID column, a Moodle worksheet's "Participant N").
+            s.lms_id = e.id.removeprefix("Participant ").strip()
+            s.lms = "moodle" if e.id.startswith("Participant ") else "canvas"
+    missing = [e for e in roster if id(e) not in matched]
+    if missing:
+        notes.append(
+            f"{len(missing)} student(s) on the roster have no submission: "
+            + ", ".join(e.name or e.id for e in missing[:10])
+            + (" ..." if len(missing) > 10 else "")
+        )
+    return notes
+
+
+def _read_extensions(path: str, subs: list[Submission]) -> list[tuple[str, float, str]]:
+    """(student id, due, reason) from an extensions CSV (student, due, reason)."""
+    import csv
+
+    by_any = {}
+    for s in subs:
+        for k in (s.student, s.lms_id, s.sis_id, s.email, s.name):
+            if k:
+                by_any.setdefault(k, s.student)
+    try:
+        text = Path(path).read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise PolicyError(f"cannot read the extensions file {path}: {exc}") from None
+    rows = list(csv.reader(text.splitlines()))
+    out = []
+    for i, r in enumerate(rows):
+        if not r or not any(c.strip() for c in r):
+            continue
+        if i == 0 and r[0].strip().lower() in ("student", "id", "student id"):
+            continue
+        if len(r) < 2:
+            raise PolicyError(f"{path} line {i + 1}: expected student, due, reason; got {r}")
+        who = r[0].strip()
+        sid = by_any.get(who, who)
+        out.append((sid, parse_time(r[1]), (r[2].strip() if len(r) > 2 else "") or "extension"))
+    return out
 
 
 def _grader_key(a: Assignment, seed: int, options: RunOptions, tmp_mb: int) -> str:
@@ -308,10 +490,11 @@ def _run_pool(
     config: SandboxConfig,
     todo: list[Submission],
     workers: int,
-    out: Path,
+    done: Callable[[Submission, SubmissionResult], None],
     bar: Progress,
     results: dict[str, SubmissionResult],
 ) -> None:
+    """Grade ``todo`` with ``workers`` sandboxes; ``done`` commits each result as it comes."""
     jobs: queue.Queue[Submission] = queue.Queue()
     for s in todo:
         jobs.put(s)
@@ -343,7 +526,7 @@ def _run_pool(
                     log.error("%s: internal error:\n%s", sub.student, tb)
                     res = SubmissionResult(
                         student=sub.student,
-                        path=str(sub.path),
+                        path=sub.shown_path,
                         sha256=sub.hash(),
                         status=GRADER_ERROR,
                         reason="internal grader error (see the log)",
@@ -361,7 +544,7 @@ def _run_pool(
                         ],
                     )
                     sandbox.close()
-                write_submission(out, res, a.exercise)
+                done(sub, res)
                 _log_result(res)
                 with lock:
                     results[sub.student] = res

@@ -3,6 +3,9 @@
 Commands::
 
     rikin-grade ASSIGNMENT SUBMISSIONS... --out DIR [options]   grade a class
+    rikin-grade override ASSIGNMENT STUDENT --out DIR (--score X | --excused | --clear)
+                --reason TEXT                                 set a grade by hand
+    rikin-grade export ASSIGNMENT --out DIR                       rewrite the views
     rikin-grade gradescope-bundle ASSIGNMENT --out bundle.zip     build a Gradescope autograder
     rikin-grade gradescope-run ASSIGNMENT [--submission DIR] [--results FILE]
     rikin-grade check-sandbox                                     show what student code can see
@@ -33,6 +36,9 @@ run; a call that hangs or crashes costs only its test.
 
 EPILOG = """\
 other commands:
+  rikin-grade override ASSIGNMENT STUDENT --out DIR --score 7 --reason "..."
+                                                              set (or --excused, --clear) a grade
+  rikin-grade export ASSIGNMENT --out DIR                     rewrite grades.csv, LMS files, report
   rikin-grade gradescope-bundle ASSIGNMENT --out bundle.zip   build a Gradescope autograder zip
   rikin-grade gradescope-run ASSIGNMENT                       grade one upload (inside Gradescope)
   rikin-grade check-sandbox                                   probe what a notebook can see and do
@@ -41,10 +47,20 @@ other commands:
 examples:
   rikin-grade scara submissions/ --out graded/
   rikin-grade scara alice.ipynb bob.ipynb --out graded/ --workers 4 --reveal
+  rikin-grade scara canvas_download/ --out graded/ --roster roster.csv \
+      --due "2026-11-20 23:59" --late-per-day 10 --late-cap 50 --grace-minutes 15
+  rikin-grade scara canvas_download/smithjohn_12345_67890_scara.ipynb --out graded/
+                                             (regrade one student: the others keep their grade)
   rikin-grade path/to/my_hidden_tests.py class/ --out graded/ --timeout 10
 
+Grades go into a gradebook (SQLite) in OUT that keeps every run; grades.csv,
+canvas-ASSIGNMENT.csv (Canvas gradebook import), moodle-ASSIGNMENT.csv (Moodle grading
+worksheet upload), results/ (Gradescope JSON), feedback/ and report/ASSIGNMENT.html (the
+class report) are rewritten from it after each run, even after Ctrl-C.
+
 exit status: 0 graded (whatever the scores), 1 some submissions hit a grader error (see the
-log), 2 bad arguments or assignment, 3 the sandbox is unavailable.
+log), 2 bad arguments, assignment, submissions folder or gradebook in use, 3 the sandbox is
+unavailable.
 """
 
 # (parameter of api.grade, help). Defaults are read from the function's signature.
@@ -76,6 +92,25 @@ GRADE_OPTIONS: list[tuple[str, str]] = [
         "grade every submission again (default: resume, skipping submissions already graded "
         "with the same file hash and grader settings)",
     ),
+    (
+        "gradebook",
+        "the course's SQLite gradebook (default: OUT/gradebook.sqlite); pass the same file for "
+        "every assignment of a course",
+    ),
+    (
+        "roster",
+        "roster CSV (id, name, email, SIS id, section; a Canvas gradebook export works): "
+        "submissions are matched on LMS id or name, the LMS import files use its ids",
+    ),
+    (
+        "due",
+        "due time, e.g. '2026-11-20 23:59' (local) or ISO 8601 with an offset; kept in the "
+        "gradebook for later runs",
+    ),
+    ("late_per_day", "late penalty, percent of the maximum per started day after --due"),
+    ("late_cap", "largest late penalty, percent of the maximum"),
+    ("grace_minutes", "minutes after --due that are not late"),
+    ("extensions", "CSV of per-student due times: student, due, reason"),
     (
         "unsafe_no_sandbox",
         "DEVELOPMENT ONLY: run student code without bubblewrap, with no isolation",
@@ -127,16 +162,18 @@ def grade_parser() -> argparse.ArgumentParser:
         "submissions",
         metavar="SUBMISSIONS",
         nargs="+",
-        help=".ipynb files (student id = file name) or class folders: each .ipynb inside is "
-        "a student, each sub-folder is a student (id = folder name)",
+        help=".ipynb files or class folders as LMS give them: Canvas, Moodle, Blackboard, "
+        "Brightspace downloads (names parsed; the newest attempt counts), an nbgrader "
+        "submitted/ tree, a notebook or a folder per student",
     )
     p.add_argument(
         "--out",
         "-o",
         required=True,
         metavar="DIR",
-        help="output folder: grades.csv, summary.json, grading.log, results/<student>.json "
-        "(Gradescope format), feedback/<student>.md and .html",
+        help="output folder: gradebook.sqlite, grades.csv, summary.json, LMS import files, "
+        "report/, grading.log, results/<student>.json (Gradescope format), "
+        "feedback/<student>.md and .html",
     )
     _add_options(p, grade, GRADE_OPTIONS)
     p.add_argument("--version", action="version", version=f"rikin-grade {__version__}")
@@ -218,9 +255,85 @@ def check_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _gradebook_parser(prog: str, description: str) -> argparse.ArgumentParser:
+    """A command on an existing gradebook: ASSIGNMENT, --out, --gradebook."""
+    p = argparse.ArgumentParser(prog=f"rikin-grade {prog}", description=description)
+    p.add_argument("assignment", metavar="ASSIGNMENT", help="exercise name, as graded")
+    p.add_argument("--out", "-o", required=True, metavar="DIR", help="the grading output folder")
+    p.add_argument("--gradebook", metavar="FILE", help="default: OUT/gradebook.sqlite")
+    return p
+
+
+def override_parser() -> argparse.ArgumentParser:
+    p = _gradebook_parser(
+        "override",
+        "Set a student's grade by hand, excuse them, or clear an override; the "
+        "reason is recorded in the gradebook and shown in their feedback. The views "
+        "(grades.csv, LMS files, feedback, report) are rewritten.",
+    )
+    p.add_argument("student", metavar="STUDENT", help="student id, as in grades.csv")
+    what = p.add_mutually_exclusive_group(required=True)
+    what.add_argument("--score", type=float, help="the grade to give")
+    what.add_argument("--excused", action="store_true", help="excuse the student")
+    what.add_argument("--clear", action="store_true", help="remove the override in force")
+    p.add_argument("--reason", required=True, help="why (shown to the student)")
+    return p
+
+
+def export_parser() -> argparse.ArgumentParser:
+    return _gradebook_parser(
+        "export",
+        "Rewrite grades.csv, summary.json, the Canvas and Moodle import files, "
+        "feedback and the class report from the gradebook alone (after a kill, or to "
+        "export another assignment of a shared gradebook).",
+    )
+
+
+def _gradebook_command(cmd: str, args_list: list[str]) -> int:
+    from pathlib import Path
+
+    from .gradebook import Gradebook
+    from .views import export
+
+    ns = (override_parser() if cmd == "override" else export_parser()).parse_args(args_list)
+    out = Path(ns.out).resolve()
+    path = Path(ns.gradebook).resolve() if ns.gradebook else out / "gradebook.sqlite"
+    if not path.exists():
+        print(f"rikin-grade: no gradebook at {path}: grade the class first", file=sys.stderr)
+        return EXIT_USAGE
+    with Gradebook.open(path) as gb:
+        known = {r["student"] for r in gb.current(ns.assignment)}
+        if not known:
+            print(f"rikin-grade: {path} has no grades for {ns.assignment}", file=sys.stderr)
+            return EXIT_USAGE
+        if cmd == "override":
+            if ns.student not in known:
+                print(
+                    f"rikin-grade: no student {ns.student!r} graded for {ns.assignment} "
+                    f"(known: {', '.join(sorted(known)[:8])}{' ...' if len(known) > 8 else ''})",
+                    file=sys.stderr,
+                )
+                return EXIT_USAGE
+            kind = "excused" if ns.excused else "cleared" if ns.clear else "score"
+            max_score = gb.max_score(ns.assignment)
+            if kind == "score" and not 0 <= ns.score <= max_score:
+                print(f"rikin-grade: --score must be in [0, {max_score:g}]", file=sys.stderr)
+                return EXIT_USAGE
+            gb.add_override(ns.student, ns.assignment, kind, ns.score, ns.reason)
+        info = export(gb, ns.assignment, ns.assignment, out)
+    print(f"wrote {info['grades']}" + "".join(
+        f", {info[k]}" for k in ("canvas", "moodle") if k in info
+    ) + f", {info['report'][0]}")
+    return EXIT_OK
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``rikin-grade``; returns the exit status."""
     from .assignment import AssignmentError
+    from .gradebook import GradebookBusy
+    from .lms import RosterError
+    from .notebook import SubmissionsError
+    from .policy import PolicyError
     from .sandbox import SandboxUnavailable
 
     args_list = list(sys.argv[1:] if argv is None else argv)
@@ -248,6 +361,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(json.dumps(info, indent=2))
             print("sandbox OK" if info["ok"] else "sandbox NOT isolated", file=sys.stderr)
             return EXIT_OK if info["ok"] else EXIT_SANDBOX
+        if cmd in ("override", "export"):
+            return _gradebook_command(cmd, args_list[1:])
         if cmd == "grade":
             args_list = args_list[1:]
         from .api import grade
@@ -255,7 +370,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         kw = vars(grade_parser().parse_args(args_list))
         report = grade(kw.pop("assignment"), kw.pop("submissions"), kw.pop("out"), **kw)
         return EXIT_GRADER_ERRORS if report.summary.get("grader_errors") else EXIT_OK
-    except AssignmentError as exc:
+    except (AssignmentError, SubmissionsError, GradebookBusy, PolicyError, RosterError) as exc:
         print(f"rikin-grade: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except SandboxUnavailable as exc:

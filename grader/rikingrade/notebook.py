@@ -12,7 +12,9 @@ from __future__ import annotations
 import difflib
 import hashlib
 import json
+import os
 import re
+import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -40,20 +42,66 @@ class Notebook:
 
 @dataclass
 class Submission:
-    """One student's notebook file."""
+    """One student's notebook file, and where it came from.
+
+    ``student`` is the id in every output (unique in a batch, a file name); ``source`` the
+    path as given, for the instructor; ``lms``/``lms_id``/``name`` what the download name
+    says (see :mod:`rikingrade.lms`); ``submitted_at`` when it was handed in (from the name
+    or nbgrader's timestamp, else the file's modification time: ``time_source`` says which);
+    ``earlier`` the student's older attempts, kept in the gradebook but not graded.
+    """
 
     student: str
     path: Path
     sha256: str = ""
+    name: str = ""
+    lms: str = ""
+    lms_id: str = ""
+    submitted_at: float | None = None
+    time_source: str = ""
+    late: bool = False
+    email: str = ""
+    sis_id: str = ""
+    section: str = ""
+    login: str = ""
+    earlier: list[Submission] = field(default_factory=list)
 
     def hash(self) -> str:
         if not self.sha256:
             h = hashlib.sha256()
-            with open(self.path, "rb") as f:
+            with _open_student_file(self.path) as f:
                 for block in iter(lambda: f.read(1 << 20), b""):
                     h.update(block)
             self.sha256 = h.hexdigest()
         return self.sha256
+
+    @property
+    def shown_path(self) -> str:
+        """The path as text that any output can hold (undecodable bytes as ``\\xff``)."""
+        return shown(self.path)
+
+
+def shown(path: Path | str) -> str:
+    """A path as printable UTF-8 text, whatever bytes its name holds."""
+    return os.fsencode(path).decode("utf-8", "backslashreplace")
+
+
+def printable(text: str) -> str:
+    """``text`` writable as UTF-8: a byte that a file name could not decode (kept by Python
+    as a lone surrogate) is written ``\\xe9``, any other lone surrogate ``\\udcff``."""
+    try:
+        return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+    except UnicodeEncodeError:
+        return text.encode("utf-8", "backslashreplace").decode("utf-8")
+
+
+def _open_student_file(path: Path):
+    """Open a student's file for reading without following a link at its last component."""
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NOFOLLOW", 0) | getattr(os, "O_NONBLOCK", 0))
+    if not stat.S_ISREG(os.fstat(fd).st_mode):
+        os.close(fd)
+        raise OSError(f"{shown(path)}: not a regular file")
+    return os.fdopen(fd, "rb")
 
 
 def _source(value: object) -> str:
@@ -138,23 +186,111 @@ def read_notebook(path: Path) -> Notebook:
     return Notebook(cells=cells, nbformat=version, warnings=warnings)
 
 
+# ----------------------------------------------------------------------------- discovery
 _SAFE = re.compile(r"[^\w.@+-]+")
+
+#: Folders searched below a student's folder (deeper ones are reported, not searched).
+MAX_DEPTH = 8
+
+
+class SubmissionsError(ValueError):
+    """The paths given are not a class; the message says what was found and what to pass."""
 
 
 def safe_id(name: str) -> str:
-    """A student id usable as a file name (letters, digits, ``_`` and ``.@+-``)."""
-    s = _SAFE.sub("_", name).strip("._") or "student"
+    """A student id usable as a file name and a CSV cell (letters, digits, ``_`` and ``.@+-``).
+
+    It never starts with ``+ - @ =`` (a spreadsheet would read a formula) or a dot.
+    """
+    s = _SAFE.sub("_", name).strip("._").lstrip("+-@._") or "student"
     return s[:120]
 
 
-def _notebooks_in(folder: Path) -> list[Path]:
-    out = []
-    for p in sorted(folder.rglob("*.ipynb")):
-        if any(part in SKIP_DIRS for part in p.relative_to(folder).parts[:-1]):
+def _tag(raw: str) -> str:
+    return hashlib.sha256(os.fsencode(raw)).hexdigest()[:6]
+
+
+def student_id(raw: str) -> str:
+    """The id of a student known only by a file or folder name.
+
+    The name itself when it is already a safe id; otherwise the safe form plus a short
+    hash of the exact name, so that ``al ice`` and ``al_ice`` stay two students whatever
+    order they are found in, and each id leads back to its file.
+    """
+    s = safe_id(raw)
+    return s if s == raw else f"{s[:113]}-{_tag(raw)}"
+
+
+def _refusal(entry: os.DirEntry | Path) -> str:
+    """Why a path in the submissions is not read, or ''."""
+    try:
+        st = os.lstat(entry)
+    except OSError as exc:
+        return f"cannot be read ({exc.strerror})"
+    if stat.S_ISLNK(st.st_mode):
+        return "a symbolic link: links are not followed"
+    if stat.S_ISREG(st.st_mode) and st.st_nlink > 1:
+        return "a hard link to a file elsewhere: not read"
+    return ""
+
+
+def _scan(folder: Path, notes: list[str]) -> tuple[list[Path], list[Path], list[str]]:
+    """(notebook files, sub-folders, other file names) directly in ``folder``; links refused."""
+    files: list[Path] = []
+    dirs: list[Path] = []
+    other: list[str] = []
+    try:
+        entries = sorted(os.scandir(folder), key=lambda e: os.fsencode(e.name))
+    except OSError as exc:
+        notes.append(f"{shown(folder)}: cannot be listed ({exc.strerror})")
+        return files, dirs, other
+    for e in entries:
+        path = Path(e.path)
+        if e.is_symlink():
+            notes.append(f"{shown(path)}: a symbolic link: links are not followed, skipped")
             continue
-        if p.is_file():
-            out.append(p)
-    return out
+        if e.is_dir(follow_symlinks=False):
+            if e.name in SKIP_DIRS:
+                continue
+            if e.name.startswith("."):
+                notes.append(
+                    f"{shown(path)}: a hidden folder (name starts with '.'), skipped: "
+                    "pass it by name to grade it"
+                )
+                continue
+            dirs.append(path)
+        elif e.name.lower().endswith(".ipynb"):
+            why = _refusal(e)
+            if why:
+                notes.append(f"{shown(path)}: {why}, skipped")
+            elif e.name.startswith("."):
+                notes.append(f"{shown(path)}: a hidden file (name starts with '.'), skipped")
+            else:
+                files.append(path)
+        else:
+            other.append(shown(e.name))
+    return files, dirs, other
+
+
+def _notebooks_in(folder: Path, notes: list[str] | None = None) -> list[Path]:
+    """Every notebook below ``folder`` (iteratively, links not followed, at most MAX_DEPTH)."""
+    notes = [] if notes is None else notes
+    out: list[Path] = []
+    stack = [(Path(folder), 0)]
+    deep = False
+    while stack:
+        d, depth = stack.pop()
+        files, dirs, _ = _scan(d, notes)
+        out += files
+        if depth >= MAX_DEPTH:
+            deep = deep or bool(dirs)
+            continue
+        stack += [(s, depth + 1) for s in reversed(dirs)]
+    if deep:
+        notes.append(
+            f"{shown(folder)}: folders nested more than {MAX_DEPTH} deep were not searched"
+        )
+    return sorted(out, key=lambda p: os.fsencode(p))
 
 
 def pick_notebook(candidates: list[Path], expected: str) -> tuple[Path | None, str]:
@@ -165,7 +301,7 @@ def pick_notebook(candidates: list[Path], expected: str) -> tuple[Path | None, s
         return candidates[0], ""
     exact = [p for p in candidates if p.name == expected]
     if exact:
-        others = ", ".join(p.name for p in candidates if p != exact[0])
+        others = ", ".join(shown(p.name) for p in candidates if p != exact[0])
         return exact[0], f"several notebooks found; graded {exact[0].name} (also found: {others})"
     stem = Path(expected).stem.lower()
     named = [p for p in candidates if stem and stem in p.stem.lower()]
@@ -174,51 +310,265 @@ def pick_notebook(candidates: list[Path], expected: str) -> tuple[Path | None, s
         pool,
         key=lambda p: (difflib.SequenceMatcher(None, p.name, expected).ratio(), p.stat().st_mtime),
     )
-    others = ", ".join(p.name for p in candidates if p != best)
-    return best, f"several notebooks found; graded {best.name} (also found: {others})"
+    others = ", ".join(shown(p.name) for p in candidates if p != best)
+    return best, f"several notebooks found; graded {shown(best.name)} (also found: {others})"
+
+
+@dataclass
+class _Found:
+    key: str  # who: "canvas:123", "folder:alice", ...
+    student: str
+    path: Path
+    parsed: object = None  # lms.Parsed or None
+    order: tuple = ()
+    submitted_at: float | None = None
+    time_source: str = ""
+    name: str = ""
+
+
+def _examples(paths: list, n: int = 4) -> str:
+    names = [shown(p.name) if isinstance(p, Path) else str(p) for p in paths]
+    more = f" and {len(names) - n} more" if len(names) > n else ""
+    return ", ".join(names[:n]) + more
+
+
+def _from_file(p: Path) -> _Found:
+    from . import lms
+
+    parsed = lms.parse_file(os.fsdecode(p.name))
+    if parsed is None:
+        sid = student_id(p.stem)
+        return _Found(f"file:{sid}", sid, p, name=shown(p.stem))
+    if parsed.lms == lms.BLACKBOARD:
+        sid = student_id(parsed.lms_id)
+    else:
+        sid = safe_id(f"{parsed.name}_{parsed.lms_id}")
+    return _Found(
+        parsed.key,
+        sid,
+        p,
+        parsed,
+        parsed.order,
+        parsed.submitted_at,
+        "download name" if parsed.submitted_at else "",
+        parsed.name,
+    )
+
+
+def _from_folder(d: Path, expected: str, notes: list[str], nbgrader: bool = False):
+    """The submission in one student's folder, or None (with a note)."""
+    from . import lms
+
+    where = d
+    when, source = None, ""
+    if nbgrader:
+        stem = Path(expected).stem
+        subs = [s for s in _scan(d, notes)[1]]
+        named = [s for s in subs if s.name == stem]
+        if named or len(subs) == 1:
+            where = (named or subs)[0]
+            when = lms.nbgrader_timestamp(where)
+            source = "nbgrader timestamp.txt" if when else ""
+    nbs = _notebooks_in(where, notes)
+    nb, note = pick_notebook(nbs, expected)
+    if nb is None:
+        notes.append(f"{shown(d)}: no .ipynb inside, skipped")
+        return None
+    if note:
+        notes.append(f"{shown(d.name)}: {note}")
+    parsed = None if nbgrader else lms.parse_folder(os.fsdecode(d.name))
+    if parsed is not None:
+        return _Found(
+            parsed.key,
+            safe_id(f"{parsed.name}_{parsed.lms_id}"),
+            nb,
+            parsed,
+            parsed.order,
+            parsed.submitted_at,
+            "download name" if parsed.submitted_at else "",
+            parsed.name,
+        )
+    sid = student_id(os.fsdecode(d.name))
+    kind = "nbgrader" if nbgrader else "folder"
+    return _Found(f"{kind}:{sid}", sid, nb, None, (), when, source, shown(d.name))
+
+
+def _looks_like_a_class(d: Path, notes: list[str]) -> list[Path]:
+    """Sub-folders of ``d`` that each hold a notebook of the same name (a class, not a student)."""
+    by_name: dict[bytes, list[Path]] = {}
+    for sub in _scan(d, [])[1]:
+        for nb in _notebooks_in(sub, []):
+            by_name.setdefault(os.fsencode(nb.name), []).append(sub)
+    return max(by_name.values(), key=len, default=[])
+
+
+def _class(p: Path, expected: str, notes: list[str]) -> list[_Found]:
+    """The submissions in a folder given on the command line."""
+    nbgrader = False
+    if (p / "submitted").is_dir() and not (p / "submitted").is_symlink():
+        p, nbgrader = p / "submitted", True
+    elif p.name == "submitted":
+        nbgrader = True
+    files, dirs, other = _scan(p, notes)
+    if nbgrader:
+        found = [_from_folder(d, expected, notes, nbgrader=True) for d in dirs]
+        return [f for f in found if f is not None]
+    from . import lms
+
+    student_dirs = []
+    for d in dirs:
+        why: list[str] = []
+        if _notebooks_in(d, why):
+            student_dirs.append(d)
+        else:
+            notes += why + [f"{shown(d)}: no .ipynb inside, skipped"]
+    plain = [f for f in files if lms.parse_file(os.fsdecode(f.name)) is None]
+    exercise_named = [f for f in plain if f.name == expected]
+    own = lms.parse_folder(os.fsdecode(p.name))
+    if (own is not None and files and not student_dirs) or (
+        files and not student_dirs and exercise_named == files
+    ):
+        # One student's folder (a Moodle/Brightspace student folder, or a folder holding
+        # only the exercise's own notebook): the student is the folder.
+        f = _from_folder(p, expected, notes)
+        return [f] if f is not None else []
+    if exercise_named and student_dirs:
+        # The exercise's own notebook cannot be a student: this is the course folder, or a
+        # class folder with the handout left in it.
+        raise SubmissionsError(
+            f"{shown(p)} does not look like a class: it holds {_examples(exercise_named)} "
+            f"(the exercise's own notebook name, not a student's) beside "
+            f"{len(student_dirs)} student folder(s) ({_examples(student_dirs)}). Move "
+            f"{_examples(exercise_named)} out of the class folder, or pass the student "
+            "folders you mean."
+        )
+    for d in student_dirs:
+        inner = _looks_like_a_class(d, notes)
+        if len(inner) >= 2 and lms.parse_folder(os.fsdecode(d.name)) is None:
+            raise SubmissionsError(
+                f"{shown(d)} holds {len(inner)} folders with a notebook of the same name "
+                f"({_examples(inner)}): it looks like a class, not one student's work. "
+                f"Pass {shown(d)} itself."
+            )
+    if not files and not student_dirs:
+        zips = [o for o in other if o.lower().endswith(".zip")]
+        hint = (
+            f" It holds {_examples(zips)}: unzip the LMS download first and pass the folder."
+            if zips
+            else " Pass the folder that holds the notebooks (one .ipynb or one folder per "
+            "student), or the .ipynb files themselves."
+        )
+        raise SubmissionsError(
+            f"no notebook found in {shown(p)} ({len(other)} other file(s)"
+            + (f": {_examples(other)}" if other else "")
+            + f", {len(dirs)} folder(s) without a notebook).{hint}"
+        )
+    found = [_from_file(f) for f in files]
+    for d in student_dirs:
+        f = _from_folder(d, expected, notes)
+        if f is not None:
+            found.append(f)
+    return found
+
+
+def _mtime(p: Path) -> float:
+    try:
+        return os.lstat(p).st_mtime
+    except OSError:
+        return 0.0
 
 
 def discover(paths: list[Path | str], expected: str) -> tuple[list[Submission], list[str]]:
-    """Submissions from files and folders, with one warning per thing skipped.
+    """The submissions in the files and folders given, with one note per thing skipped.
 
-    Each ``.ipynb`` argument is one student (id = file name without extension). A folder
-    holds a class: each ``.ipynb`` directly inside is one student (id = its stem), and each
-    sub-folder is one student (id = folder name; the notebook named ``expected`` is taken,
-    or the only/most similar ``.ipynb`` inside).
+    Each ``.ipynb`` argument is one student. A folder holds a class: a notebook per student
+    (LMS download names are parsed, see :mod:`rikingrade.lms`; other names are the id), a
+    folder per student (Moodle and Brightspace folder names are parsed; the notebook named
+    ``expected`` is taken, or the only/most similar one), or an nbgrader ``submitted/``
+    tree. A folder holding only ``expected`` is one student's folder. Several attempts of
+    one student: the newest counts, the others are returned in ``earlier``. Symbolic links
+    are never followed (each is reported), nor hard-linked files read.
+
+    Raises
+    ------
+    SubmissionsError
+        A path does not exist, nothing was found, or a folder does not look like a class
+        (the message says what was found and what to pass instead).
     """
-    subs: list[Submission] = []
     notes: list[str] = []
+    found: list[_Found] = []
     for arg in paths:
         p = Path(arg)
+        if not os.path.lexists(p):
+            raise SubmissionsError(f"{shown(p)}: no such file or folder")
         if p.is_file():
             if p.suffix.lower() != ".ipynb":
-                notes.append(f"{p}: not a .ipynb file, skipped")
-                continue
-            subs.append(Submission(safe_id(p.stem), p))
+                raise SubmissionsError(f"{shown(p)}: not a notebook (.ipynb) file")
+            if p.is_symlink() or _refusal(p):
+                # A path the instructor typed may be a link; read what it points to as is.
+                p = Path(os.path.realpath(p))
+            found.append(_from_file(p))
         elif p.is_dir():
-            for entry in sorted(p.iterdir()):
-                if entry.name in SKIP_DIRS or entry.name.startswith("."):
-                    continue
-                if entry.is_file() and entry.suffix.lower() == ".ipynb":
-                    subs.append(Submission(safe_id(entry.stem), entry))
-                elif entry.is_dir():
-                    nb, note = pick_notebook(_notebooks_in(entry), expected)
-                    if nb is None:
-                        notes.append(f"{entry}: no .ipynb inside, skipped")
-                        continue
-                    if note:
-                        notes.append(f"{entry.name}: {note}")
-                    subs.append(Submission(safe_id(entry.name), nb))
+            found += _class(p, expected, notes)
         else:
-            notes.append(f"{p}: no such file or folder")
-    taken: set[str] = set()
+            raise SubmissionsError(f"{shown(p)}: neither a file nor a folder")
+    if not found:
+        raise SubmissionsError(
+            "no submission found in " + ", ".join(shown(Path(a)) for a in paths)
+            + (": " + "; ".join(notes[:5]) if notes else "")
+        )
+    groups: dict[str, list[_Found]] = {}
+    for f in found:
+        if f.submitted_at is None:
+            f.submitted_at, f.time_source = _mtime(f.path), "file modification time"
+        groups.setdefault(f.key, []).append(f)
+    subs: list[Submission] = []
+    for key, group in groups.items():
+        group.sort(key=lambda f: (f.order, f.submitted_at or 0.0, os.fsencode(f.path)))
+        if key.startswith(("file:", "folder:", "nbgrader:")) and len(group) > 1:
+            # The same plain name twice (two folders given): two students, not attempts.
+            notes.append(
+                f"{len(group)} submissions named {group[0].student} "
+                f"({', '.join(shown(f.path) for f in group)}): graded as separate students "
+                "with the path's hash added to the id"
+            )
+            for f in group:
+                f.student = f"{f.student}-{_tag(shown(f.path))}"
+                subs.append(_submission(f, []))
+            continue
+        newest = group[-1]
+        if len(group) > 1:
+            notes.append(
+                f"{newest.student}: {len(group)} attempts; the newest ({shown(newest.path.name)}) "
+                f"counts, earlier ones are kept in the gradebook: "
+                + ", ".join(shown(f.path.name) for f in group[:-1])
+            )
+        subs.append(_submission(newest, [_submission(f, []) for f in group[:-1]]))
+    by_id: dict[str, list[Submission]] = {}
     for s in subs:
-        if s.student in taken:
-            k = 2
-            while f"{s.student}-{k}" in taken:
-                k += 1
-            new = f"{s.student}-{k}"
-            notes.append(f"two submissions named {s.student}: {s.path} graded as {new}")
-            s.student = new
-        taken.add(s.student)
+        by_id.setdefault(s.student, []).append(s)
+    for sid, same in by_id.items():
+        if len(same) > 1:
+            notes.append(
+                f"id collision: {len(same)} different students map to {sid} "
+                f"({', '.join(s.shown_path for s in same)}); each id gets its file's hash"
+            )
+            for s in same:
+                s.student = f"{sid}-{_tag(s.shown_path)}"
+    subs.sort(key=lambda s: s.student)
     return subs, notes
+
+
+def _submission(f: _Found, earlier: list[Submission]) -> Submission:
+    parsed = f.parsed
+    return Submission(
+        student=f.student,
+        path=f.path,
+        name=f.name,
+        lms=getattr(parsed, "lms", "") or f.key.split(":", 1)[0],
+        lms_id=getattr(parsed, "lms_id", ""),
+        submitted_at=f.submitted_at,
+        time_source=f.time_source,
+        late=bool(getattr(parsed, "late", False)),
+        earlier=earlier,
+    )

@@ -1,31 +1,21 @@
-"""Writing results: grades.csv, Gradescope results.json, feedback (Markdown and HTML), state.
+"""Writing results: atomic files, Gradescope results.json, feedback (Markdown and HTML).
 
 Every file is written atomically (a temporary file in the same folder, fsync, then
 ``os.replace``), so a grader killed at any moment leaves either the old file or the new
-one, never half of one. Layout of the output folder::
-
-    grades.csv                  one row per student: status, score, max, per-test points
-    summary.json                the batch summary (also printed)
-    grading.log                 the instructor's log (hidden values may appear here)
-    results/<student>.json      Gradescope-format results
-    feedback/<student>.md/.html what the student sees: one line per test
-    .rikingrade/<student>.json  resume records (file hash, grader key, full result)
+one, never half of one. The grades themselves live in the gradebook
+(:mod:`rikingrade.gradebook`); the files of the output folder are its views
+(:mod:`rikingrade.views`).
 """
 
 from __future__ import annotations
 
-import csv
 import html
-import io
-import json
 import os
 import tempfile
 from pathlib import Path
 from typing import Any
 
 from .report import SubmissionResult
-
-STATE_DIR = ".rikingrade"
 
 
 def atomic_write(path: Path, data: str | bytes, fsync: bool = False) -> None:
@@ -147,52 +137,3 @@ def gradescope_json(res: SubmissionResult, exercise: str) -> dict[str, Any]:
         "tests": tests,
         "extra_data": {"exercise": exercise, "status": res.status, "sha256": res.sha256},
     }
-
-
-def write_submission(out: Path, res: SubmissionResult, exercise: str) -> None:
-    """All per-student files; the resume record last, so it only exists once the rest does."""
-    atomic_write(
-        out / "results" / f"{res.student}.json",
-        json.dumps(gradescope_json(res, exercise), indent=2),
-    )
-    atomic_write(out / "feedback" / f"{res.student}.md", feedback_markdown(res, exercise))
-    atomic_write(out / "feedback" / f"{res.student}.html", feedback_html(res, exercise))
-    atomic_write(out / STATE_DIR / f"{res.student}.json", json.dumps(res.to_dict(), indent=1))
-
-
-def load_state(out: Path, student: str) -> SubmissionResult | None:
-    """The resume record of ``student``, or None if missing or unreadable."""
-    p = out / STATE_DIR / f"{student}.json"
-    try:
-        return SubmissionResult.from_dict(json.loads(p.read_text()))
-    except (OSError, ValueError, TypeError, KeyError):
-        return None
-
-
-# ----------------------------------------------------------------------------- class files
-def _safe_cell(text: str) -> str:
-    """Text a spreadsheet will not run as a formula (CSV injection)."""
-    return "'" + text if text[:1] in ("=", "+", "-", "@", "\t", "\r") else text
-
-
-def grades_csv(results: list[SubmissionResult], test_names: list[str]) -> str:
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(
-        ["student", "status", "score", "max_score", *test_names, "reason", "notebook", "sha256"]
-    )
-    for r in sorted(results, key=lambda r: r.student):
-        pts = {t.name: t.points for t in r.tests}
-        w.writerow(
-            [
-                r.student,
-                r.status,
-                f"{r.score:.4g}",
-                f"{r.max_score:.4g}",
-                *[f"{pts.get(n, 0.0):.4g}" for n in test_names],
-                _safe_cell(_one_line(r.reason, 300)),
-                _safe_cell(r.path),
-                r.sha256,
-            ]
-        )
-    return buf.getvalue()

@@ -1,0 +1,565 @@
+"""The course gradebook: one SQLite database that never loses or rewrites a grade.
+
+Tables (nothing is ever updated in place except a run's end, nor deleted)::
+
+    students     one row per student id: name, email, SIS id, section, LMS ids
+    submissions  one row per file a student handed in for an assignment, and when
+                 (sha256, path, attempt time and where that time came from, LMS late flag)
+    runs         one row per ``rikin-grade`` invocation: grader version, seed, settings key,
+                 arguments, start/end, how it ended (running, finished, interrupted)
+    results      one row per grading of a submission: status, score, the full result (JSON)
+    test_points  per result and hidden test: weight, points, fraction, feedback
+    picks        which submission counts for a student, as decided by a run (the newest
+                 attempt it saw); written in the same transaction as the result, so a run
+                 killed half-way leaves every student with the last grade committed
+    policies, extensions, overrides
+                 late rules, per-student due dates, manual grades (newest row applies)
+
+A regrade adds results and picks for the students it graded only; grades.csv and the other
+exports are views of the newest pick and result of each student. The database runs in WAL
+mode with one writer: :meth:`Gradebook.open` takes an exclusive lock on ``<db>.lock`` for
+the process's lifetime (a second grader on the same gradebook is refused with the holder's
+pid), and every write is one transaction, so a kill at any moment leaves either all of a
+submission's rows or none.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+import sqlite3
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+from .notebook import printable
+from .report import SubmissionResult
+
+SCHEMA_VERSION = 1
+
+SCHEMA = """
+CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS students (
+    id TEXT PRIMARY KEY,
+    name TEXT NOT NULL DEFAULT '',
+    email TEXT NOT NULL DEFAULT '',
+    sis_id TEXT NOT NULL DEFAULT '',
+    login TEXT NOT NULL DEFAULT '',
+    section TEXT NOT NULL DEFAULT '',
+    canvas_id TEXT NOT NULL DEFAULT '',
+    moodle_id TEXT NOT NULL DEFAULT '',
+    lms TEXT NOT NULL DEFAULT '',
+    lms_id TEXT NOT NULL DEFAULT '',
+    first_seen REAL NOT NULL
+);
+CREATE TABLE IF NOT EXISTS assignments (
+    name TEXT PRIMARY KEY,
+    max_score REAL NOT NULL,
+    tests TEXT NOT NULL,
+    first_seen REAL NOT NULL
+);
+CREATE TABLE IF NOT EXISTS submissions (
+    id INTEGER PRIMARY KEY,
+    student TEXT NOT NULL REFERENCES students(id),
+    assignment TEXT NOT NULL REFERENCES assignments(name),
+    sha256 TEXT NOT NULL,
+    path TEXT NOT NULL,
+    submitted_at REAL NOT NULL,
+    time_source TEXT NOT NULL DEFAULT '',
+    lms_late INTEGER NOT NULL DEFAULT 0,
+    first_seen REAL NOT NULL,
+    UNIQUE (student, assignment, sha256, submitted_at)
+);
+CREATE TABLE IF NOT EXISTS runs (
+    id INTEGER PRIMARY KEY,
+    assignment TEXT NOT NULL,
+    grader_version TEXT NOT NULL,
+    seed INTEGER NOT NULL,
+    key TEXT NOT NULL,
+    args TEXT NOT NULL,
+    pid INTEGER NOT NULL,
+    started_at REAL NOT NULL,
+    ended_at REAL,
+    state TEXT NOT NULL DEFAULT 'running',
+    summary TEXT
+);
+CREATE TABLE IF NOT EXISTS results (
+    id INTEGER PRIMARY KEY,
+    run_id INTEGER NOT NULL REFERENCES runs(id),
+    submission_id INTEGER NOT NULL REFERENCES submissions(id),
+    student TEXT NOT NULL,
+    assignment TEXT NOT NULL,
+    key TEXT NOT NULL,
+    seed INTEGER NOT NULL,
+    status TEXT NOT NULL,
+    reason TEXT NOT NULL,
+    score REAL NOT NULL,
+    max_score REAL NOT NULL,
+    elapsed REAL NOT NULL,
+    graded_at REAL NOT NULL,
+    result TEXT NOT NULL
+);
+CREATE INDEX IF NOT EXISTS results_by_submission ON results (submission_id, key);
+CREATE TABLE IF NOT EXISTS test_points (
+    result_id INTEGER NOT NULL REFERENCES results(id),
+    test TEXT NOT NULL,
+    weight REAL NOT NULL,
+    points REAL NOT NULL,
+    fraction REAL NOT NULL,
+    feedback TEXT NOT NULL,
+    timed_out INTEGER NOT NULL,
+    crashed INTEGER NOT NULL,
+    grader_error INTEGER NOT NULL,
+    PRIMARY KEY (result_id, test)
+);
+CREATE TABLE IF NOT EXISTS picks (
+    id INTEGER PRIMARY KEY,
+    run_id INTEGER NOT NULL REFERENCES runs(id),
+    student TEXT NOT NULL,
+    assignment TEXT NOT NULL,
+    submission_id INTEGER NOT NULL REFERENCES submissions(id),
+    result_id INTEGER NOT NULL REFERENCES results(id),
+    picked_at REAL NOT NULL
+);
+CREATE INDEX IF NOT EXISTS picks_by_student ON picks (assignment, student, id);
+CREATE TABLE IF NOT EXISTS policies (
+    id INTEGER PRIMARY KEY,
+    assignment TEXT NOT NULL,
+    due REAL,
+    per_day REAL NOT NULL,
+    cap REAL NOT NULL,
+    grace_minutes REAL NOT NULL,
+    created_at REAL NOT NULL
+);
+CREATE TABLE IF NOT EXISTS extensions (
+    id INTEGER PRIMARY KEY,
+    student TEXT NOT NULL,
+    assignment TEXT NOT NULL,
+    due REAL NOT NULL,
+    reason TEXT NOT NULL,
+    created_at REAL NOT NULL
+);
+CREATE TABLE IF NOT EXISTS overrides (
+    id INTEGER PRIMARY KEY,
+    student TEXT NOT NULL,
+    assignment TEXT NOT NULL,
+    kind TEXT NOT NULL CHECK (kind IN ('score', 'excused', 'cleared')),
+    score REAL,
+    reason TEXT NOT NULL,
+    created_at REAL NOT NULL
+);
+-- The grade that counts: each student's newest pick, with its result.
+CREATE VIEW IF NOT EXISTS current AS
+SELECT p.assignment, p.student, p.submission_id, p.run_id, r.id AS result_id, r.status,
+       r.reason, r.score, r.max_score, r.seed, r.key, r.graded_at, r.result,
+       s.sha256, s.path, s.submitted_at, s.time_source, s.lms_late
+FROM picks p
+JOIN results r ON r.id = p.result_id
+JOIN submissions s ON s.id = p.submission_id
+WHERE p.id = (SELECT MAX(p2.id) FROM picks p2
+              WHERE p2.assignment = p.assignment AND p2.student = p.student);
+"""
+
+
+class GradebookBusy(RuntimeError):
+    """Another grader process holds the gradebook."""
+
+
+def _text(s: Any) -> str:
+    """Text SQLite and every output can hold (see :func:`rikingrade.notebook.printable`)."""
+    return printable(str(s))
+
+
+class Gradebook:
+    """One course's gradebook file; use :meth:`open` (one writer per file)."""
+
+    def __init__(self, path: Path, conn: sqlite3.Connection, lock_fd: int | None) -> None:
+        self.path = path
+        self.conn = conn
+        self._lock_fd = lock_fd
+        self._mutex = threading.Lock()
+
+    # ------------------------------------------------------------------ opening
+    @classmethod
+    def open(cls, path: str | Path, readonly: bool = False) -> Gradebook:
+        """Open (creating if needed) the gradebook at ``path`` as its only writer."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        lock_fd = None
+        if not readonly:
+            lock_fd = os.open(f"{path}.lock", os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                fcntl.flock(lock_fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                holder = os.pread(lock_fd, 32, 0).decode(errors="replace").strip()
+                os.close(lock_fd)
+                raise GradebookBusy(
+                    f"another rikin-grade (pid {holder or '?'}) is writing {path}; "
+                    "wait for it to finish (one writer per gradebook)"
+                ) from None
+            os.ftruncate(lock_fd, 0)
+            os.pwrite(lock_fd, str(os.getpid()).encode(), 0)
+        conn = sqlite3.connect(path, timeout=30, isolation_level=None, check_same_thread=False)
+        conn.row_factory = sqlite3.Row
+        if not readonly:
+            conn.execute("PRAGMA journal_mode=WAL")
+            conn.execute("PRAGMA synchronous=FULL")
+            conn.execute("PRAGMA foreign_keys=ON")
+            conn.executescript("BEGIN;" + SCHEMA + "COMMIT;")
+            conn.execute(
+                "INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (str(SCHEMA_VERSION),)
+            )
+            # A run still 'running' was killed (this process holds the lock now).
+            conn.execute(
+                "UPDATE runs SET state = 'interrupted' WHERE state = 'running' AND ended_at IS NULL"
+            )
+        return cls(path, conn, lock_fd)
+
+    def close(self) -> None:
+        self.conn.close()
+        if self._lock_fd is not None:
+            os.close(self._lock_fd)
+            self._lock_fd = None
+
+    def __enter__(self) -> Gradebook:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def _tx(self):
+        return _Tx(self)
+
+    # ------------------------------------------------------------------ runs
+    def start_run(
+        self, assignment: str, version: str, seed: int, key: str, args: dict[str, Any]
+    ) -> int:
+        with self._tx() as c:
+            cur = c.execute(
+                "INSERT INTO runs (assignment, grader_version, seed, key, args, pid, started_at)"
+                " VALUES (?, ?, ?, ?, ?, ?, ?)",
+                (
+                    assignment,
+                    version,
+                    int(seed),
+                    key,
+                    json.dumps(args, default=str),
+                    os.getpid(),
+                    time.time(),
+                ),
+            )
+            return int(cur.lastrowid)
+
+    def end_run(self, run_id: int, state: str, summary: dict[str, Any] | None = None) -> None:
+        with self._tx() as c:
+            c.execute(
+                "UPDATE runs SET ended_at = ?, state = ?, summary = ? WHERE id = ?",
+                (time.time(), state, json.dumps(summary) if summary else None, run_id),
+            )
+
+    def runs(self, assignment: str | None = None) -> list[sqlite3.Row]:
+        q = "SELECT * FROM runs" + (" WHERE assignment = ?" if assignment else "") + " ORDER BY id"
+        return self.conn.execute(q, (assignment,) if assignment else ()).fetchall()
+
+    # ------------------------------------------------------------------ students, files
+    def add_assignment(self, name: str, max_score: float, tests: list[tuple[str, float]]) -> None:
+        with self._tx() as c:
+            c.execute(
+                "INSERT INTO assignments VALUES (?, ?, ?, ?) ON CONFLICT (name) DO UPDATE SET "
+                "max_score = excluded.max_score, tests = excluded.tests",
+                (name, float(max_score), json.dumps(tests), time.time()),
+            )
+
+    def tests(self, assignment: str) -> list[tuple[str, float]]:
+        row = self.conn.execute(
+            "SELECT tests FROM assignments WHERE name = ?", (assignment,)
+        ).fetchone()
+        return [tuple(t) for t in json.loads(row["tests"])] if row else []
+
+    def max_score(self, assignment: str) -> float:
+        row = self.conn.execute(
+            "SELECT max_score FROM assignments WHERE name = ?", (assignment,)
+        ).fetchone()
+        return float(row["max_score"]) if row else 0.0
+
+    def add_student(self, sid: str, **info: str) -> None:
+        """Insert a student, or fill in what was unknown about them (never blanks a field)."""
+        cols = (
+            "name",
+            "email",
+            "sis_id",
+            "login",
+            "section",
+            "canvas_id",
+            "moodle_id",
+            "lms",
+            "lms_id",
+        )
+        values = {k: _text(info.get(k) or "") for k in cols}
+        with self._tx() as c:
+            c.execute(
+                f"INSERT OR IGNORE INTO students (id, {', '.join(cols)}, first_seen) "
+                f"VALUES (?, {', '.join('?' for _ in cols)}, ?)",
+                (sid, *values.values(), time.time()),
+            )
+            for k, v in values.items():
+                if v:
+                    c.execute(f"UPDATE students SET {k} = ? WHERE id = ? AND {k} != ?", (v, sid, v))
+
+    def students(self) -> dict[str, sqlite3.Row]:
+        return {r["id"]: r for r in self.conn.execute("SELECT * FROM students")}
+
+    def add_submission(
+        self,
+        student: str,
+        assignment: str,
+        sha256: str,
+        path: str,
+        submitted_at: float | None,
+        time_source: str = "",
+        lms_late: bool = False,
+    ) -> int:
+        """The submission's id (the same file handed in at the same time is one submission;
+        the same content handed in again later is a new one: its time may be late)."""
+        submitted_at = float(submitted_at or 0.0)
+        with self._tx() as c:
+            c.execute(
+                "INSERT OR IGNORE INTO submissions (student, assignment, sha256, path, "
+                "submitted_at, time_source, lms_late, first_seen) VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                (
+                    student,
+                    assignment,
+                    sha256,
+                    _text(path),
+                    submitted_at,
+                    time_source,
+                    int(lms_late),
+                    time.time(),
+                ),
+            )
+            row = c.execute(
+                "SELECT id FROM submissions WHERE student = ? AND assignment = ? AND sha256 = ? "
+                "AND submitted_at = ?",
+                (student, assignment, sha256, submitted_at),
+            ).fetchone()
+            return int(row["id"])
+
+    def submissions(self, assignment: str, student: str | None = None) -> list[sqlite3.Row]:
+        q = "SELECT * FROM submissions WHERE assignment = ?"
+        args: tuple = (assignment,)
+        if student is not None:
+            q += " AND student = ?"
+            args += (student,)
+        return self.conn.execute(q + " ORDER BY id", args).fetchall()
+
+    # ------------------------------------------------------------------ results
+    def cached(self, submission_id: int, key: str) -> SubmissionResult | None:
+        """The newest result of this file (this student, the same content) graded with these
+        settings, or None."""
+        row = self.conn.execute(
+            "SELECT r.id, r.result FROM results r "
+            "JOIN submissions s ON s.id = r.submission_id "
+            "JOIN submissions me ON me.id = ? "
+            "WHERE s.student = me.student AND s.assignment = me.assignment "
+            "AND s.sha256 = me.sha256 AND r.key = ? ORDER BY r.id DESC LIMIT 1",
+            (submission_id, key),
+        ).fetchone()
+        if row is None:
+            return None
+        try:
+            res = SubmissionResult.from_dict(json.loads(row["result"]))
+        except (ValueError, TypeError, KeyError):
+            return None
+        res.result_id = int(row["id"])  # type: ignore[attr-defined]
+        return res
+
+    def record(
+        self,
+        run_id: int,
+        submission_id: int,
+        res: SubmissionResult,
+        assignment: str,
+        seed: int,
+        reuse: int | None = None,
+    ) -> int:
+        """Commit a result and make it the student's grade, in one transaction.
+
+        ``reuse`` is the id of an earlier result with the same file and settings (a resumed
+        submission): only the pick is written, no second copy of the result.
+        """
+        now = time.time()
+        with self._tx() as c:
+            if reuse is None:
+                data = json.dumps(res.to_dict(), ensure_ascii=True)
+                cur = c.execute(
+                    "INSERT INTO results (run_id, submission_id, student, assignment, key, seed,"
+                    " status, reason, score, max_score, elapsed, graded_at, result)"
+                    " VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                    (
+                        run_id,
+                        submission_id,
+                        res.student,
+                        assignment,
+                        res.key,
+                        int(seed),
+                        res.status,
+                        _text(res.reason),
+                        res.score,
+                        res.max_score,
+                        res.elapsed,
+                        now,
+                        data,
+                    ),
+                )
+                result_id = int(cur.lastrowid)
+                c.executemany(
+                    "INSERT INTO test_points VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?)",
+                    [
+                        (
+                            result_id,
+                            t.name,
+                            t.weight,
+                            t.points,
+                            t.fraction,
+                            _text(t.feedback),
+                            int(t.timed_out),
+                            int(t.crashed),
+                            int(t.grader_error),
+                        )
+                        for t in res.tests
+                    ],
+                )
+            else:
+                result_id = reuse
+            c.execute(
+                "INSERT INTO picks (run_id, student, assignment, submission_id, result_id, "
+                "picked_at) VALUES (?, ?, ?, ?, ?, ?)",
+                (run_id, res.student, assignment, submission_id, result_id, now),
+            )
+            return result_id
+
+    def current(self, assignment: str) -> list[sqlite3.Row]:
+        """Each student's grade that counts (newest pick), sorted by student id."""
+        return self.conn.execute(
+            "SELECT * FROM current WHERE assignment = ? ORDER BY student", (assignment,)
+        ).fetchall()
+
+    def run_results(self, run_id: int) -> list[sqlite3.Row]:
+        """The results a run graded or resumed (its picks), sorted by student."""
+        return self.conn.execute(
+            "SELECT p.student, r.* FROM picks p JOIN results r ON r.id = p.result_id "
+            "WHERE p.run_id = ? ORDER BY p.student",
+            (run_id,),
+        ).fetchall()
+
+    def history(self, assignment: str, student: str) -> list[sqlite3.Row]:
+        return self.conn.execute(
+            "SELECT r.id, r.run_id, r.status, r.score, r.graded_at, s.sha256, s.path "
+            "FROM results r JOIN submissions s ON s.id = r.submission_id "
+            "WHERE r.assignment = ? AND r.student = ? ORDER BY r.id",
+            (assignment, student),
+        ).fetchall()
+
+    # ------------------------------------------------------------------ policy
+    def set_policy(
+        self, assignment: str, due: float | None, per_day: float, cap: float, grace: float
+    ) -> None:
+        """Record the late rules, unless they are the ones already in force."""
+        cur = self.policy(assignment)
+        new = (due, float(per_day), float(cap), float(grace))
+        if (
+            cur is not None
+            and (cur["due"], cur["per_day"], cur["cap"], cur["grace_minutes"]) == new
+        ):
+            return
+        with self._tx() as c:
+            c.execute(
+                "INSERT INTO policies (assignment, due, per_day, cap, grace_minutes, created_at)"
+                " VALUES (?, ?, ?, ?, ?, ?)",
+                (assignment, *new, time.time()),
+            )
+
+    def policy(self, assignment: str) -> sqlite3.Row | None:
+        return self.conn.execute(
+            "SELECT * FROM policies WHERE assignment = ? ORDER BY id DESC LIMIT 1", (assignment,)
+        ).fetchone()
+
+    def add_extension(self, student: str, assignment: str, due: float, reason: str) -> None:
+        cur = self.extensions(assignment).get(student)
+        if cur is not None and cur["due"] == due and cur["reason"] == reason:
+            return
+        with self._tx() as c:
+            c.execute(
+                "INSERT INTO extensions (student, assignment, due, reason, created_at) "
+                "VALUES (?, ?, ?, ?, ?)",
+                (student, assignment, float(due), _text(reason), time.time()),
+            )
+
+    def extensions(self, assignment: str) -> dict[str, sqlite3.Row]:
+        rows = self.conn.execute(
+            "SELECT * FROM extensions WHERE assignment = ? ORDER BY id", (assignment,)
+        )
+        return {r["student"]: r for r in rows}
+
+    def add_override(
+        self, student: str, assignment: str, kind: str, score: float | None, reason: str
+    ) -> None:
+        if not reason.strip():
+            raise ValueError("an override needs a reason (it is shown to the student)")
+        with self._tx() as c:
+            c.execute(
+                "INSERT INTO overrides (student, assignment, kind, score, reason, created_at) "
+                "VALUES (?, ?, ?, ?, ?, ?)",
+                (student, assignment, kind, score, _text(reason), time.time()),
+            )
+
+    def overrides(self, assignment: str) -> dict[str, sqlite3.Row]:
+        """Each student's override in force (a 'cleared' one means none)."""
+        rows = self.conn.execute(
+            "SELECT * FROM overrides WHERE assignment = ? ORDER BY id", (assignment,)
+        )
+        out = {r["student"]: r for r in rows}
+        return {k: v for k, v in out.items() if v["kind"] != "cleared"}
+
+    def check(self) -> list[str]:
+        """Integrity problems (empty when consistent): SQLite's check and our invariants."""
+        out = [r[0] for r in self.conn.execute("PRAGMA integrity_check") if r[0] != "ok"]
+        out += [
+            f"result {r[0]} has {r[1]} test rows"
+            for r in self.conn.execute(
+                "SELECT r.id, (SELECT COUNT(*) FROM test_points t WHERE t.result_id = r.id) n "
+                "FROM results r WHERE n != json_array_length(json_extract(r.result, '$.tests'))"
+            )
+        ]
+        out += [
+            f"pick {r[0]} points at a missing result"
+            for r in self.conn.execute(
+                "SELECT p.id FROM picks p LEFT JOIN results r ON r.id = p.result_id "
+                "WHERE r.id IS NULL"
+            )
+        ]
+        return out
+
+
+class _Tx:
+    """``with gb._tx() as c``: one immediate transaction, serialised between threads."""
+
+    def __init__(self, gb: Gradebook) -> None:
+        self.gb = gb
+
+    def __enter__(self) -> sqlite3.Connection:
+        self.gb._mutex.acquire()
+        try:
+            self.gb.conn.execute("BEGIN IMMEDIATE")
+        except BaseException:
+            self.gb._mutex.release()
+            raise
+        return self.gb.conn
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        try:
+            self.gb.conn.execute("COMMIT" if exc_type is None else "ROLLBACK")
+        finally:
+            self.gb._mutex.release()

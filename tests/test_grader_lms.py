@@ -1,0 +1,450 @@
+"""LMS download names, class discovery, the gradebook, policy, LMS exports and the class report.
+
+No student code runs here (see test_grader_gradebook_cli.py for real runs).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import os
+import sys
+import time
+from datetime import datetime, timezone
+
+import pytest
+from rikingrade import lms
+from rikingrade.classreport import histogram, statistics
+from rikingrade.gradebook import Gradebook, GradebookBusy
+from rikingrade.notebook import SubmissionsError, discover, student_id
+from rikingrade.policy import PolicyError, Rules, apply, parse_time
+from rikingrade.report import SubmissionResult, TestResult
+from rikingrade.views import export, final_grades
+
+NB = "scara.ipynb"
+
+
+def touch(path, text="{}", mtime=None):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+    if mtime is not None:
+        os.utime(path, (mtime, mtime))
+    return path
+
+
+# ----------------------------------------------------------------------------- names
+def test_canvas_names():
+    p = lms.parse_file("smithjohn_12345_67890_scara.ipynb")
+    assert (p.lms, p.name, p.lms_id, p.late, p.key) == (
+        "canvas",
+        "smithjohn",
+        "12345",
+        False,
+        "canvas:12345",
+    )
+    late = lms.parse_file("smithjohn_late_12345_67891_scara-1.ipynb")
+    assert late.late and late.lms_id == "12345" and late.order == (67891, 1)
+    assert late.order > p.order  # the re-upload sorts after the first upload
+    assert lms.parse_file("scara.ipynb") is None
+    assert lms.parse_file("alice.ipynb") is None
+
+
+def test_moodle_blackboard_brightspace_names():
+    d = lms.parse_folder("Jane Doe_70001_assignsubmission_file_")
+    assert (d.lms, d.name, d.lms_id) == ("moodle", "Jane Doe", "70001")
+    f = lms.parse_file("Jane Doe_70001_assignsubmission_file_scara.ipynb")
+    assert (f.lms, f.name, f.lms_id) == ("moodle", "Jane Doe", "70001")
+    b = lms.parse_file("HW 3_jdoe_attempt_2026-11-20-23-10-05_scara.ipynb")
+    assert (b.lms, b.lms_id) == ("blackboard", "jdoe")
+    assert time.localtime(b.submitted_at)[:6] == (2026, 11, 20, 23, 10, 5)
+    s = lms.parse_file("123-456 - Jane Doe - Nov 20, 2026 1110 PM - scara.ipynb")
+    assert (s.lms, s.name, s.lms_id) == ("brightspace", "Jane Doe", "456")
+    assert time.localtime(s.submitted_at)[:5] == (2026, 11, 20, 23, 10)
+    assert lms.parse_folder("123-456 - Jane Doe - Nov 20, 2026 1110 PM").lms == "brightspace"
+
+
+# ----------------------------------------------------------------------------- discovery
+def test_canvas_attempts_newest_counts_earlier_kept(tmp_path):
+    c = tmp_path / "canvas"
+    touch(c / "smithjohn_1000_5000_scara.ipynb", mtime=100)
+    touch(c / "smithjohn_1000_5100_scara-1.ipynb", mtime=50)  # newer upload, older mtime
+    touch(c / "smithjohn_late_1000_5200_scara-2.ipynb", mtime=10)
+    touch(c / "ngamy_1002_5002_scara.ipynb")
+    subs, notes = discover([c], NB)
+    assert [s.student for s in subs] == ["ngamy_1002", "smithjohn_1000"]
+    john = subs[1]
+    assert john.path.name == "smithjohn_late_1000_5200_scara-2.ipynb" and john.late
+    assert [e.path.name for e in john.earlier] == [
+        "smithjohn_1000_5000_scara.ipynb",
+        "smithjohn_1000_5100_scara-1.ipynb",
+    ]
+    assert john.lms == "canvas" and john.lms_id == "1000"
+    assert any(
+        "3 attempts; the newest (smithjohn_late_1000_5200_scara-2.ipynb)" in n for n in notes
+    )
+
+
+def test_moodle_folders_and_one_student_folder(tmp_path):
+    m = tmp_path / "moodle"
+    touch(m / "Jane Doe_70001_assignsubmission_file_" / NB)
+    touch(m / "Amy Ng_70002_assignsubmission_file_" / "my scara.ipynb")
+    subs, _ = discover([m], NB)
+    assert {s.student: (s.lms, s.lms_id, s.name) for s in subs} == {
+        "Jane_Doe_70001": ("moodle", "70001", "Jane Doe"),
+        "Amy_Ng_70002": ("moodle", "70002", "Amy Ng"),
+    }
+    # One student's folder passed alone is that student (a one-student regrade).
+    one, _ = discover([m / "Jane Doe_70001_assignsubmission_file_"], NB)
+    assert [s.student for s in one] == ["Jane_Doe_70001"]
+
+
+def test_folder_per_student_passed_alone_is_that_student(tmp_path):
+    touch(tmp_path / "class" / "alice" / NB)
+    touch(tmp_path / "class" / "bob" / NB)
+    subs, _ = discover([tmp_path / "class" / "alice"], NB)
+    assert [s.student for s in subs] == ["alice"]
+
+
+def test_nbgrader_tree(tmp_path):
+    course = tmp_path / "course"
+    touch(course / "submitted" / "alice" / "scara" / NB)
+    (course / "submitted" / "alice" / "scara" / "timestamp.txt").write_text(
+        "2026-11-20 22:00:00.000000 UTC"
+    )
+    touch(course / "submitted" / "bob" / "scara" / NB)
+    for arg in (course, course / "submitted"):
+        subs, _ = discover([arg], NB)
+        assert [s.student for s in subs] == ["alice", "bob"]
+        assert subs[0].submitted_at == datetime(2026, 11, 20, 22, tzinfo=timezone.utc).timestamp()
+        assert subs[0].time_source == "nbgrader timestamp.txt"
+        assert subs[1].time_source == "file modification time"
+
+
+def test_refuses_what_is_not_a_class(tmp_path):
+    cls = tmp_path / "class"
+    touch(cls / NB)
+    touch(cls / "alice" / NB)
+    touch(cls / "bob" / NB)
+    with pytest.raises(SubmissionsError) as exc:
+        discover([cls], NB)
+    msg = str(exc.value)
+    assert (
+        "holds scara.ipynb (the exercise's own notebook name, not a student's) beside 2 "
+        "student folder(s) (alice, bob)" in msg
+    )
+    assert "Move scara.ipynb out of the class folder" in msg
+    # One folder too high: a single "student" holding a class.
+    top = tmp_path / "top"
+    for who in ("a", "b", "c"):
+        touch(top / "submissions" / who / NB)
+    with pytest.raises(
+        SubmissionsError,
+        match=r"holds 3 folders with a notebook of the same "
+        r"name \(a, b, c\).*Pass .*submissions itself",
+    ):
+        discover([top], NB)
+    (tmp_path / "zipped").mkdir()
+    (tmp_path / "zipped" / "submissions.zip").write_bytes(b"PK")
+    with pytest.raises(SubmissionsError, match="unzip the LMS download first"):
+        discover([tmp_path / "zipped"], NB)
+    with pytest.raises(SubmissionsError, match="no such file or folder"):
+        discover([tmp_path / "no" / "such"], NB)
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="bytes file names")
+def test_undecodable_names_deep_trees_and_dot_folders(tmp_path):
+    cls = tmp_path / "class"
+    cls.mkdir()
+    raw = os.path.join(os.fsencode(cls), b"caf\xe9.ipynb")
+    with open(raw, "w") as f:
+        f.write("{}")
+    touch(cls / "alice.ipynb")
+    hidden = touch(cls / ".bob" / NB)
+    subs, notes = discover([cls], NB)
+    ids = [s.student for s in subs]
+    assert "alice" in ids and len(ids) == 2
+    odd = next(s for s in subs if s.student != "alice")
+    assert odd.student.startswith("caf-") and odd.student.isascii()
+    assert odd.shown_path.endswith("caf\\xe9.ipynb")
+    odd.shown_path.encode("utf-8")  # writable anywhere
+    assert any(".bob: a hidden folder" in n for n in notes), notes
+    assert hidden.exists()
+    # 1,200 nested folders in one student's folder: no RecursionError, and it is said.
+    deep = tmp_path / "deep"
+    d = deep / "carol"
+    os.makedirs(d)
+    touch(d / NB)
+    path = os.fsencode(d)
+    os.chdir(d)
+    try:
+        for _ in range(1200):
+            os.mkdir("d")
+            os.chdir("d")
+        with open("x.ipynb", "w") as f:
+            f.write("{}")
+    finally:
+        os.chdir(tmp_path)
+    touch(deep / "dave" / NB)
+    try:
+        subs, notes = discover([deep], NB)
+        assert [s.student for s in subs] == ["carol", "dave"]
+        assert subs[0].path == d / NB
+        assert any("nested more than" in n for n in notes)
+    finally:
+        _remove_chain(path)
+
+
+def _remove_chain(top: bytes) -> None:
+    """Remove a deep d/d/d/... chain without recursion (pytest's cleanup would recurse)."""
+    depth = 0
+    os.chdir(top)
+    while os.path.isdir(b"d"):
+        os.chdir(b"d")
+        depth += 1
+    for name in os.listdir(b"."):
+        os.unlink(name)
+    for _ in range(depth):
+        os.chdir(b"..")
+        os.rmdir(b"d")
+    os.chdir(b"/")
+
+
+def test_links_are_not_followed(tmp_path):
+    outside = touch(tmp_path / "solution" / NB, '{"secret": 1}')
+    cls = tmp_path / "class"
+    touch(cls / "alice.ipynb")
+    (cls / "mallory.ipynb").symlink_to(outside)
+    (cls / "eve").mkdir()
+    (cls / "eve" / NB).symlink_to(outside)
+    os.link(outside, cls / "trudy.ipynb")
+    subs, notes = discover([cls], NB)
+    assert [s.student for s in subs] == ["alice"]
+    text = "\n".join(notes)
+    assert "mallory.ipynb: a symbolic link: links are not followed" in text
+    assert "eve/scara.ipynb: a symbolic link" in text
+    assert "trudy.ipynb: a hard link" in text
+    # A student folder that is itself a link.
+    cls2 = tmp_path / "class2"
+    touch(cls2 / "alice" / NB)
+    (cls2 / "bob").symlink_to(tmp_path / "solution", target_is_directory=True)
+    subs, notes = discover([cls2], NB)
+    assert [s.student for s in subs] == ["alice"]
+    assert any("bob: a symbolic link" in n for n in notes)
+
+
+def test_ids_are_unique_traceable_and_order_free(tmp_path):
+    cls = tmp_path / "class"
+    touch(cls / "al ice.ipynb", "1")
+    touch(cls / "al_ice.ipynb", "2")
+    touch(cls / "+cmd.ipynb", "3")
+    subs, _ = discover([cls], NB)
+    by = {s.student: s.path.name for s in subs}
+    assert by["al_ice"] == "al_ice.ipynb"  # the real name keeps its id
+    assert by[student_id("al ice")] == "al ice.ipynb" != "al_ice"
+    assert student_id("al ice").startswith("al_ice-")
+    assert all(s[0] not in "+-@=" for s in by)
+    # Alone, each file gets the same id as in the class.
+    assert discover([cls / "al ice.ipynb"], NB)[0][0].student == student_id("al ice")
+
+
+# ----------------------------------------------------------------------------- policy
+DAY = 86400.0
+
+
+def test_late_penalty_per_day_cap_grace_extension_override():
+    rules = Rules(due=1000 * DAY, per_day=10, cap=25, grace_minutes=15)
+    on_time = apply(8, 10, 1000 * DAY + 14 * 60, "download name", rules)
+    assert (on_time.final, on_time.late_days, on_time.notes) == (8, 0, [])
+    one = apply(8, 10, 1000 * DAY + 16 * 60, "download name", rules)
+    assert (one.late_days, one.penalty, one.final) == (1, 1.0, 7.0)
+    assert "1 day(s) late, 10% per day (at most 25%), -1 points" in one.notes[0]
+    five = apply(8, 10, 1005 * DAY, "download name", rules)
+    assert (five.late_days, five.penalty, five.final) == (5, 2.5, 5.5)  # capped at 25%
+    low = apply(1, 10, 1005 * DAY, "x", rules)
+    assert low.final == 0  # never below zero
+    ext = apply(8, 10, 1005 * DAY, "x", rules, extension=(1006 * DAY, "illness"))
+    assert ext.final == 8 and "Extension" in ext.notes[0] and "illness" in ext.notes[0]
+    ovr = apply(8, 10, 1005 * DAY, "x", rules, override=("score", 9.0, "regraded by hand"))
+    assert (
+        ovr.final == 9
+        and "regraded by hand" in ovr.notes[-1]
+        and "(computed: 5.5)" in ovr.notes[-1]
+    )
+    exc = apply(8, 10, None, "x", rules, override=("excused", None, "medical"))
+    assert exc.excused and "medical" in exc.notes[0]
+    with pytest.raises(PolicyError, match="per_day"):
+        Rules(per_day=-1)
+    with pytest.raises(PolicyError, match="cannot read the time"):
+        parse_time("next friday")
+    utc = datetime(2026, 11, 20, 23, 59, tzinfo=timezone.utc).timestamp()
+    assert parse_time("2026-11-20T23:59:00+00:00") == utc
+    assert parse_time("2026-11-20T23:59:00+01:00") == utc - 3600
+    assert parse_time("2026-11-20") == parse_time("2026-11-20 23:59:59")
+
+
+# ----------------------------------------------------------------------------- gradebook
+def result(student, points, status="ok", key="k1", feedback="wrong"):
+    tests = [
+        TestResult("t1", 1.0, points[0], "ok" if points[0] == 1 else feedback),
+        TestResult("t2", 2.0, points[1], "ok" if points[1] == 1 else feedback),
+    ]
+    return SubmissionResult(
+        student, f"/s/{student}.ipynb", "h" + student, status, tests=tests, max_score=3.0, key=key
+    )
+
+
+def filled(tmp_path, students=("alice", "bob", "carol")):
+    gb = Gradebook.open(tmp_path / "gb.sqlite")
+    gb.add_assignment("scara", 3.0, [("t1", 1.0), ("t2", 2.0)])
+    run = gb.start_run("scara", "0", 1, "k1", {})
+    for i, s in enumerate(students):
+        gb.add_student(s, name=s.title(), canvas_id=str(100 + i), moodle_id=str(700 + i))
+        sid = gb.add_submission(s, "scara", "h" + s, f"/s/{s}.ipynb", 1000.0 + i)
+        gb.record(run, sid, result(s, (1, min(1.0, 0.4 * i))), "scara", 1)
+    gb.end_run(run, "finished")
+    return gb
+
+
+def test_regrading_one_student_changes_only_their_rows(tmp_path):
+    gb = filled(tmp_path)
+    before = {r["student"]: dict(r) for r in gb.current("scara")}
+    run = gb.start_run("scara", "0", 1, "k1", {})
+    sid = gb.add_submission("bob", "scara", "hbob2", "/s/bob2.ipynb", 2000.0)
+    gb.record(run, sid, result("bob", (0, 0)), "scara", 1)
+    after = {r["student"]: dict(r) for r in gb.current("scara")}
+    assert set(after) == {"alice", "bob", "carol"}
+    assert after["alice"] == before["alice"] and after["carol"] == before["carol"]
+    assert after["bob"]["score"] == 0 and after["bob"]["sha256"] == "hbob2"
+    # Nothing deleted: bob's first file and grade are still there.
+    assert [h["score"] for h in gb.history("scara", "bob")] == [1.8, 0.0]
+    assert len(gb.submissions("scara", "bob")) == 2
+    assert gb.check() == []
+
+
+def test_one_writer_and_interrupted_runs(tmp_path):
+    gb = filled(tmp_path)
+    run = gb.start_run("scara", "0", 1, "k1", {})
+    with pytest.raises(GradebookBusy, match="another rikin-grade .* is writing"):
+        Gradebook.open(tmp_path / "gb.sqlite")
+    gb.close()  # as if killed: the run never ended
+    gb = Gradebook.open(tmp_path / "gb.sqlite")
+    assert gb.runs()[-1]["id"] == run and gb.runs()[-1]["state"] == "interrupted"
+    assert gb.conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
+    gb.close()
+
+
+def test_cached_results_are_reused_not_copied(tmp_path):
+    gb = filled(tmp_path)
+    sid = gb.add_submission("alice", "scara", "halice", "/s/alice.ipynb", 1000.0)
+    prev = gb.cached(sid, "k1")
+    assert prev is not None and prev.score == 1.0 and gb.cached(sid, "other-key") is None
+    run = gb.start_run("scara", "0", 1, "k1", {})
+    gb.record(run, sid, prev, "scara", 1, reuse=prev.result_id)
+    n = gb.conn.execute("SELECT COUNT(*) FROM results WHERE student = 'alice'").fetchone()[0]
+    assert n == 1
+
+
+# ----------------------------------------------------------------------------- exports
+def test_canvas_and_moodle_files_follow_their_import_formats(tmp_path):
+    gb = filled(tmp_path)
+    gb.add_student("alice", sis_id="S1", section="A", email="alice@uni.edu")
+    gb.set_policy("scara", 1001.5, 10, 100, 0)  # carol (1002) is late by one day
+    gb.add_override("bob", "scara", "excused", None, "medical")
+    rows = final_grades(gb, "scara")
+    canvas, skipped = lms.canvas_csv(rows, "scara", 3.0)
+    got = list(csv.reader(io.StringIO(canvas)))
+    # Canvas: Student, ID, SIS User ID, SIS Login ID, Section, then the assignment column;
+    # a "Points Possible" row; EX for excused.
+    assert got[0] == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", "scara"]
+    assert got[1] == ["Points Possible", "", "", "", "", "3"]
+    assert got[2:] == [
+        ["Alice", "100", "S1", "", "A", "1"],
+        ["Bob", "101", "", "", "", "EX"],
+        ["Carol", "102", "", "", "", "2.3"],  # 2.6 points - 10% of 3
+    ]
+    assert skipped == []
+    moodle, skipped = lms.moodle_csv(rows, 3.0)
+    got = list(csv.reader(io.StringIO(moodle)))
+    # Moodle's worksheet import needs Identifier ("Participant N"), Grade, Last modified (grade).
+    assert got[0] == lms.MOODLE_COLUMNS
+    head = got[0]
+    alice = dict(zip(head, got[1], strict=True))
+    assert alice["Identifier"] == "Participant 700" and alice["Grade"] == "1"
+    assert alice["Email address"] == "alice@uni.edu" and alice["Maximum Grade"] == "3"
+    assert time.strptime(alice["Last modified (grade)"], "%Y-%m-%d %H:%M:%S")
+    assert skipped == ["bob"]  # excused: Moodle's worksheet has no excused grade
+    carol = dict(zip(head, got[2], strict=True))
+    assert carol["Grade"] == "2.3" and "Late:" in carol["Feedback comments"]
+
+
+def test_formula_like_text_is_escaped_in_every_csv(tmp_path):
+    gb = Gradebook.open(tmp_path / "gb.sqlite")
+    gb.add_assignment("scara", 3.0, [("t1", 1.0), ("t2", 2.0)])
+    run = gb.start_run("scara", "0", 1, "k1", {})
+    gb.add_student("x", name='=HYPERLINK("http://evil")', canvas_id="1", moodle_id="2")
+    sid = gb.add_submission("x", "scara", "hx", "/s/x.ipynb", 1.0)
+    gb.record(run, sid, result("x", (1, 1)), "scara", 1)
+    rows = final_grades(gb, "scara")
+    for text in (lms.canvas_csv(rows, "scara", 3)[0], lms.moodle_csv(rows, 3)[0]):
+        cells = [c for r in csv.reader(io.StringIO(text)) for c in r]
+        assert '\'=HYPERLINK("http://evil")' in cells and not any(c.startswith("=") for c in cells)
+
+
+def test_export_views_and_class_report(tmp_path):
+    gb = filled(tmp_path, ("a", "b", "c", "d"))
+    info = export(gb, "scara", "scara", tmp_path / "out", run_id=1)
+    out = tmp_path / "out"
+    rows = (out / "grades.csv").read_text().splitlines()
+    assert rows[0].startswith("student,status,score,max_score,t1,t2,raw_score,late_days")
+    assert [r.split(",")[0] for r in rows[1:]] == ["a", "b", "c", "d"]
+    assert "seed" in rows[0].split(",")
+    assert (out / "canvas-scara.csv").exists() and (out / "moodle-scara.csv").exists()
+    stats = json.loads((out / "report" / "scara-run1.json").read_text())
+    # t2's fraction 0, 0.4, 0.8, 1: scores a 1, b 1.8, c 2.6, d 3
+    assert stats["students"] == 4 and stats["mean"] == pytest.approx((1 + 1.8 + 2.6 + 3) / 4)
+    t2 = next(t for t in stats["tests"] if t["test"] == "t2")
+    assert t2["pass_rate"] == pytest.approx(1 / 4)  # full marks only for d
+    assert t2["mean"] == pytest.approx((0 + 0.8 + 1.6 + 2) / 4)
+    assert stats["failures"][0] == {
+        "test": "t2",
+        "message": "wrong",
+        "students": 3,
+        "examples": ["a", "b", "c"],
+        "example_message": "wrong",
+    }
+    page = (out / "report" / "scara.html").read_text()
+    assert '<img src="scara.png"' in page and "Most common failures" in page
+    assert (out / "report" / "scara-run1.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert info["report"][0].endswith("scara.html")
+
+
+def test_histogram_bins():
+    bins = histogram([0, 0.5, 9.99, 10, 10], 10)
+    assert len(bins) == 10 and bins[0]["count"] == 2 and bins[-1]["count"] == 3
+    assert sum(b["count"] for b in bins) == 5
+
+
+def test_statistics_list_who_failed_to_run():
+    from rikingrade.policy import Grade
+
+    def row(s, status, pts):
+        res = result(s, pts, status=status)
+        g = Grade(res.score, 3.0, res.score)
+        return {
+            "student": s,
+            "status": status,
+            "final": res.score,
+            "max_score": 3.0,
+            "excused": False,
+            "grade": g,
+            "result": res,
+        }
+
+    stats = statistics(
+        [row("a", "ok", (1, 1)), row("b", "invalid", (0, 0)), row("c", "timeout", (1, 0))],
+        [("t1", 1.0), ("t2", 2.0)],
+    )
+    assert [t["student"] for t in stats["failed_to_run_or_timed_out"]] == ["b", "c"]
+    # b's "not run" failures are not counted as failure messages (b is listed above).
+    assert all("b" not in f["examples"] for f in stats["failures"])
