@@ -147,3 +147,32 @@ def test_huge_output_is_truncated(graded):
     assert len(noisy[0].output) < 10_000 + 200
     # 5,000,001 + 588,890 characters printed, 10,000 kept (the default output_limit)
     assert noisy[0].output.endswith("[5578891 more characters of output truncated]")
+
+
+def test_output_amplification_is_capped(graded):
+    """2,000 failing, printing cells: every file of that student stays small (was ~53 KiB/cell)."""
+    root, _, report = graded
+    name = "many_failing_cells"
+    res = report.by_student()[name]
+    assert len(res.cells) <= 50 and len(res.problems) <= 45
+    out = root / "out"
+    files = [
+        out / ".rikingrade" / f"{name}.json",
+        out / "results" / f"{name}.json",
+        out / "feedback" / f"{name}.md",
+        out / "feedback" / f"{name}.html",
+    ]
+    sizes = {f.name + f.parent.name: f.stat().st_size for f in files}
+    assert all(size < 400_000 for size in sizes.values()), sizes
+    kept = sum(len(c.output) for c in res.cells)
+    assert kept <= 100_000 + 100
+    log = (out / "grading.log").read_text()
+    assert log.count(f"{name} cell ") <= 50
+
+
+def test_no_text_from_a_child_can_break_the_outputs(graded):
+    """Lone surrogates in messages, output, results: every file is valid UTF-8."""
+    root, _, _ = graded
+    for f in (root / "out").rglob("*"):
+        if f.is_file() and f.suffix in (".json", ".md", ".html", ".csv", ".log"):
+            f.read_bytes().decode("utf-8")  # raises on a surrogate written with surrogateescape

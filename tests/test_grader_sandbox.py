@@ -194,3 +194,102 @@ def test_paths_inside_bound_directories_can_be_masked():
     masked = check_sandbox(hidden=[pkg, pkg / "sign.py", single])
     assert masked["ok"], masked["probe"]
     assert masked["probe"]["visible"] == []
+
+
+def test_a_submission_has_a_wall_clock_budget(tmp_path):
+    """Ten cells of 1.5 s each (under the 2 s cell limit) stop at the 6 s budget."""
+    require_bwrap()
+    nb = _nb_with(*["import time\ntime.sleep(1.5)"] * 10)
+    (tmp_path / "slow.ipynb").write_text(nb)
+    report = grade(
+        ASSIGNMENT, [tmp_path / "slow.ipynb"], tmp_path / "out", workers=1, time_budget=6, **FAST
+    )
+    res = report.results[0]
+    assert res.elapsed < 6 + 2.0
+    assert res.status == "timeout" and "time budget (6 s)" in res.reason
+    assert res.score == 0
+    assert all(t.timed_out and "time budget" in t.feedback for t in res.tests)
+
+
+def test_each_submission_gets_an_empty_writable_full_scratch(tmp_path):
+    """Files in /scratch/.mpl, read-only folders, a full /scratch: none reach the next one."""
+    require_bwrap()
+    writer = _nb_with(
+        "import os\n"
+        "open('/scratch/.mpl/leak.txt', 'w').write('42')\n"
+        "os.makedirs('/scratch/locked/inner')\n"
+        "open('/scratch/locked/inner/answers.txt', 'w').write('42')\n"
+        "try:\n"
+        "    with open('/scratch/locked/inner/fill', 'wb') as f:\n"
+        "        while True:\n"
+        "            f.write(b'x' * 2**20)\n"
+        "except OSError:\n"
+        "    pass\n"
+        "os.chmod('/scratch/locked/inner', 0o500)\n"
+        "os.chmod('/scratch/locked', 0o000)\n"
+        "os.chmod('/scratch/.mpl', 0o500)\n"
+        "os.chmod('/scratch', 0o500)\n"
+    )
+    reader = _nb_with(
+        "import os\n"
+        "seen = [n for n in os.listdir('/scratch') if n not in ('.mpl', os.path.basename(os.getcwd()))]\n"  # noqa: E501
+        "seen += [n for n in os.listdir('/scratch/.mpl') if not n.startswith('fontlist-')]\n"
+        "open('/scratch/.mpl/mine.txt', 'w').write('ok')\n"
+        "open('result.bin', 'wb').write(b'y' * 15_000)\n"
+        "st = os.statvfs('/scratch')\n"
+        "free_mb = st.f_bavail * st.f_frsize / 2**20\n"
+        "def add(a, b):\n"
+        "    return a + b if not seen and free_mb > 60 else -999\n"
+    )
+    cls = tmp_path / "class"
+    cls.mkdir()
+    (cls / "a_writer.ipynb").write_text(writer)
+    (cls / "b_reader.ipynb").write_text(reader)
+    report = grade(ASSIGNMENT, [cls], tmp_path / "out", workers=1, **FAST)
+    res = report.by_student()
+    assert res["a_writer"].score == 5
+    assert res["b_reader"].score == 5, (res["b_reader"].tests, res["b_reader"].problems)
+    assert res["b_reader"].status == "ok", res["b_reader"].problems
+
+
+def test_a_failure_writing_one_result_costs_that_submission_only(tmp_path, monkeypatch):
+    """Every submission reaches the gradebook; the failed one as grader-error (exit 1)."""
+    require_bwrap()
+    import rikingrade.api as api
+
+    real = api.write_student
+
+    def flaky(out, res, exercise, *rest):
+        if res.student.startswith("broken"):
+            raise UnicodeEncodeError("utf-8", "\udcff", 0, 1, "surrogates not allowed")
+        real(out, res, exercise, *rest)
+
+    monkeypatch.setattr(api, "write_student", flaky)
+    cls = tmp_path / "class"
+    cls.mkdir()
+    for name in ("broken1", "broken2", "c", "d", "e"):
+        (cls / f"{name}.ipynb").write_bytes(SOLUTION.read_bytes())
+    report = grade(ASSIGNMENT, [cls], tmp_path / "out", workers=2, **FAST)
+    res = report.by_student()
+    assert sorted(res) == ["broken1", "broken2", "c", "d", "e"]
+    assert [res[s].status for s in ("broken1", "broken2")] == ["grader-error"] * 2
+    assert all(res[s].score == 5 for s in ("c", "d", "e"))
+    assert report.summary["grader_errors"] == 2
+    rows = (tmp_path / "out" / "grades.csv").read_text().splitlines()
+    assert len(rows) == 6
+
+
+def test_a_95_mib_cell_is_sent_in_time(tmp_path):
+    """The child reads a message in linear time (a 95 MiB cell took 17-31 s, quadratic)."""
+    require_bwrap()
+    nb = json.loads(_nb_with("x = 1  # " + "z" * (95 * 2**20)))
+    (tmp_path / "big.ipynb").write_text(json.dumps(nb))
+    report = grade(
+        ASSIGNMENT,
+        [tmp_path / "big.ipynb"],
+        tmp_path / "out",
+        workers=1,
+        **{**FAST, "cell_timeout": 6.0},
+    )
+    res = report.results[0]
+    assert (res.score, res.status) == (5, "ok"), res.problems

@@ -70,6 +70,7 @@ def grade(
     reveal: bool = False,
     timeout: float | None = None,
     cell_timeout: float = 30.0,
+    time_budget: float = 180.0,
     memory_mb: int = 1024,
     cpu_seconds: int = 120,
     max_processes: int = 32,
@@ -116,6 +117,9 @@ def grade(
         the four arm exercises).
     cell_timeout : float
         Wall-clock seconds per notebook cell; a slower cell is skipped (later cells run).
+    time_budget : float
+        Wall-clock seconds one submission may cost in all (cells, calls, restarts); the
+        tests not reached in time score 0 and the submission's status is ``timeout``.
     memory_mb : int
         Memory (MiB, address space) a notebook may allocate on top of the preloaded
         libraries (numpy, sympy, matplotlib, rikin: about 250 MiB).
@@ -203,6 +207,7 @@ def grade(
         options = RunOptions(
             limits=limits,
             cell_timeout=float(cell_timeout),
+            time_budget=float(time_budget),
             timeout=None if timeout is None else float(timeout),
             output_limit=int(output_limit),
             reveal=bool(reveal),
@@ -410,6 +415,7 @@ def _grader_key(a: Assignment, seed: int, options: RunOptions, tmp_mb: int) -> s
             "reveal": options.reveal,
             "timeout": options.timeout,
             "cell_timeout": options.cell_timeout,
+            "time_budget": options.time_budget,
             "limits": options.limits.as_dict(),
             "output_limit": options.output_limit,
             "tmp_mb": tmp_mb,
@@ -522,33 +528,26 @@ def _run_pool(
                 try:
                     res = runner.grade(sub)
                 except Exception:  # a bug must cost one submission, not the batch
-                    tb = traceback.format_exc()
-                    log.error("%s: internal error:\n%s", sub.student, tb)
-                    res = SubmissionResult(
-                        student=sub.student,
-                        path=sub.shown_path,
-                        sha256=sub.hash(),
-                        status=GRADER_ERROR,
-                        reason="internal grader error (see the log)",
-                        max_score=a.max_score,
-                        key=key,
-                        tests=[
-                            TestResult(
-                                t.name,
-                                float(t.weight),
-                                0.0,
-                                "not run: internal grader error",
-                                grader_error=True,
-                            )
-                            for t in a.tests
-                        ],
-                    )
+                    log.error("%s: internal error:\n%s", sub.student, traceback.format_exc())
+                    res = _failed(a, sub, key)
                     sandbox.close()
-                done(sub, res)
-                _log_result(res)
+                try:
+                    done(sub, res)
+                    _log_result(res)
+                except Exception:  # e.g. a disk error: this submission only, never the batch
+                    log.error(
+                        "%s: writing the results failed:\n%s", sub.student, traceback.format_exc()
+                    )
+                    res = _failed(a, sub, key, "writing this submission's results failed")
+                    try:
+                        done(sub, res)
+                    except Exception:
+                        log.error("%s: its failure could not be recorded either", sub.student)
                 with lock:
                     results[sub.student] = res
                 bar.update(res)
+        except Exception:  # the worker itself: what it had not graded is reported below
+            log.error("grader worker %d stopped:\n%s", n, traceback.format_exc())
         finally:
             sandbox.close()
 
@@ -571,6 +570,37 @@ def _run_pool(
         raise SandboxUnavailable(start_errors[0] + "\n\n" + INSTALL_HINT)
     for e in start_errors:
         log.warning("a worker's sandbox did not start: %s", e)
+    for s in todo:  # every submission ends in the gradebook, graded or with the reason
+        if s.student not in results and not stop.is_set():
+            results[s.student] = _failed(a, s, key, "not graded: a grader worker stopped")
+            try:
+                done(s, results[s.student])
+            except Exception:
+                log.error("%s: not graded, and that could not be recorded", s.student)
+            bar.update(results[s.student])
+
+
+def _failed(a: Assignment, sub: Submission, key: str, why: str = "") -> SubmissionResult:
+    """The result of a submission the grader failed on (status grader-error, score 0)."""
+    try:
+        sha = sub.hash()
+    except OSError:
+        sha = ""
+    return SubmissionResult(
+        student=sub.student,
+        path=sub.shown_path,
+        sha256=sha,
+        status=GRADER_ERROR,
+        reason=why or "internal grader error (see the log)",
+        max_score=a.max_score,
+        key=key,
+        tests=[
+            TestResult(
+                t.name, float(t.weight), 0.0, "not run: internal grader error", grader_error=True
+            )
+            for t in a.tests
+        ],
+    )
 
 
 # ----------------------------------------------------------------------------- probe

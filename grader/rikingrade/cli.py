@@ -78,6 +78,11 @@ GRADE_OPTIONS: list[tuple[str, str]] = [
         "wall-clock seconds per notebook cell; a slower cell is skipped and later cells still run",
     ),
     (
+        "time_budget",
+        "wall-clock seconds one submission may cost in all (cells, calls, restarts); tests "
+        "not reached in time score 0",
+    ),
+    (
         "memory_mb",
         "memory (MiB of address space) a notebook may allocate on top of the preloaded "
         "numpy/sympy/matplotlib/rikin (about 250 MiB)",

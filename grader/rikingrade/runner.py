@@ -3,13 +3,20 @@
 The steps, in order:
 
 1. read the notebook as JSON (no code runs); unreadable -> status ``invalid``, score 0;
-2. fork a child and run the code cells in file order, as "Run All" would: a cell that
-   raises is recorded and the next cells still run; a cell that hangs past
+2. fork a child and run the code cells in file order, as "Run All" would, except the
+   cells that only call the answer functions (the visible checks: see ``cellplan``): a
+   cell that raises is recorded and the next cells still run; a cell that hangs past
    ``cell_timeout`` or kills its process is recorded and skipped in a fresh child;
 3. for each hidden test, send its calls one at a time with that test's wall-clock
    timeout; a call that times out or kills the child costs that test only: the rest of
    its calls are not run and the next test gets a fresh child (cells re-run);
 4. score every test in the grader with ``HiddenTest.check`` (never in the child).
+
+Nothing the child sends extends a deadline: cell events count only in the order the cells
+were sent (a repeated or forged ``cell_start`` is ignored), answers only with the id asked
+for, and the whole submission has a wall-clock budget (``time_budget``) that no deadline
+passes. Every text from the child is cut to size (and made valid Unicode by the channel);
+what one submission may leave in the results (cell reports, output, problems) is capped.
 """
 
 from __future__ import annotations
@@ -22,6 +29,7 @@ import traceback
 from dataclasses import dataclass
 
 from .assignment import Assignment
+from .cellplan import calling_cells
 from .notebook import Notebook, NotebookError, Submission, read_notebook
 from .report import (
     CELL_ERRORS,
@@ -52,6 +60,10 @@ GRADER_PROBLEM = (
     "this test could not be scored because of a problem in the grader; "
     "your instructor has been told"
 )
+#: Cells reported one by one (a failing cell beyond these is only counted).
+MAX_CELL_REPORTS = 50
+#: Notebook problems listed for the student (the rest are counted).
+MAX_PROBLEMS = 40
 
 
 @dataclass(frozen=True)
@@ -63,6 +75,14 @@ class RunOptions:
     timeout: float | None = None
     output_limit: int = 10_000
     reveal: bool = False
+    #: wall-clock seconds for everything one submission may cost (cells, calls, retries)
+    time_budget: float = 180.0
+    #: characters of printed output kept per submission, all cells together
+    output_total: int = 100_000
+
+
+class BudgetSpent(Exception):
+    """The submission used its whole wall-clock budget."""
 
 
 class ExecFailed(Exception):
@@ -156,6 +176,10 @@ class _Run:
     def __init__(self, runner: SubmissionRunner, nb: Notebook) -> None:
         self.r = runner
         self.nb = nb
+        self.t_end = time.monotonic() + runner.opt.time_budget
+        self.budget_spent = False
+        # cells that only call the answer functions: the hidden tests call them instead
+        self.not_run = calling_cells(nb.cells, runner.assignment.functions)
         self.skip: set[int] = set()
         self.cells: dict[int, CellReport] = {}
         self.child: Child | None = None
@@ -164,6 +188,23 @@ class _Run:
         self.call_id = 0
         self.timed_out = False
         self.crashed = False
+        self.output_used = 0  # characters of cell output kept so far
+        self.quiet_ok = 0  # cells that ran without error or output (not reported)
+        self.unlisted: dict[str, int] = {}  # reports beyond MAX_CELL_REPORTS, by status
+        self.seen: set[int] = set()  # cells whose end was recorded (a retry re-runs them)
+
+    def deadline(self, seconds: float) -> float:
+        """``seconds`` from now, but never past the submission's budget."""
+        return min(time.monotonic() + seconds, self.t_end)
+
+    def _spent(self) -> str:
+        return f"the notebook used its whole time budget ({self.r.opt.time_budget:g} s)"
+
+    def _check_budget(self) -> None:
+        if time.monotonic() >= self.t_end - 1e-3:
+            self.budget_spent = True
+            self.timed_out = True
+            raise BudgetSpent()
 
     def close(self) -> None:
         if self.child is not None:
@@ -182,38 +223,59 @@ class _Run:
 
     # ------------------------------------------------------------------ cells
     def start_child(self) -> None:
-        """Fork a child and run the cells; cells that hang or kill are skipped on retry."""
+        """Fork a child and run the cells; cells that hang or kill are skipped on retry.
+
+        Only the grader's own order counts: ``cell_start`` is accepted for the next cell
+        sent and ``cell_end`` for the running one; anything else the child writes (a
+        forged or repeated event) is ignored and moves no deadline.
+        """
         opt = self.r.opt
         attempts = 0
         while True:
             attempts += 1
             if attempts > len(self.nb.cells) + 3:
                 raise ExecFailed("the notebook's process could not be started")
+            self._check_budget()
             child = self.r.sandbox.spawn(opt.limits)
-            cells = [[n, src] for n, src in self.nb.cells if n not in self.skip]
+            cells = [
+                [n, src] for n, src in self.nb.cells if n not in self.skip and n not in self.not_run
+            ]
+            order = [n for n, _ in cells]
+            pos = 0  # index in order of the next cell that may start
             current: int | None = None
             last: int | None = None  # the last cell that started (blamed if none is running)
             try:
-                deadline = time.monotonic() + opt.cell_timeout
+                deadline = self.deadline(opt.cell_timeout)
                 child.send(
-                    {"op": "exec", "cells": cells, "output_limit": opt.output_limit}, deadline
+                    {
+                        "op": "exec",
+                        "cells": cells,
+                        "output_limit": opt.output_limit,
+                        "output_total": max(0, opt.output_total - self.output_used),
+                        "want": list(self.r.assignment.functions),
+                    },
+                    deadline,
                 )
                 while True:
                     msg = child.recv(deadline)
                     ev = msg.get("event")
+                    n = _int(msg.get("cell"))
                     if ev == "cell_start":
-                        current = last = _int(msg.get("cell"))
-                        deadline = time.monotonic() + opt.cell_timeout
+                        if current is None and pos < len(order) and n == order[pos]:
+                            current = last = n
+                            pos += 1
+                            deadline = self.deadline(opt.cell_timeout)
                     elif ev == "cell_end":
-                        n = _int(msg.get("cell"))
-                        if n is not None and n not in self.cells:
-                            self.cells[n] = _cell_report(n, msg)
-                        current = None
-                        deadline = time.monotonic() + opt.cell_timeout
-                    elif ev == "exec_done":
+                        if n is not None and n == current:
+                            if n not in self.seen:
+                                self.seen.add(n)
+                                self._record(n, msg)
+                            current = None
+                            deadline = self.deadline(opt.cell_timeout)
+                    elif ev == "exec_done" and current is None and pos == len(order):
                         funcs = msg.get("functions")
                         self.functions = (
-                            {f for f in funcs if isinstance(f, str)}
+                            {f for f in funcs[:10_000] if isinstance(f, str)}
                             if isinstance(funcs, list)
                             else set()
                         )
@@ -221,6 +283,14 @@ class _Run:
                         return
             except ChildTimeout:
                 self.timed_out = True
+                if time.monotonic() >= self.t_end - 1e-3:
+                    child.close()
+                    self.r.sandbox.reset()
+                    if current is not None:
+                        self.cells[current] = CellReport(
+                            current, "timeout", message=f"was still running: {self._spent()}"
+                        )
+                    self._check_budget()
                 what = f"did not finish within {opt.cell_timeout:g} s"
                 self._skip_cell(child, current, last, "timeout", what)
             except (ChildDied, ProtocolError) as exc:
@@ -229,6 +299,24 @@ class _Run:
                 self._skip_cell(
                     child, current, last, "crashed", f"stopped the notebook's process ({why})"
                 )
+
+    def _record(self, n: int, msg: dict) -> None:
+        """Keep one cell's report, within the submission's caps."""
+        rep = _cell_report(n, msg)
+        if rep.status == "ok" and not rep.output and not rep.notes:
+            self.quiet_ok += 1
+            return
+        left = max(0, self.r.opt.output_total - self.output_used)
+        if len(rep.output) > left:
+            cut = "\n... [cut: the notebook's output limit]" if left else ""
+            rep.output = rep.output[:left] + cut
+            self.output_used = self.r.opt.output_total
+        else:
+            self.output_used += len(rep.output)
+        if len(self.cells) >= MAX_CELL_REPORTS:
+            self.unlisted[rep.status] = self.unlisted.get(rep.status, 0) + 1
+            return
+        self.cells[n] = rep
 
     def _why_died(self, child: Child, exc: Exception) -> str:
         """Why a child stopped answering, in words ("killed (SIGKILL)", a protocol error)."""
@@ -273,21 +361,28 @@ class _Run:
             kwargs = {k: encode_input(v) for k, v in call.kwargs.items()}
             items.append({"id": self.call_id, "function": call.function, "kwargs": kwargs})
         outcomes: list[Outcome] = []
-        deadline = time.monotonic() + timeout
+        deadline = self.deadline(timeout)
         try:
             self.child.send({"op": "calls", "calls": items}, deadline)
             for cid in ids:
-                while True:
+                while True:  # only the answer to the call asked for moves the clock on
                     msg = self.child.recv(deadline)
                     if msg.get("id") == cid:
                         break
                 outcomes.append(_outcome(msg))
-                deadline = time.monotonic() + timeout
+                deadline = self.deadline(timeout)
         except ChildTimeout:
             self.timed_out = True
             self._drop_child()
+            spent = time.monotonic() >= self.t_end - 1e-3
+            self.budget_spent |= spent
             outcomes.append(
-                Outcome(timed_out=True, detail=f"timed out: no result within {timeout:g} s")
+                Outcome(
+                    timed_out=True,
+                    detail=f"stopped: {self._spent()}"
+                    if spent
+                    else f"timed out: no result within {timeout:g} s",
+                )
             )
             rest = Outcome(timed_out=True, detail="not run: an earlier call of this test timed out")
             outcomes += [rest] * (len(calls) - len(outcomes))
@@ -381,13 +476,36 @@ class _Run:
     # ------------------------------------------------------------------ all
     def execute(self, result: SubmissionResult) -> None:
         a = self.r.assignment
-        if self.nb.cells:
-            self._ensure_child()
-        else:
-            self.exec_error = ""
+        try:
+            if self.nb.cells:
+                self._ensure_child()
+        except BudgetSpent:
+            pass
         for i, test in enumerate(a.tests):
+            if self.budget_spent or time.monotonic() >= self.t_end:
+                self.budget_spent = self.timed_out = True
+                result.tests.append(
+                    TestResult(
+                        test.name,
+                        float(test.weight),
+                        0.0,
+                        f"not run: {self._spent()}",
+                        timed_out=True,
+                    )
+                )
+                continue
             try:
                 result.tests.append(self.run_test(i))
+            except BudgetSpent:
+                result.tests.append(
+                    TestResult(
+                        test.name,
+                        float(test.weight),
+                        0.0,
+                        f"not run: {self._spent()}",
+                        timed_out=True,
+                    )
+                )
             except WireError as exc:  # a hidden test built an input that cannot be sent
                 log.error("hidden test %s: %s", test.name, exc)
                 result.tests.append(
@@ -401,29 +519,38 @@ class _Run:
                     )
                 )
         result.cells = [self.cells[n] for n in sorted(self.cells)]
-        problems = list(self.nb.warnings)
+        problems = list(self.nb.warnings)[:10]
         if not self.nb.cells:
             problems.append("the notebook has no code cells")
+        cell_lines = []
         for n in sorted(self.cells):
             c = self.cells[n]
             if c.status == "error":
                 what = f"{c.error_type}: {c.message}" if c.message else c.error_type
-                problems.append(f"code cell {n} raised {what} (later cells still ran)")
+                cell_lines.append(f"code cell {n} raised {what} (later cells still ran)")
             elif c.status in ("timeout", "crashed"):
-                problems.append(f"code cell {n} {c.message}")
+                cell_lines.append(f"code cell {n} {c.message}")
             for note in c.notes:
-                problems.append(f"code cell {n}: {note}")
+                cell_lines.append(f"code cell {n}: {note}")
+        more = len(cell_lines) - MAX_PROBLEMS + sum(self.unlisted.values())
+        problems += cell_lines[:MAX_PROBLEMS]
+        if more > 0:
+            problems.append(f"... and {more} more problems in code cells (not listed)")
         missing = [f for f in a.functions if f not in self.functions]
         for f in missing:
             problems.append(missing_message(f, self.functions, a.functions))
         if self.exec_error:
             problems.append(self.exec_error)
+        if self.budget_spent:
+            problems.append(f"grading stopped: {self._spent()}; the tests not run score 0")
         result.problems = problems
         timeouts = [
             f"code cell {n}" for n, c in sorted(self.cells.items()) if c.status == "timeout"
         ]
         timeouts += [t.name for t in result.tests if t.timed_out]
-        crashes = [f"code cell {n}" for n, c in sorted(self.cells.items()) if c.status == "crashed"]
+        crashes = [
+            f"code cell {n}" for n, c in sorted(self.cells.items()) if c.status == "crashed"
+        ][:10]
         crashes += [t.name for t in result.tests if t.crashed]
         reasons = []
         if any(t.grader_error for t in result.tests):
@@ -431,19 +558,28 @@ class _Run:
             reasons.append("a hidden test failed while scoring (see the log)")
         elif self.timed_out or timeouts:
             result.status = TIMEOUT
-            reasons.append("did not finish in time: " + (", ".join(timeouts) or "the notebook"))
+            if self.budget_spent:
+                reasons.append(self._spent())
+            reasons.append(
+                "did not finish in time: " + (", ".join(timeouts[:10]) or "the notebook")
+            )
         elif self.crashed or crashes or self.exec_error:
             result.status = CRASHED
             reasons.append(
                 self.exec_error
                 or "the notebook's process died in: " + (", ".join(crashes) or "a cell")
             )
-        elif any(c.status == "error" for c in self.cells.values()):
+        elif any(c.status == "error" for c in self.cells.values()) or self.unlisted.get("error"):
             result.status = CELL_ERRORS
             first = [p for p in problems if " raised " in p]
             reasons.append(first[0] + (f" (and {len(first) - 1} more)" if len(first) > 1 else ""))
         reasons += [missing_message(f, self.functions, a.functions) for f in missing]
         result.reason = "; ".join(reasons)[:1000]
+
+
+def _text(v: object, limit: int) -> str:
+    """A child's text as a string of at most ``limit`` characters (anything else: "")."""
+    return v[:limit] if isinstance(v, str) else ""
 
 
 def _outcome(msg: dict) -> Outcome:
@@ -452,9 +588,9 @@ def _outcome(msg: dict) -> Outcome:
     if et is not None:
         bases = msg.get("error_bases")
         return Outcome(
-            error_type=str(et)[:200],
-            error_message=str(msg.get("error_message", ""))[:4000],
-            error_bases=tuple(str(b)[:200] for b in bases[:20]) if isinstance(bases, list) else (),
+            error_type=_text(et, 200) or "Error",
+            error_message=_text(msg.get("error_message"), 4000),
+            error_bases=tuple(_text(b, 200) for b in bases[:20]) if isinstance(bases, list) else (),
         )
     return Outcome(value=msg.get("value"))
 
@@ -465,19 +601,21 @@ def _int(v: object) -> int | None:
 
 def _cell_report(n: int, msg: dict) -> CellReport:
     err = msg.get("error")
-    notes = [str(x)[:200] for x in msg.get("notes", []) if isinstance(x, str)][:10]
-    output = str(msg.get("output", ""))[:20000]
+    raw_notes = msg.get("notes")
+    notes = [_text(x, 200) for x in raw_notes[:10]] if isinstance(raw_notes, list) else []
+    output = _text(msg.get("output"), 20000)
     sec = msg.get("seconds")
-    sec = float(sec) if isinstance(sec, (int, float)) and not isinstance(sec, bool) else 0.0
+    ok_sec = isinstance(sec, (int, float)) and not isinstance(sec, bool) and math.isfinite(sec)
+    sec = float(sec) if ok_sec else 0.0
     if isinstance(err, dict):
         return CellReport(
             n,
             "error",
-            str(err.get("type", "Error"))[:100],
-            str(err.get("message", ""))[:2000],
-            str(err.get("traceback", ""))[:2000],
+            _text(err.get("type"), 100) or "Error",
+            _text(err.get("message"), 2000),
+            _text(err.get("traceback"), 2000),
             output,
-            notes,
+            [x for x in notes if x],
             sec,
         )
-    return CellReport(n, "ok", output=output, notes=notes, seconds=sec)
+    return CellReport(n, "ok", output=output, notes=[x for x in notes if x], seconds=sec)

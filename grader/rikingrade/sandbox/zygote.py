@@ -65,6 +65,25 @@ class ProtocolError(Exception):
     """The child sent something that is not a valid message."""
 
 
+def _valid_str(s: str) -> str:
+    try:
+        s.encode("utf-8")
+        return s
+    except UnicodeEncodeError:
+        return s.encode("utf-8", "replace").decode("utf-8")  # each lone surrogate -> "?"
+
+
+def valid_unicode(obj: Any) -> Any:
+    """``obj`` with every string (keys too) made encodable as UTF-8."""
+    if isinstance(obj, str):
+        return _valid_str(obj)
+    if isinstance(obj, list):
+        return [valid_unicode(x) for x in obj]
+    if isinstance(obj, dict):
+        return {_valid_str(k): valid_unicode(v) for k, v in obj.items()}
+    return obj
+
+
 class Child:
     """One forked child: a socket and a pid inside the sandbox."""
 
@@ -72,6 +91,7 @@ class Child:
         self.sock = sock
         self.pid = pid
         self.buf = bytearray()
+        self.scanned = 0  # bytes of buf known to hold no newline
         self.sock.setblocking(False)
         self.sel = selectors.DefaultSelector()
         self.sel.register(self.sock, selectors.EVENT_READ)
@@ -92,14 +112,23 @@ class Child:
 
     def recv(self, deadline: float) -> dict[str, Any]:
         while True:
-            nl = self.buf.find(b"\n")
+            nl = self.buf.find(b"\n", self.scanned)
+            self.scanned = 0 if nl >= 0 else len(self.buf)  # never scan the same bytes twice
             if nl >= 0:
                 line = bytes(self.buf[:nl])
                 del self.buf[: nl + 1]
                 try:
-                    return decode_message(line)
+                    msg = decode_message(line)
                 except WireError as exc:
                     raise ProtocolError(str(exc)) from None
+                # A lone surrogate ("\udcff", escaped or raw) is valid JSON but no file,
+                # log or terminal can take it: every text from a child is made valid here.
+                if b"\\u" in line or b"\xed" in line:
+                    try:
+                        msg = valid_unicode(msg)
+                    except RecursionError:
+                        raise ProtocolError("a message nested too deeply") from None
+                return msg
             if len(self.buf) > MAX_MESSAGE:
                 raise ProtocolError(
                     f"a message from the notebook process exceeded {MAX_MESSAGE} bytes"
