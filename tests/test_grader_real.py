@@ -58,7 +58,9 @@ def test_solution_full_marks_stub_and_cheat_nothing(exercise, tmp_path):
     assert res["solution"].score == pytest.approx(a.max_score), res["solution"].tests
     assert res["solution"].status == "ok", res["solution"].problems
     assert res["stub"].score == 0
-    assert res["stub"].status == "cell-errors"
+    # the stub's visible checks would raise NotImplementedError, but they are not run while
+    # grading (they only call the answer functions): its cells all run cleanly
+    assert res["stub"].status == "ok", res["stub"].problems
     assert res["cheat"].score == 0, [(t.name, t.points) for t in res["cheat"].tests]
 
 
