@@ -39,7 +39,7 @@ NOTEBOOK_PAGES = [p for p in PAGES if p not in REFERENCE_PAGES]
 CHAPTERS = [p for p in NOTEBOOK_PAGES[1:] if p != "book/what_is_ik"]  # the lessons' chapters
 #: Chapters with the full teaching apparatus (item 5 of issue 16); planar and angular are
 #: another developer's and join this list when they have it.
-TAUGHT = ["book/what_is_ik", "book/decoupling", "book/epson_c4"]
+TAUGHT = ["book/what_is_ik", "book/dh_product", "book/decoupling", "book/epson_c4"]
 CODE_CELL = re.compile(r"^```\{code-cell\}[^\n]*\n(.*?)^```", re.S | re.M)
 
 
