@@ -70,11 +70,15 @@ def test_canvas_download_roster_late_regrade_and_override(tmp_path):
         '"Smith, John",1000,S1,jsmith,A\n"Ng, Amy",1001,S2,amyng,A\n'
         '"Rossi, Marco",1002,S3,mrossi,B\n"Absent, Al",1003,S4,al,B\n'
     )
+    ext = tmp_path / "extensions.csv"
+    ext.write_text("student,due,reason\n1000,2026-11-19 12:00,early exam\n")
     out = tmp_path / "out"
     r = cli(
         "grade",
         str(ASSIGNMENT),
         str(c),
+        "--extensions",
+        str(ext),
         "--out",
         str(out),
         "--roster",
@@ -95,7 +99,7 @@ def test_canvas_download_roster_late_regrade_and_override(tmp_path):
     )
     g = rows(out / "grades.csv")
     assert set(g) == {"smithjohn_1000", "ngamy_1001", "rossimarco_1002"}
-    assert (g["smithjohn_1000"]["score"], g["ngamy_1001"]["score"]) == ("5", "3")
+    assert (g["smithjohn_1000"]["raw_score"], g["ngamy_1001"]["score"]) == ("5", "3")
     marco = g["rossimarco_1002"]
     assert (marco["raw_score"], marco["late_days"], marco["score"]) == ("5", "2", "4")
     canvas = list(csv.reader(io.StringIO((out / "canvas-fake2r.csv").read_text())))
@@ -106,10 +110,17 @@ def test_canvas_download_roster_late_regrade_and_override(tmp_path):
     assert sorted(canvas[2:]) == [
         ["Ng, Amy", "1001", "S2", "amyng", "A", "3"],
         ["Rossi, Marco", "1002", "S3", "mrossi", "B", "4"],
-        ["Smith, John", "1000", "S1", "jsmith", "A", "5"],
+        ["Smith, John", "1000", "S1", "jsmith", "A", "4"],
     ]
     fb = (out / "feedback" / "rossimarco_1002.md").read_text()
     assert "2 day(s) late, 10% per day (at most 30%), -1 points" in fb and "**Final: 4 / 5**" in fb
+    # John's extension (to an earlier time: due 2026-11-19 12:00) makes his 23:58 hand-in late.
+    john = rows(out / "grades.csv")["smithjohn_1000"]
+    assert (john["late_days"], john["score"]) == ("2", "4")
+    assert (
+        "Extension: due 2026-11-19 12:00 (early exam)"
+        in (out / "feedback" / "smithjohn_1000.md").read_text()
+    )
     report = (out / "report" / "fake2r.html").read_text()
     assert "class report" in report and (out / "report" / "fake2r-run1.png").exists()
 
@@ -195,6 +206,51 @@ def test_undecodable_file_name_does_not_empty_the_gradebook(tmp_path):
     odd = next(v for k, v in g.items() if k != "alice")
     assert odd["score"] == "3" and odd["notebook"].endswith("jos\\xe9.ipynb")
     assert json.loads((out / "summary.json").read_text())["graded"] == 2
+
+
+def test_ctrl_c_keeps_every_committed_grade_in_the_views(tmp_path):
+    require_bwrap()
+    cls = tmp_path / "class"
+    cls.mkdir()
+    for i in range(8):
+        (cls / f"s{i}.ipynb").write_text(notebook(slow=1.0))
+    out = tmp_path / "out"
+    p = subprocess.Popen(
+        [
+            PY,
+            "-m",
+            "rikingrade.cli",
+            "grade",
+            str(ASSIGNMENT),
+            str(cls),
+            "--out",
+            str(out),
+            "--workers",
+            "1",
+            *FAST,
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    db = out / "gradebook.sqlite"
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline:  # wait for two committed grades
+        time.sleep(0.2)
+        try:
+            with sqlite3.connect(db) as conn:
+                if conn.execute("SELECT COUNT(*) FROM results").fetchone()[0] >= 2:
+                    break
+        except sqlite3.Error:
+            pass
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 130, err
+    assert "interrupted; run the same command again to resume" in err
+    with sqlite3.connect(db) as conn:
+        n = conn.execute("SELECT COUNT(*) FROM results").fetchone()[0]
+    g = rows(out / "grades.csv")
+    assert 2 <= len(g) == n < 8 and all(v["score"] == "5" for v in g.values())
 
 
 def test_killed_at_random_moments_nothing_committed_is_lost_or_doubled(tmp_path):

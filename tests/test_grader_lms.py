@@ -85,6 +85,38 @@ def test_canvas_attempts_newest_counts_earlier_kept(tmp_path):
     )
 
 
+def test_blackboard_and_brightspace_attempts(tmp_path):
+    bb = tmp_path / "bb"
+    touch(bb / "HW 3_jdoe_attempt_2026-11-21-09-00-00_scara.ipynb", "new")
+    touch(bb / "HW 3_jdoe_attempt_2026-11-20-23-10-05_scara.ipynb", "old")
+    touch(bb / "HW 3_jdoe_attempt_2026-11-20-23-10-05.txt", "")
+    subs, _ = discover([bb], NB)
+    assert [s.student for s in subs] == ["jdoe"]
+    assert subs[0].path.read_text() == "new" and subs[0].time_source == "download name"
+    assert [e.path.read_text() for e in subs[0].earlier] == ["old"]
+    d2l = tmp_path / "d2l"
+    touch(d2l / "11-456 - Jane Doe - Nov 20, 2026 1110 PM" / NB, "first")
+    touch(d2l / "12-456 - Jane Doe - Nov 21, 2026 0905 AM" / NB, "second")
+    subs, _ = discover([d2l], NB)
+    assert [(s.student, s.path.read_text()) for s in subs] == [("Jane_Doe_456", "second")]
+
+
+def test_roster_matches_on_ids_and_names():
+    roster = [
+        lms.RosterEntry("1000", "Smith, John", "js@uni.edu", "S1"),
+        lms.RosterEntry("Participant 70001", "Jane Doe", "jane@uni.edu"),
+        lms.RosterEntry("u3", "Amy Ng", "amyng@uni.edu"),
+    ]
+    canvas = lms.parse_file("smithjohn_1000_1_scara.ipynb")
+    assert lms.match_roster(canvas, "x", roster).sis_id == "S1"
+    moodle = lms.parse_folder("Jane Doe_70001_assignsubmission_file_")
+    assert lms.match_roster(moodle, "x", roster).email == "jane@uni.edu"
+    bb = lms.parse_file("HW_amyng_attempt_2026-11-21-09-00-00_scara.ipynb")
+    assert lms.match_roster(bb, "x", roster).id == "u3"  # the e-mail's user part
+    assert lms.match_roster(None, "Ng Amy", roster).id == "u3"  # a name, either order
+    assert lms.match_roster(None, "Nobody", roster) is None
+
+
 def test_moodle_folders_and_one_student_folder(tmp_path):
     m = tmp_path / "moodle"
     touch(m / "Jane Doe_70001_assignsubmission_file_" / NB)

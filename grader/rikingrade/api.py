@@ -257,6 +257,8 @@ def grade(
         for r in results.values():
             bar.update(r, resumed=True)
         state = "interrupted"
+        commit = threading.Lock()
+        closing = False
         try:
             if todo:
                 config = SandboxConfig(
@@ -272,9 +274,13 @@ def grade(
                         "student code can read and change this machine's files"
                     )
 
-                def done(sub: Submission, res: SubmissionResult) -> None:
-                    gb.record(run_id, sub_ids[sub.student], res, a.exercise, seed)
-                    write_student(out, res, a.exercise, None)
+                def done(sub: Submission, res: SubmissionResult) -> bool:
+                    with commit:
+                        if closing:  # interrupted: graded again by the next run
+                            return False
+                        gb.record(run_id, sub_ids[sub.student], res, a.exercise, seed)
+                        write_student(out, res, a.exercise, None)
+                        return True
 
                 _run_pool(
                     a, calls, options, key, config, todo, max(1, int(workers)), done, bar,
@@ -282,6 +288,8 @@ def grade(
                 )
             state = "finished"
         finally:
+            with commit:  # no worker commits once the views are being written
+                closing = True
             ordered = [results[s.student] for s in subs if s.student in results]
             summary = summarize(ordered, time.monotonic() - t0, resumed)
             summary.update(
@@ -496,11 +504,12 @@ def _run_pool(
     config: SandboxConfig,
     todo: list[Submission],
     workers: int,
-    done: Callable[[Submission, SubmissionResult], None],
+    done: Callable[[Submission, SubmissionResult], bool],
     bar: Progress,
     results: dict[str, SubmissionResult],
 ) -> None:
-    """Grade ``todo`` with ``workers`` sandboxes; ``done`` commits each result as it comes."""
+    """Grade ``todo`` with ``workers`` sandboxes; ``done`` commits each result as it comes
+    (False: it was not committed, the batch is being interrupted)."""
     jobs: queue.Queue[Submission] = queue.Queue()
     for s in todo:
         jobs.put(s)
@@ -532,7 +541,8 @@ def _run_pool(
                     res = _failed(a, sub, key)
                     sandbox.close()
                 try:
-                    done(sub, res)
+                    if not done(sub, res):  # interrupted: the views are being written
+                        return
                     _log_result(res)
                 except Exception:  # e.g. a disk error: this submission only, never the batch
                     log.error(
@@ -540,7 +550,8 @@ def _run_pool(
                     )
                     res = _failed(a, sub, key, "writing this submission's results failed")
                     try:
-                        done(sub, res)
+                        if not done(sub, res):
+                            return
                     except Exception:
                         log.error("%s: its failure could not be recorded either", sub.student)
                 with lock:

@@ -222,7 +222,8 @@ def match_roster(parsed: Parsed | None, raw_name: str, roster: list[RosterEntry]
     names = {_norm(parsed.name)} if parsed else set()
     names.add(_norm(raw_name))
     for e in roster:
-        if ids & {e.id, e.sis_id, e.login, e.email.split("@")[0]} - {""}:
+        theirs = {e.id, e.id.removeprefix("Participant ").strip(), e.sis_id, e.login}
+        if ids & (theirs | {e.email.split("@")[0]}) - {""}:
             return e
     for e in roster:
         parts = [p for p in re.split(r"[\s,]+", e.name) if p]

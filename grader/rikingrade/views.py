@@ -212,13 +212,11 @@ def export(
     out: Path,
     run_id: int | None = None,
     summary: dict[str, Any] | None = None,
-    students: set[str] | None = None,
 ) -> dict[str, Any]:
     """Rewrite every view of ``assignment`` in ``out`` from the gradebook.
 
-    ``students``: whose feedback files to rewrite (default: everyone's, as policy can
-    change anyone's grade). Returns the paths written and the students each LMS file left
-    out.
+    Every student's feedback is rewritten (a policy change can change anyone's grade).
+    Returns the paths written and the students each LMS file left out.
     """
     from .classreport import write_report
 
@@ -239,8 +237,7 @@ def export(
         info["moodle"] = str(out / f"moodle-{exercise}.csv")
         info["moodle_skipped"] = moodle_skipped
     for r in rows:
-        if students is None or r["student"] in students:
-            write_student(out, r["result"], exercise, r["grade"])
+        write_student(out, r["result"], exercise, r["grade"])
     stats = write_report(gb, assignment, exercise, out, rows, run_id)
     info["report"] = stats["paths"]
     full = dict(summary or {})
