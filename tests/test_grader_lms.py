@@ -176,6 +176,15 @@ def test_refuses_what_is_not_a_class(tmp_path):
         r"name \(a, b, c\).*Pass .*submissions itself",
     ):
         discover([top], NB)
+    flat = tmp_path / "download"
+    touch(flat / "submissions" / "smithjohn_1000_1_scara.ipynb")
+    touch(flat / "submissions" / "ngamy_1001_2_scara.ipynb")
+    with pytest.raises(
+        SubmissionsError,
+        match=r"holds notebooks of 2 different students by "
+        r"their download names .*Pass .*submissions itself",
+    ):
+        discover([flat], NB)
     (tmp_path / "zipped").mkdir()
     (tmp_path / "zipped" / "submissions.zip").write_bytes(b"PK")
     with pytest.raises(SubmissionsError, match="unzip the LMS download first"):

@@ -93,11 +93,18 @@ def statistics(rows: list[dict[str, Any]], tests: list[tuple[str, float]]) -> di
             }
         )
     cell_errors: Counter[str] = Counter()
+    cell_who: dict[str, list[str]] = defaultdict(list)
     for r in ran:
         res = r["result"]
-        kinds = {f"{c.error_type}: {_message(c.message)}" for c in res.cells if c.status == "error"}
-        for k in kinds:
+        kinds = {
+            f"{c.error_type}: {_message(c.message)}": f"{c.error_type}: {_shown(c.message)}"
+            for c in res.cells
+            if c.status == "error"
+        }
+        for k, raw in kinds.items():
             cell_errors[k] += 1
+            cell_who[k].append(r["student"])
+            example.setdefault(("", k), raw)
     trouble = [
         {
             "student": r["student"],
@@ -142,7 +149,13 @@ def statistics(rows: list[dict[str, Any]], tests: list[tuple[str, float]]) -> di
             for (t, m), c in failures.most_common(TOP_FAILURES)
         ],
         "cell_errors": [
-            {"error": k, "students": c} for k, c in cell_errors.most_common(TOP_FAILURES)
+            {
+                "error": k,
+                "students": c,
+                "examples": cell_who[k][:5],
+                "example_message": example[("", k)],
+            }
+            for k, c in cell_errors.most_common(TOP_FAILURES)
         ],
         "failed_to_run_or_timed_out": trouble,
     }
@@ -194,8 +207,8 @@ def report_html(stats: dict[str, Any], title: str, png_name: str, subtitle: str)
     )
     fail_rows = (
         "\n".join(
-            f"<tr><td>{f['students']}</td><td>{e(f['test'])}</td><td>{e(f['message'])}"
-            f"<div class=ex>e.g. {e(f['example_message'])}</div></td>"
+            f"<tr><td>{f['students']}</td><td>{e(f['test'])}</td>"
+            f"<td>{e(f['example_message'])}</td>"
             f"<td>{e(', '.join(f['examples']))}"
             f"{' …' if f['students'] > len(f['examples']) else ''}</td></tr>"
             for f in s["failures"]
@@ -204,9 +217,11 @@ def report_html(stats: dict[str, Any], title: str, png_name: str, subtitle: str)
     )
     cell_rows = (
         "\n".join(
-            f"<tr><td>{c['students']}</td><td>{e(c['error'])}</td></tr>" for c in s["cell_errors"]
+            f"<tr><td>{c['students']}</td><td>{e(c['example_message'])}</td>"
+            f"<td>{e(', '.join(c['examples']))}{' …' if c['students'] > 5 else ''}</td></tr>"
+            for c in s["cell_errors"]
         )
-        or "<tr><td colspan=2>no cell raised</td></tr>"
+        or "<tr><td colspan=3>no cell raised</td></tr>"
     )
     trouble_rows = (
         "\n".join(
@@ -229,7 +244,6 @@ th{{background:#f3f3f3}}
 .card b{{display:block;font-size:1.5em}}
 .bar{{display:inline-block;width:6em;height:.8em;background:#eee;margin-right:.4em}}
 .bar span{{display:block;height:100%;background:#3b6ea8}}
-.ex{{color:#666;font-size:.85em;margin-top:.2em}}
 </style></head><body>
 <h1>{e(title)}: class report</h1>
 <p>{e(subtitle)}</p>
@@ -251,11 +265,13 @@ th{{background:#f3f3f3}}
 {test_rows}
 </table>
 <h2>Most common failures</h2>
-<table><tr><th>students</th><th>test</th><th>message</th><th>for example</th></tr>
+<p>Feedback that differs only in its numbers counts as one failure; the first student's is
+shown.</p>
+<table><tr><th>students</th><th>test</th><th>feedback</th><th>students, for example</th></tr>
 {fail_rows}
 </table>
 <h2>Errors in notebook cells</h2>
-<table><tr><th>students</th><th>error</th></tr>
+<table><tr><th>students</th><th>error</th><th>students, for example</th></tr>
 {cell_rows}
 </table>
 <h2>Failed to run, crashed or timed out</h2>

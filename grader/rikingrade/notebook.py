@@ -393,13 +393,32 @@ def _from_folder(d: Path, expected: str, notes: list[str], nbgrader: bool = Fals
     return _Found(f"{kind}:{sid}", sid, nb, None, (), when, source, shown(d.name))
 
 
-def _looks_like_a_class(d: Path, notes: list[str]) -> list[Path]:
-    """Sub-folders of ``d`` that each hold a notebook of the same name (a class, not a student)."""
+def _looks_like_a_class(d: Path) -> str:
+    """Why the folder ``d`` holds a class rather than one student's work, or ''.
+
+    Several sub-folders each holding a notebook of the same name (folders per student), or
+    notebooks whose download names belong to several students (a flat LMS download).
+    """
+    from . import lms
+
     by_name: dict[bytes, list[Path]] = {}
     for sub in _scan(d, [])[1]:
         for nb in _notebooks_in(sub, []):
             by_name.setdefault(os.fsencode(nb.name), []).append(sub)
-    return max(by_name.values(), key=len, default=[])
+    same = max(by_name.values(), key=len, default=[])
+    if len(same) >= 2:
+        return f"{len(same)} folders with a notebook of the same name ({_examples(same)})"
+    owners: dict[str, Path] = {}
+    for nb in _scan(d, [])[0]:
+        parsed = lms.parse_file(os.fsdecode(nb.name))
+        if parsed is not None:
+            owners.setdefault(parsed.key, nb)
+    if len(owners) >= 2:
+        return (
+            f"notebooks of {len(owners)} different students by their download names "
+            f"({_examples(list(owners.values()))})"
+        )
+    return ""
 
 
 def _class(p: Path, expected: str, notes: list[str]) -> list[_Found]:
@@ -443,11 +462,10 @@ def _class(p: Path, expected: str, notes: list[str]) -> list[_Found]:
             "folders you mean."
         )
     for d in student_dirs:
-        inner = _looks_like_a_class(d, notes)
-        if len(inner) >= 2 and lms.parse_folder(os.fsdecode(d.name)) is None:
+        why = "" if lms.parse_folder(os.fsdecode(d.name)) else _looks_like_a_class(d)
+        if why:
             raise SubmissionsError(
-                f"{shown(d)} holds {len(inner)} folders with a notebook of the same name "
-                f"({_examples(inner)}): it looks like a class, not one student's work. "
+                f"{shown(d)} holds {why}: it looks like a class, not one student's work. "
                 f"Pass {shown(d)} itself."
             )
     if not files and not student_dirs:
