@@ -259,19 +259,24 @@ def test_links_are_not_followed(tmp_path):
     (cls / "eve").mkdir()
     (cls / "eve" / NB).symlink_to(outside)
     os.link(outside, cls / "trudy.ipynb")
+    (cls / "bob").symlink_to(tmp_path / "solution", target_is_directory=True)
     subs, notes = discover([cls], NB)
-    assert [s.student for s in subs] == ["alice"]
+    got = {s.student: s.refused for s in subs}
+    # Each link is a student graded 0 with the reason, never a read of what it points to.
+    assert got == {
+        "alice": "",
+        "bob": "a symbolic link: links are not followed",
+        "eve": "a symbolic link: links are not followed",
+        "mallory": "a symbolic link: links are not followed",
+        "trudy": "a hard link to a file elsewhere: not read",
+    }
     text = "\n".join(notes)
     assert "mallory.ipynb: a symbolic link: links are not followed" in text
     assert "eve/scara.ipynb: a symbolic link" in text
     assert "trudy.ipynb: a hard link" in text
-    # A student folder that is itself a link.
-    cls2 = tmp_path / "class2"
-    touch(cls2 / "alice" / NB)
-    (cls2 / "bob").symlink_to(tmp_path / "solution", target_is_directory=True)
-    subs, notes = discover([cls2], NB)
-    assert [s.student for s in subs] == ["alice"]
-    assert any("bob: a symbolic link" in n for n in notes)
+    assert "bob: a symbolic link" in text
+    hashes = {s.hash() for s in subs}  # never opens the target
+    assert len(hashes) == 5
 
 
 def test_ids_are_unique_traceable_and_order_free(tmp_path):

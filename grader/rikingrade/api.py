@@ -29,7 +29,7 @@ from .lms import read_roster
 from .notebook import Submission, discover, shown
 from .policy import PolicyError, Rules, parse_time
 from .progress import Progress, summarize, summary_text
-from .report import GRADER_ERROR, SubmissionResult, TestResult
+from .report import GRADER_ERROR, INVALID, SubmissionResult, TestResult
 from .runner import RunOptions, SubmissionRunner
 from .sandbox import (
     INSTALL_HINT,
@@ -244,6 +244,13 @@ def grade(
         results: dict[str, SubmissionResult] = {}
         todo: list[Submission] = []
         for s in subs:
+            if s.refused:  # a link: never opened, graded 0 with the reason
+                res = _refused_result(s, a, key)
+                gb.record(run_id, sub_ids[s.student], res, a.exercise, seed)
+                write_student(out, res, a.exercise, None)
+                _log_result(res)
+                results[s.student] = res
+                continue
             prev = None if regrade else gb.cached(sub_ids[s.student], key)
             if prev is not None:
                 prev.student = s.student
@@ -321,6 +328,29 @@ def grade(
             gb.close()
         logging.getLogger("rikingrade").removeHandler(handler)
         handler.close()
+
+
+def _refused_result(sub: Submission, a: Assignment, key: str) -> SubmissionResult:
+    """The result of a submission that was not read (a link), for the student and the
+    instructor alike."""
+    why = (
+        f"not graded: {sub.shown_path} is {sub.refused}; the grader reads only notebook "
+        "files handed in as they are (upload the .ipynb file itself)"
+    )
+    return SubmissionResult(
+        student=sub.student,
+        path=sub.shown_path,
+        sha256=sub.hash(),
+        status=INVALID,
+        reason=why,
+        max_score=a.max_score,
+        key=key,
+        problems=[why],
+        tests=[
+            TestResult(t.name, float(t.weight), 0.0, "not run: the submission was not read")
+            for t in a.tests
+        ],
+    )
 
 
 def _record_submissions(gb: Gradebook, subs: list[Submission], exercise: str) -> dict[str, int]:

@@ -65,8 +65,13 @@ class Submission:
     section: str = ""
     login: str = ""
     earlier: list[Submission] = field(default_factory=list)
+    refused: str = ""  # why the file is not read at all (a link): graded 0 with this reason
 
     def hash(self) -> str:
+        if not self.sha256 and self.refused:
+            link = os.readlink(self.path) if os.path.islink(self.path) else ""
+            text = f"refused\0{self.refused}\0{shown(self.path)}\0{shown(link)}"
+            self.sha256 = hashlib.sha256(text.encode()).hexdigest()
         if not self.sha256:
             h = hashlib.sha256()
             with _open_student_file(self.path) as f:
@@ -234,8 +239,15 @@ def _refusal(entry: os.DirEntry | Path) -> str:
     return ""
 
 
-def _scan(folder: Path, notes: list[str]) -> tuple[list[Path], list[Path], list[str]]:
-    """(notebook files, sub-folders, other file names) directly in ``folder``; links refused."""
+def _scan(
+    folder: Path, notes: list[str], refused: list[tuple[Path, str]] | None = None
+) -> tuple[list[Path], list[Path], list[str]]:
+    """(notebook files, sub-folders, other file names) directly in ``folder``.
+
+    Links are not followed: a symbolic link to a notebook or a folder, and a hard-linked
+    notebook, go into ``refused`` with the reason (and a note).
+    """
+    refused = [] if refused is None else refused
     files: list[Path] = []
     dirs: list[Path] = []
     other: list[str] = []
@@ -248,6 +260,8 @@ def _scan(folder: Path, notes: list[str]) -> tuple[list[Path], list[Path], list[
         path = Path(e.path)
         if e.is_symlink():
             notes.append(f"{shown(path)}: a symbolic link: links are not followed, skipped")
+            if e.name.lower().endswith(".ipynb") or os.path.isdir(path):
+                refused.append((path, "a symbolic link: links are not followed"))
             continue
         if e.is_dir(follow_symlinks=False):
             if e.name in SKIP_DIRS:
@@ -263,6 +277,7 @@ def _scan(folder: Path, notes: list[str]) -> tuple[list[Path], list[Path], list[
             why = _refusal(e)
             if why:
                 notes.append(f"{shown(path)}: {why}, skipped")
+                refused.append((path, why))
             elif e.name.startswith("."):
                 notes.append(f"{shown(path)}: a hidden file (name starts with '.'), skipped")
             else:
@@ -272,7 +287,9 @@ def _scan(folder: Path, notes: list[str]) -> tuple[list[Path], list[Path], list[
     return files, dirs, other
 
 
-def _notebooks_in(folder: Path, notes: list[str] | None = None) -> list[Path]:
+def _notebooks_in(
+    folder: Path, notes: list[str] | None = None, refused: list[tuple[Path, str]] | None = None
+) -> list[Path]:
     """Every notebook below ``folder`` (iteratively, links not followed, at most MAX_DEPTH)."""
     notes = [] if notes is None else notes
     out: list[Path] = []
@@ -280,7 +297,7 @@ def _notebooks_in(folder: Path, notes: list[str] | None = None) -> list[Path]:
     deep = False
     while stack:
         d, depth = stack.pop()
-        files, dirs, _ = _scan(d, notes)
+        files, dirs, _ = _scan(d, notes, refused)
         out += files
         if depth >= MAX_DEPTH:
             deep = deep or bool(dirs)
@@ -324,6 +341,7 @@ class _Found:
     submitted_at: float | None = None
     time_source: str = ""
     name: str = ""
+    refused: str = ""  # why the file was not read (a link)
 
 
 def _examples(paths: list, n: int = 4) -> str:
@@ -369,8 +387,13 @@ def _from_folder(d: Path, expected: str, notes: list[str], nbgrader: bool = Fals
             where = (named or subs)[0]
             when = lms.nbgrader_timestamp(where)
             source = "nbgrader timestamp.txt" if when else ""
-    nbs = _notebooks_in(where, notes)
+    links: list[tuple[Path, str]] = []
+    nbs = _notebooks_in(where, notes, links)
     nb, note = pick_notebook(nbs, expected)
+    if nb is None and links:  # only links: the student is graded 0 with the reason
+        nb, refused = links[0]
+    else:
+        refused = ""
     if nb is None:
         notes.append(f"{shown(d)}: no .ipynb inside, skipped")
         return None
@@ -387,10 +410,11 @@ def _from_folder(d: Path, expected: str, notes: list[str], nbgrader: bool = Fals
             parsed.submitted_at,
             "download name" if parsed.submitted_at else "",
             parsed.name,
+            refused,
         )
     sid = student_id(os.fsdecode(d.name))
     kind = "nbgrader" if nbgrader else "folder"
-    return _Found(f"{kind}:{sid}", sid, nb, None, (), when, source, shown(d.name))
+    return _Found(f"{kind}:{sid}", sid, nb, None, (), when, source, shown(d.name), refused)
 
 
 def _looks_like_a_class(d: Path) -> str:
@@ -428,16 +452,23 @@ def _class(p: Path, expected: str, notes: list[str]) -> list[_Found]:
         p, nbgrader = p / "submitted", True
     elif p.name == "submitted":
         nbgrader = True
-    files, dirs, other = _scan(p, notes)
+    links: list[tuple[Path, str]] = []
+    files, dirs, other = _scan(p, notes, links)
+    refused = []
+    for path, why in links:
+        raw = os.fsdecode(path.name)
+        sid = student_id(raw[:-6] if raw.lower().endswith(".ipynb") else raw)
+        refused.append(_Found(f"file:{sid}", sid, path, name=shown(path.name), refused=why))
     if nbgrader:
         found = [_from_folder(d, expected, notes, nbgrader=True) for d in dirs]
-        return [f for f in found if f is not None]
+        return [f for f in found if f is not None] + refused
     from . import lms
 
     student_dirs = []
     for d in dirs:
         why: list[str] = []
-        if _notebooks_in(d, why):
+        inner: list[tuple[Path, str]] = []
+        if _notebooks_in(d, why, inner) or inner:
             student_dirs.append(d)
         else:
             notes += why + [f"{shown(d)}: no .ipynb inside, skipped"]
@@ -468,7 +499,7 @@ def _class(p: Path, expected: str, notes: list[str]) -> list[_Found]:
                 f"{shown(d)} holds {why}: it looks like a class, not one student's work. "
                 f"Pass {shown(d)} itself."
             )
-    if not files and not student_dirs:
+    if not files and not student_dirs and not refused:
         zips = [o for o in other if o.lower().endswith(".zip")]
         hint = (
             f" It holds {_examples(zips)}: unzip the LMS download first and pass the folder."
@@ -481,7 +512,7 @@ def _class(p: Path, expected: str, notes: list[str]) -> list[_Found]:
             + (f": {_examples(other)}" if other else "")
             + f", {len(dirs)} folder(s) without a notebook).{hint}"
         )
-    found = [_from_file(f) for f in files]
+    found = [_from_file(f) for f in files] + refused
     for d in student_dirs:
         f = _from_folder(d, expected, notes)
         if f is not None:
@@ -532,7 +563,8 @@ def discover(paths: list[Path | str], expected: str) -> tuple[list[Submission], 
             raise SubmissionsError(f"{shown(p)}: neither a file nor a folder")
     if not found:
         raise SubmissionsError(
-            "no submission found in " + ", ".join(shown(Path(a)) for a in paths)
+            "no submission found in "
+            + ", ".join(shown(Path(a)) for a in paths)
             + (": " + "; ".join(notes[:5]) if notes else "")
         )
     groups: dict[str, list[_Found]] = {}
@@ -589,4 +621,5 @@ def _submission(f: _Found, earlier: list[Submission]) -> Submission:
         time_source=f.time_source,
         late=bool(getattr(parsed, "late", False)),
         earlier=earlier,
+        refused=f.refused,
     )
