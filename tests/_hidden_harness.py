@@ -7,9 +7,11 @@ and deliberately wrong variants of them, so running them with ``exec`` is fine:
 * every code cell is executed in one fresh namespace, in order; a cell that
   raises is skipped and the next one runs, as in Jupyter (IPython magics are
   not used in the exercise notebooks);
-* each :class:`~rikingrade.spec.Call` gets JSON round-tripped kwargs, and its
-  return value goes through JSON (numpy arrays become lists) into an
-  :class:`~rikingrade.spec.Outcome`, as the engine does.
+* each :class:`~rikingrade.spec.Call` is made as the engine makes it: its arguments
+  go through the wire (positionally in signature order, numpy arrays stay arrays),
+  its return value through the child's encoder and JSON (arrays become lists; an
+  unreadable value becomes an ``UnreadableResult``), into an
+  :class:`~rikingrade.spec.Outcome`.
 """
 
 from __future__ import annotations
@@ -23,7 +25,11 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from rikingrade.spec import Call, HiddenTest, Outcome, Score
+from rikingrade.sandbox import child
+from rikingrade.spec import UNREADABLE_BASE, Call, HiddenTest, Outcome, Score
+from rikingrade.wire import decode_message, encode_input, unreadable_text
+
+child.np = np  # the engine's child preloads numpy
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
@@ -63,29 +69,33 @@ def run_notebook(nb: Any) -> tuple[dict[str, Any], list[CellRun]]:
     return ns, runs
 
 
-def _to_json(value: Any) -> Any:
-    def default(o: Any) -> Any:
-        if isinstance(o, np.ndarray):
-            return o.tolist()
-        if isinstance(o, np.generic):
-            return o.item()
-        raise TypeError(f"Object of type {type(o).__name__} is not JSON serializable")
-
-    return json.loads(json.dumps(value, default=default))
+def _through_the_wire(value: Any) -> Any:
+    """A grader-side value as the student's function receives it (wire encode, JSON,
+    the child's decode: numpy arrays stay numpy arrays)."""
+    return child.decode(json.loads(json.dumps(encode_input(value))))
 
 
 def call(ns: dict[str, Any], c: Call) -> Outcome:
-    """Run one call in the namespace and describe what happened as an Outcome."""
+    """Run one call in the namespace as the engine does, and describe it as an Outcome."""
     fn = ns.get(c.function)
     if not callable(fn):
-        return Outcome(error_type="NameError", error_message=f"name {c.function!r} is not defined")
-    kwargs = json.loads(json.dumps(c.kwargs))
+        return Outcome(error_type="NameError", error_message=f"function {c.function} not found")
+    args, kwargs = c.arguments()
+    args = [_through_the_wire(a) for a in args]
+    kwargs = {k: _through_the_wire(v) for k, v in kwargs.items()}
     try:
         with contextlib.redirect_stdout(io.StringIO()):
-            value = fn(**kwargs)
-        return Outcome(value=_to_json(value))
+            value = fn(*args, **kwargs)
     except Exception as exc:  # noqa: BLE001
-        return Outcome(error_type=type(exc).__name__, error_message=str(exc))
+        return Outcome(error_type=type(exc).__name__, error_message=str(exc),
+                       error_bases=tuple(child._class_path(type(exc))))
+    try:
+        wire = child.encode(value)
+    except (child.EncodeError, RecursionError) as exc:
+        why = str(exc) if isinstance(exc, child.EncodeError) else "depth"
+        return Outcome(error_type="UnreadableResult", error_message=unreadable_text(why),
+                       error_bases=(UNREADABLE_BASE,))
+    return Outcome(value=decode_message(json.dumps({"value": wire}))["value"])
 
 
 def grade(module: Any, ns: dict[str, Any], seed: int, reveal: bool = False

@@ -99,7 +99,9 @@ def test_unreachable_must_raise_a_value_error_subclass_not_any_exception(tmp_pat
     lost = {t.name: t.fraction for t in res["own_exception"].tests if t.fraction < 1}
     assert lost == {"ik_unreachable": 0.0, "ik_6dof_unreachable": 0.0}
     fb = next(t.feedback for t in res["own_exception"].tests if t.name == "ik_unreachable")
-    assert "raised OutOfReach" in fb and "instead of ValueError" in fb
+    # the class is the notebook's own: named by what it is, not by its (student-chosen) name
+    assert "raised an exception of your own (a subclass of Exception)" in fb, fb
+    assert "instead of ValueError" in fb and "OutOfReach" not in fb
 
 
 # Process-level hostility appended to each real solution (the required functions stay
@@ -160,3 +162,71 @@ def test_process_level_hostility_costs_nothing_and_leaks_nothing(exercise, tmp_p
         feedback = (tmp_path / "out" / "feedback" / f"{name}.md").read_text()
         assert says in feedback, (name, feedback)
     assert (ROOT / "solutions" / a.notebook).is_file() and rikin.__file__
+
+
+# ------------------------------------------------------------------ fairness, in the sandbox
+_FORGED = (
+    "import os\n"
+    "_orig_ik_scara = ik_scara\n\n\n"
+    "def ik_scara(p, l1, l2, l3):\n"
+    "    big = '1' + '0' * 400\n"
+    "    os.write(3, ''.join('{\"id\": %d, \"value\": [[%s, 0, 0]]}\\n' % (i, big)\n"
+    "                        for i in range(1, 300)).encode())\n"
+    "    return _orig_ik_scara(p, l1, l2, l3)\n"
+)
+
+
+def test_fairness_variants_score_their_reasoned_points_in_the_sandbox(tmp_path):
+    # The same variants as tests/test_fairness.py, through the real engine: inputs as
+    # numpy arrays, positional calls, the child's encoder, the feedback files.
+    import fairness_variants as F
+    import nbformat
+    import wrong_variants as W
+
+    require_bwrap()
+    a = load_assignment("scara")
+    solution = nbformat.read(str(ROOT / "solutions" / a.notebook), as_version=4)
+    cls = tmp_path / "class"
+    cls.mkdir()
+    variants = [f for f in F.FAIR if f.arm == "scara" and f.cls != "15.4"]
+    for f in variants:
+        nb = W.apply(solution, f.variant())
+        if f.cell:
+            nb.cells.append(nbformat.v4.new_code_cell(f.cell))
+        nbformat.write(nb, str(cls / f"{f.name}.ipynb"))
+    forged = nbformat.read(str(ROOT / "solutions" / a.notebook), as_version=4)
+    forged.cells.append(nbformat.v4.new_code_cell(_FORGED))
+    nbformat.write(forged, str(cls / "forged_bigint.ipynb"))
+    report = grade("scara", [cls], tmp_path / "out", workers=2, **dict(FAST, cell_timeout=30.0))
+    res = report.by_student()
+    for f in variants:
+        want = W.expected_points(f.variant(), a.tests)
+        got = {t.name: t.points for t in res[f.name].tests}
+        assert got == pytest.approx(want, abs=1e-9), (f.id, res[f.name].problems)
+        assert res[f.name].status != "grader-error", f.id
+    # a forged 400-digit number is the student's problem: scored, never a grader error
+    r = res["forged_bigint"]
+    assert r.status != "grader-error" and not any(t.grader_error for t in r.tests), r.reason
+    assert r.score < a.max_score
+    fb = {n: (tmp_path / "out" / "feedback" / f"{n}.md").read_text() for n in res}
+    # the real cause once, at the top; no checker helper names; Markdown, not HTML escapes
+    scipy = fb["import_scipy"]
+    top, tests = scipy.split("## Tests")
+    assert "ModuleNotFoundError: No module named 'scipy'" in top
+    assert top.count("No module named 'scipy'") == 1, top
+    assert top.count("name 'ik_scara' is not defined (it starts") == 1
+    assert "so did code cells" in top
+    assert "ik_scara is not defined because code cell" in top, top
+    assert "ModuleNotFoundError" not in tests and "did you rename" not in scipy
+    for text in fb.values():
+        assert "&lt;" not in text and "&gt;" not in text and "UnsupportedResult" not in text
+        assert "defines CheckFailed" not in text and "_arm_from_rows" not in text
+    assert "returned a set" in fb["returns_set"]
+    results = json.loads((tmp_path / "out" / "results" / "returns_set.json").read_text())
+    assert all(t["output_format"] == "md" for t in results["tests"])
+    import csv
+
+    with open(tmp_path / "out" / "grades.csv", newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    assert rows and all(r["seed"] == "20240901" for r in rows)
+    assert "seed 20240901" in (tmp_path / "out" / "grading.log").read_text()

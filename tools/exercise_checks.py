@@ -6,9 +6,15 @@ into the notebook cell tagged ``setup`` and the section after
 exercises/. Edit them here, never in a notebook.
 
 The checks are the visible, public ones a student runs: fixed public cases,
-FK round trips through the student's own FK, counts. They never call a
-reference solution of the arm being exercised. A failed check raises
+FK round trips through the student's own FK, counts, and the same cases with every
+length scaled (a function that ignores its length arguments fails). They never call
+a reference solution of the arm being exercised. A failed check raises
 ``CheckFailed`` with a message in the student's terms.
+
+They call the student's functions as the grader does (positionally, in the
+stub's order, with float64 numpy arrays and float lengths) and read the answers
+with the grader's rule (``rikingrade.hidden._common.as_array``/``student_rows``):
+what one accepts the other accepts.
 """
 # ruff: noqa: E402  (each section is a notebook cell: imports follow code on purpose)
 
@@ -41,6 +47,33 @@ class CheckFailed(AssertionError):
 
 CHECK_TOL = 1e-6      # joint values (rad or length units) and poses
 TWO_PI = 2 * np.pi
+SCALE = 1.7           # the lengths-matter check multiplies every length by this
+BRANCH_TOL = 0.05     # a row that reaches the target belongs to the branch this close
+
+
+def _call(f, first, lengths):
+    """f(first, *lengths) as the grader calls it: positionally, a float64 array first."""
+    args = [] if first is None else [np.array(first, dtype=float)]
+    return f(*args, *[float(v) for v in lengths.values()])
+
+
+def _as_numbers(value, what):
+    """``value`` as a float array, read as the grader reads it, or CheckFailed."""
+    try:
+        A = np.asarray(value)
+        if A.dtype.kind == "O":
+            A = A.astype(complex)
+        if A.dtype.kind == "c":
+            if np.any(np.abs(A.imag) > 1e-9 * np.maximum(1.0, np.abs(A.real))):
+                raise TypeError("complex")
+            A = A.real
+        if A.dtype.kind not in "biuf":
+            raise TypeError(A.dtype)
+        return np.asarray(A, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        raise CheckFailed(f"{what} returned {type(value).__name__}, which is not an array of "
+                          "real numbers: return a numpy array (sympy matrices of numbers, "
+                          "lists and tuples are fine too)") from None
 
 
 def _fmt(v, digits=4):
@@ -51,11 +84,11 @@ def _fmt(v, digits=4):
 
 def _as_rows(Q, n, name):
     """The solutions returned by an IK function as an array (k, n), or CheckFailed."""
-    try:
-        A = np.asarray(Q, dtype=float)
-    except (TypeError, ValueError):
-        raise CheckFailed(f"{name} returned {type(Q).__name__}; return a numpy array of shape "
-                          f"(k, {n}), one solution per row") from None
+    A = _as_numbers(Q, name)
+    if A.shape == (n,):
+        print(f"(note: {name} returned one solution as shape ({n},); the docstring asks for "
+              f"(k, {n}), here (1, {n}). The grader reads it as one row too.)")
+        A = A[None, :]
     if A.ndim != 2 or A.shape[1] != n:
         raise CheckFailed(f"{name} returned shape {A.shape}; return shape (k, {n}), one solution "
                           f"per row (also when there is only one: shape (1, {n}))")
@@ -87,7 +120,7 @@ def _pose_text(T):
 
 
 def _compare_pose(T, T_expected, what, q):
-    T = np.asarray(T, dtype=float)
+    T = _as_numbers(T, what)
     T_expected = np.asarray(T_expected, dtype=float)
     if T.shape != (4, 4):
         raise CheckFailed(f"for q = {_fmt(q)} {what} has shape {T.shape}; expected a (4, 4) matrix")
@@ -107,11 +140,15 @@ def _compare_pose(T, T_expected, what, q):
 def _degrees_hint(fk, q, kwargs, revolute):
     """Whether fk changes when a revolute joint turns a full 2*pi (then it reads degrees)."""
     q = np.asarray(q, dtype=float)
-    T = np.asarray(fk(q, **kwargs), dtype=float)
+    T = _as_numbers(_call(fk, q, kwargs), "fk")
     for i in np.flatnonzero(revolute):
         q2 = q.copy()
         q2[i] += -TWO_PI if q2[i] > 0 else TWO_PI
-        T2 = np.asarray(fk(q2, **kwargs), dtype=float)
+        try:
+            T2 = _as_numbers(_call(fk, q2, kwargs), "fk")
+        except Exception:  # noqa: BLE001 - an FK that refuses angles beyond 2*pi
+            return (f"\nHint: your FK fails when joint {i + 1} turns a full 2*pi rad; any "
+                    "angle modulo 2*pi is allowed (q is in radians).")
         if np.abs(T2 - T).max() > CHECK_TOL:
             return (f"\nHint: your FK changes when joint {i + 1} turns a full 2*pi rad, so it "
                     "probably reads the angles as degrees. q is in radians.")
@@ -123,7 +160,7 @@ def check_dh(dh_table, lengths, cases):
 
     cases : list of (q, T_0_3 expected)
     """
-    rows = dh_table(**lengths)
+    rows = _call(dh_table, None, lengths)
     arm = _arm_from_rows(rows)
     if arm.n != 3:
         raise CheckFailed(f"dh_table has {arm.n} rows; the positioning arm has 3 joints")
@@ -131,7 +168,15 @@ def check_dh(dh_table, lengths, cases):
         msg = _compare_pose(arm.fk(q), T_expected, "your table", q)
         if msg:
             raise CheckFailed(msg + "\n(frame 3 of your table, built with rikin.SerialArm)")
-    print(f"✓ dh_table: frame 3 is where it should be for {len(cases)} public joint vectors")
+    big = _arm_from_rows(_call(dh_table, None, _scaled_lengths(lengths)))
+    prismatic = np.array([link.joint == "P" for link in arm.links])
+    for q, T_expected in cases:
+        msg = _compare_pose(big.fk(_scaled_q(q, ~prismatic)), _scaled_pose(T_expected),
+                            "your table", _scaled_q(q, ~prismatic))
+        if msg:
+            raise CheckFailed(_lengths_hint(msg, "dh_table", lengths))
+    print(f"✓ dh_table: frame 3 is where it should be for {len(cases)} public joint vectors, "
+          f"also with every length x{SCALE}")
 
 
 def check_fk(fk, lengths, cases, revolute, *, tool=None):
@@ -141,11 +186,12 @@ def check_fk(fk, lengths, cases, revolute, *, tool=None):
     tool : the tool length of a 6-DOF arm, to recognise a missing tool.
     """
     name = getattr(fk, "__name__", "fk")
+    revolute = np.asarray(revolute, dtype=bool)
     for q, T_expected in cases:
-        T = fk(q, **lengths)
+        T = _call(fk, q, lengths)
         msg = _compare_pose(T, T_expected, f"your {name}", q)
         if msg:
-            T = np.asarray(T, dtype=float)
+            T = _as_numbers(T, name)
             T_expected = np.asarray(T_expected, dtype=float)
             if tool is not None and np.abs(
                     T[:3, 3] - (T_expected[:3, 3] - tool * T_expected[:3, 2])).max() < CHECK_TOL:
@@ -153,18 +199,54 @@ def check_fk(fk, lengths, cases, revolute, *, tool=None):
                         "the tool is missing")
             msg += _degrees_hint(fk, q, lengths, revolute)
             raise CheckFailed(msg)
-    print(f"✓ {name}: right for {len(cases)} public joint vectors")
+    for q, T_expected in cases:
+        q_big = _scaled_q(q, revolute)
+        msg = _compare_pose(_call(fk, q_big, _scaled_lengths(lengths)), _scaled_pose(T_expected),
+                            f"your {name}", q_big)
+        if msg:
+            raise CheckFailed(_lengths_hint(msg, name, lengths))
+    print(f"✓ {name}: right for {len(cases)} public joint vectors, also with every length "
+          f"x{SCALE}")
+
+
+def _scaled_lengths(lengths):
+    return {k: SCALE * float(v) for k, v in lengths.items()}
+
+
+def _scaled_q(q, revolute):
+    """q with its prismatic (length) values scaled like the lengths."""
+    q = np.asarray(q, dtype=float)
+    return np.where(revolute, q, SCALE * q)
+
+
+def _scaled_pose(T):
+    T = np.array(T, dtype=float)
+    T[:3, 3] *= SCALE
+    return T
+
+
+def _lengths_hint(msg, name, lengths):
+    names = ", ".join(lengths)
+    return (f"with every length multiplied by {SCALE} ({names}), and the prismatic joint values "
+            f"with them, the arm is the same shape {SCALE} times bigger; but {msg}.\nDoes {name} "
+            f"use its own arguments {names} everywhere (not the notebook's L or numbers typed "
+            "in)? The grader uses random lengths.")
 
 
 def _matches(row, expected, revolute):
-    """Whether a solution equals an expected one; None in ``expected`` = free joint."""
+    """Whether a solution (that reaches the target) is of an expected one's branch.
+
+    As the grader judges it: near a singular configuration a right answer can sit
+    1e-4 from the representative, so a row that reaches the target belongs to the
+    branch within BRANCH_TOL of it. None in ``expected`` marks a free joint.
+    """
     for i, e in enumerate(expected):
         if e is None:
             continue
         d = row[i] - e
         if revolute[i]:
             d = rikin.wrap_angle(d)
-        if abs(d) > CHECK_TOL:
+        if abs(d) > BRANCH_TOL:
             return False
     return True
 
@@ -177,15 +259,45 @@ def check_ik(ik, fk, lengths, target, expected, revolute):
     Each returned solution is also put through your own FK.
     """
     name = getattr(ik, "__name__", "ik")
-    fk_name = getattr(fk, "__name__", "fk")
     target = np.asarray(target, dtype=float)
-    n = len(revolute)
     revolute = np.asarray(revolute, dtype=bool)
-    Q = _as_rows(ik(target, **lengths), n, name)
-    big = np.abs(Q[:, revolute]) > TWO_PI + 1e-9
-    if big.any():
-        raise CheckFailed(f"{name} returned angles up to {np.abs(Q[:, revolute]).max():.4g}: these "
-                          "look like degrees. Return radians (np.radians converts).")
+    Q = _check_ik_once(ik, fk, lengths, target, expected, revolute)
+    big = dict(expected)
+    for lab, row in expected.items():
+        big[lab] = [None if v is None else (v if r else SCALE * v)
+                    for v, r in zip(row, revolute, strict=True)]
+    target_big = np.array(target)
+    if target_big.shape == (3,):
+        target_big = SCALE * target_big
+    else:
+        target_big[:3, 3] *= SCALE
+    try:
+        _check_ik_once(ik, fk, _scaled_lengths(lengths), target_big, big, revolute)
+    except CheckFailed as exc:
+        raise CheckFailed(_lengths_hint(str(exc).rstrip("."), name, lengths)) from None
+    except ValueError as exc:
+        raise CheckFailed(_lengths_hint(f"it raised ValueError: {exc}", name, lengths)) from None
+    dup = len(Q) - len(_distinct(Q, revolute))
+    note = f" ({dup} duplicate row(s) merged)" if dup else ""
+    print(f"✓ {name}: {len(expected)} of {len(expected)} solutions, each reaching the target "
+          f"with your {getattr(fk, '__name__', 'fk')}{note}; also with every length x{SCALE}")
+
+
+def _distinct(Q, revolute):
+    distinct = []
+    for row in Q:
+        if not any(np.abs(np.where(revolute, rikin.wrap_angle(row - d), row - d)).max() < CHECK_TOL
+                   for d in distinct):
+            distinct.append(row)
+    return distinct
+
+
+def _check_ik_once(ik, fk, lengths, target, expected, revolute):
+    """One target of check_ik: CheckFailed, or the rows returned."""
+    name = getattr(ik, "__name__", "ik")
+    fk_name = getattr(fk, "__name__", "fk")
+    n = len(revolute)
+    Q = _as_rows(_call(ik, target, lengths), n, name)
     distinct = []
     for row in Q:
         if not any(np.abs(np.where(revolute, rikin.wrap_angle(row - d), row - d)).max() < CHECK_TOL
@@ -193,10 +305,21 @@ def check_ik(ik, fk, lengths, target, expected, revolute):
             distinct.append(row)
     p_target = target if target.shape == (3,) else target[:3, 3]
     for row in distinct:
-        T = np.asarray(fk(row, **lengths), dtype=float)
+        hint = ""
+        if np.abs(row[revolute]).max(initial=0.0) > TWO_PI + 1e-9:
+            hint = ("\nIts angles look like degrees: return radians (np.radians converts); "
+                    "any angle modulo 2*pi is fine.")
+        try:  # any angle modulo 2*pi is a right answer: your FK sees it wrapped
+            T = _as_numbers(_call(fk, np.where(revolute, rikin.wrap_angle(row), row), lengths),
+                            fk_name)
+        except CheckFailed:
+            raise
+        except Exception as exc:  # noqa: BLE001 - the student's FK refused the row
+            raise CheckFailed(f"your {fk_name} raised {type(exc).__name__} on the solution "
+                              f"{_fmt(row)} that {name} returned: {exc}{hint}") from None
         if np.abs(T[:3, 3] - p_target).max() > CHECK_TOL:
             raise CheckFailed(f"solution {_fmt(row)} does not reach the target: your {fk_name} "
-                              f"puts the TCP at {_fmt(T[:3, 3])}, target {_fmt(p_target)}")
+                              f"puts the TCP at {_fmt(T[:3, 3])}, target {_fmt(p_target)}{hint}")
         if target.shape == (4, 4) and np.abs(T[:3, :3] - target[:3, :3]).max() > CHECK_TOL:
             raise CheckFailed(f"solution {_fmt(row)} puts the TCP in the right place with the "
                               f"wrong orientation (checked with your {fk_name})")
@@ -214,10 +337,7 @@ def check_ik(ik, fk, lengths, target, expected, revolute):
         raise CheckFailed(f"{name} found all {len(labels)} expected solutions but also "
                           f"{_fmt(extra[0])}, which reaches the target yet is not allowed here "
                           "(check the joint limits: prismatic joints only extend, q >= 0)")
-    dup = len(Q) - len(distinct)
-    note = f" ({dup} duplicate row(s) merged)" if dup else ""
-    print(f"✓ {name}: {len(labels)} of {len(labels)} solutions, each reaching the target with "
-          f"your {fk_name}{note}")
+    return Q
 
 
 def check_unreachable(ik, lengths, cases):
@@ -226,7 +346,7 @@ def check_unreachable(ik, lengths, cases):
     messages = []
     for target, why in cases:
         try:
-            result = ik(np.asarray(target, dtype=float), **lengths)
+            result = _call(ik, target, lengths)
         except NotImplementedError:
             raise
         except ValueError as exc:

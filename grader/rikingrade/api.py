@@ -230,12 +230,14 @@ def grade(
              "workers": workers, "reveal": reveal},
         )
         log.info(
-            "rikin-grade %s: %s (%d tests, max %.4g), %d submissions, key %s, run %d of %s",
+            "rikin-grade %s: %s (%d tests, max %.4g), %d submissions, seed %d, key %s, "
+            "run %d of %s",
             __version__,
             a.name,
             len(a.tests),
             a.max_score,
             len(subs),
+            int(seed),
             key,
             run_id,
             gb_path,

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import html
 import os
+import re
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -57,16 +58,19 @@ def feedback_lines(res: SubmissionResult) -> list[tuple[str, str, str, str]]:
 
 
 def feedback_markdown(res: SubmissionResult, exercise: str) -> str:
-    out = [f"# {exercise}: feedback for {res.student}", ""]
+    """The student's Markdown feedback: the notebook's problems (the real cause, once) at
+    the top, then one line per test. Every text is escaped as Markdown (never HTML)."""
+    out = [f"# {exercise}: feedback for {_md(res.student)}", ""]
     out.append(f"**Score: {_fmt(round(res.score, 4))} / {_fmt(res.max_score)}**")
     out.append("")
+    if res.problems:
+        out += ["## Your notebook", ""]
+        out += [f"- {_md(p)}" for p in res.problems]
+        out.append("")
     out.append("## Tests")
     out.append("")
     for verdict, name, pts, fb in feedback_lines(res):
         out.append(f"- [{verdict}] **{name}** ({pts}): {_md(fb)}")
-    if res.problems:
-        out += ["", "## Your notebook", ""]
-        out += [f"- {_md(p)}" for p in res.problems]
     out.append("")
     return "\n".join(out)
 
@@ -92,18 +96,27 @@ td,th{{border:1px solid #ccc;padding:.3em .6em;text-align:left}}</style>
 </head><body>
 <h1>{e(exercise)}: feedback for {e(res.student)}</h1>
 <p><strong>Score: {_fmt(round(res.score, 4))} / {_fmt(res.max_score)}</strong></p>
+{probs}
 <h2>Tests</h2>
 <table><tr><th>result</th><th>test</th><th>points</th><th>feedback</th></tr>
 {rows}
 </table>
-{probs}
 </body></html>
 """
 
 
+#: What gives text a meaning inline (a feedback line never starts with student text, so
+#: the line-start markers # + - 1. need no escape).
+_MD_SPECIAL = re.compile(r"([\\`*\[\]<>~&]|(?<!\w)_|_(?!\w))")
+
+
 def _md(text: str) -> str:
-    """One line of Markdown that cannot carry HTML (error messages come from student code)."""
-    return html.escape(_one_line(text), quote=False)
+    """One line of Markdown that shows ``text`` as it is, and can carry no markup or HTML.
+
+    Every character Markdown (CommonMark) or HTML gives a meaning inline is backslash-escaped
+    (an underscore inside a word has none), so ``l2 + l3 < 5`` renders as written (not
+    ``&lt;``), and a student's ``<img>`` or ``[link](...)`` is plain text."""
+    return _MD_SPECIAL.sub(lambda m: "\\" + m.group(0), _one_line(text))
 
 
 def _one_line(text: str, limit: int = 600) -> str:
@@ -119,12 +132,13 @@ def gradescope_json(res: SubmissionResult, exercise: str) -> dict[str, Any]:
             "score": round(t.points, 6),
             "max_score": t.weight,
             "status": "passed" if t.fraction >= 1.0 else "failed",
-            "output": html.escape(t.feedback, quote=False),
+            "output": _md(t.feedback),
+            "output_format": "md",
             "visibility": "visible",
         }
         for t in res.tests
     ]
-    output = f"Status: {res.status}" + (f": {_md(res.reason)}" if res.reason else "")
+    output = f"Status: {_md(res.status)}" + (f": {_md(res.reason)}" if res.reason else "")
     if res.problems:
         output += "\n\n" + "\n".join(f"- {_md(p)}" for p in res.problems)
     return {

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 from .assignment import Assignment
 from .cellplan import calling_cells
+from .feedback import cell_problems, missing_cause
 from .notebook import Notebook, NotebookError, Submission, read_notebook
 from .report import (
     CELL_ERRORS,
@@ -51,8 +52,8 @@ from .sandbox import (
     Sandbox,
     SandboxUnavailable,
 )
-from .spec import Call, Outcome, Score
-from .wire import WireError, encode_input
+from .spec import UNREADABLE, UNREADABLE_BASE, Call, Outcome, Score
+from .wire import WireError, encode_input, unreadable_text
 
 log = logging.getLogger("rikingrade")
 
@@ -358,8 +359,15 @@ class _Run:
         for call in calls:
             self.call_id += 1
             ids.append(self.call_id)
-            kwargs = {k: encode_input(v) for k, v in call.kwargs.items()}
-            items.append({"id": self.call_id, "function": call.function, "kwargs": kwargs})
+            args, kw = call.arguments()
+            items.append(
+                {
+                    "id": self.call_id,
+                    "function": call.function,
+                    "args": [encode_input(v) for v in args],
+                    "kwargs": {k: encode_input(v) for k, v in kw.items()},
+                }
+            )
         outcomes: list[Outcome] = []
         deadline = self.deadline(timeout)
         try:
@@ -522,23 +530,16 @@ class _Run:
         problems = list(self.nb.warnings)[:10]
         if not self.nb.cells:
             problems.append("the notebook has no code cells")
-        cell_lines = []
-        for n in sorted(self.cells):
-            c = self.cells[n]
-            if c.status == "error":
-                what = f"{c.error_type}: {c.message}" if c.message else c.error_type
-                cell_lines.append(f"code cell {n} raised {what} (later cells still ran)")
-            elif c.status in ("timeout", "crashed"):
-                cell_lines.append(f"code cell {n} {c.message}")
-            for note in c.notes:
-                cell_lines.append(f"code cell {n}: {note}")
+        cell_lines = cell_problems(self.cells, self.nb.cells)
         more = len(cell_lines) - MAX_PROBLEMS + sum(self.unlisted.values())
         problems += cell_lines[:MAX_PROBLEMS]
         if more > 0:
             problems.append(f"... and {more} more problems in code cells (not listed)")
         missing = [f for f in a.functions if f not in self.functions]
-        for f in missing:
-            problems.append(missing_message(f, self.functions, a.functions))
+        problems += [
+            missing_cause(f, self.functions, a.functions, self.nb.cells, self.cells)
+            for f in missing
+        ]
         if self.exec_error:
             problems.append(self.exec_error)
         if self.budget_spent:
@@ -571,9 +572,12 @@ class _Run:
             )
         elif any(c.status == "error" for c in self.cells.values()) or self.unlisted.get("error"):
             result.status = CELL_ERRORS
-            first = [p for p in problems if " raised " in p]
+            first = [p for p in problems if p.startswith("code cell") and " raised " in p]
             reasons.append(first[0] + (f" (and {len(first) - 1} more)" if len(first) > 1 else ""))
-        reasons += [missing_message(f, self.functions, a.functions) for f in missing]
+        reasons += [
+            missing_cause(f, self.functions, a.functions, self.nb.cells, self.cells)
+            for f in missing
+        ]
         result.reason = "; ".join(reasons)[:1000]
 
 
@@ -587,6 +591,12 @@ def _outcome(msg: dict) -> Outcome:
     et = msg.get("error_type")
     if et is not None:
         bases = msg.get("error_bases")
+        if bases == [UNREADABLE_BASE]:  # it returned; the words are the grader's, from a code
+            return Outcome(
+                error_type=UNREADABLE,
+                error_message=unreadable_text(str(msg.get("error_message", ""))),
+                error_bases=(UNREADABLE_BASE,),
+            )
         return Outcome(
             error_type=_text(et, 200) or "Error",
             error_message=_text(msg.get("error_message"), 4000),

@@ -2,7 +2,8 @@
 
 A hidden test never runs student code itself. The engine executes the
 student's notebook in a sandboxed child process, calls the named function
-with JSON-able keyword arguments, and hands back an :class:`Outcome`; the
+with the call's arguments (wire data: numbers, lists, numpy arrays), positionally
+in the order of the exercise's signature, and hands back an :class:`Outcome`; the
 test's ``check`` then scores it inside the grader process, against the
 instructor's reference (``rikingrade.reference``).
 
@@ -22,12 +23,56 @@ from typing import Any, Callable
 import numpy as np
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Call:
-    """One call of a student function: ``function(**kwargs)``; kwargs are JSON-able."""
+    """One call of a student function.
+
+    ``kwargs`` holds every input by its name in the exercise's signature (what the
+    checks read); the ``positional`` ones (in signature order) are passed positionally,
+    so a student may rename parameters, and the rest by keyword. Values are wire data
+    (:mod:`rikingrade.wire`): numbers, lists, numpy arrays.
+    """
 
     function: str
     kwargs: dict[str, Any]
+    positional: tuple[str, ...] = ()
+
+    def arguments(self) -> tuple[list[Any], dict[str, Any]]:
+        """(args, kwargs) of the call as the student's function receives them."""
+        args = [self.kwargs[n] for n in self.positional]
+        rest = {k: v for k, v in self.kwargs.items() if k not in self.positional}
+        return args, rest
+
+    def key(self) -> str:
+        """A text that identifies the call's inputs (arrays by their values)."""
+        return repr(
+            (
+                self.function,
+                self.positional,
+                sorted((k, _plain(v)) for k, v in self.kwargs.items()),
+            )
+        )
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Call) and self.key() == other.key()
+
+    def __hash__(self) -> int:
+        return hash(self.key())
+
+
+def _plain(v: Any) -> Any:
+    """``v`` with numpy arrays as (dtype, nested lists), for comparing and hashing."""
+    if isinstance(v, np.ndarray):
+        return ("ndarray", v.dtype.str, v.tolist())
+    if isinstance(v, (list, tuple)):
+        return [_plain(x) for x in v]
+    return v
+
+
+#: The ``error_type`` and ``error_bases`` of an Outcome whose call returned a value the
+#: engine could not read; its ``error_message`` is the grader's words for why.
+UNREADABLE = "UnreadableResult"
+UNREADABLE_BASE = "rikingrade.UnreadableResult"
 
 
 @dataclass(frozen=True)
@@ -38,7 +83,9 @@ class Outcome:
     error_type, error_message : the exception's class name and text, if it raised.
     error_bases : the exception's class and its bases (its MRO) as ``"module.Name"``:
         ``"builtins.ValueError"`` for Python's own, ``"__main__.Name"`` for a class the
-        notebook defines. Empty when unknown.
+        notebook defines. Empty when unknown. ``(UNREADABLE_BASE,)`` marks a call that
+        returned a value the engine could not read (``error_message``: the grader's words
+        for why, composed from the child's reason code, never the child's text).
     timed_out : the call exceeded its wall-clock limit.
     crashed : the child died (memory, os._exit, signal); ``detail`` says how.
     """
@@ -53,8 +100,13 @@ class Outcome:
 
     @property
     def ok(self) -> bool:
-        """The call returned normally."""
+        """The call returned a value the grader could read."""
         return self.error_type is None and not self.timed_out and not self.crashed
+
+    @property
+    def unreadable(self) -> bool:
+        """The call returned, but with a value the engine could not read (never a raise)."""
+        return self.error_bases == (UNREADABLE_BASE,)
 
 
 @dataclass(frozen=True)

@@ -115,3 +115,60 @@ def decode_message(line: bytes | str) -> dict[str, Any]:
 def encode_message(msg: dict[str, Any]) -> bytes:
     """One grader message as a JSON line."""
     return (json.dumps(msg, allow_nan=False, separators=(",", ":")) + "\n").encode()
+
+
+# ----------------------------------------------------------------------------- unreadable results
+#: Type names a feedback line may show (the type of a student's return value is
+#: student-controlled text: a class named after a hidden input must not reach the feedback).
+KNOWN_TYPES = frozenset(
+    {
+        f"builtins.{n}"
+        for n in (
+            "set frozenset dict str bytes bytearray function builtin_function_or_method "
+            "generator coroutine async_generator method module type object map filter zip "
+            "range enumerate reversed list_iterator tuple_iterator NoneType ellipsis "
+            "NotImplementedType property staticmethod classmethod slice memoryview "
+            "dict_keys dict_values dict_items"
+        ).split()
+    }
+    | {"numpy.dtype", "numpy.ufunc", "numpy.random._generator.Generator"}
+)
+
+
+def type_words(name: str) -> str:
+    """Words for a returned value's type (``"module.Name"``): known names, else generic."""
+    if name in KNOWN_TYPES:
+        short = name.split(".")[-1]
+        article = "an" if short[:1].lower() in "aeiou" else "a"
+        return {"NoneType": "None"}.get(short, f"{article} {short}")
+    if name.startswith("sympy."):
+        return "a sympy object"
+    if name.startswith(("numpy.", "builtins.")):
+        return "a numpy object" if name.startswith("numpy.") else "a Python object"
+    return "an object of a class defined in the notebook"
+
+
+def unreadable_text(code: str) -> str:
+    """The student-facing reason for a child's ``UnreadableResult`` code (see child.encode)."""
+    kind, _, arg = str(code).partition(":")
+    fixed = {
+        "elements": "a result with more than a million numbers",
+        "depth": "a result nested too deeply",
+        "bigint": "an integer too large to be a number of this exercise",
+        "string": "a very long string",
+        "symbols": (
+            "a sympy expression with free symbols (substitute the values and return numbers)"
+        ),
+    }
+    if kind in fixed:
+        return f"returned {fixed[kind]}, which the grader cannot read"
+    if kind == "dictkey":
+        return "returned a dict with keys the grader cannot read"
+    if kind == "dtype":
+        return "returned a numpy array whose dtype is not numbers"
+    if kind == "type":
+        return (
+            f"returned {type_words(arg)}, which the grader cannot read; "
+            "return numbers, lists or numpy arrays"
+        )
+    return "returned a value the grader cannot read"

@@ -437,7 +437,7 @@ CASES: list[Case] = [
         ),
         5,
         "cell-errors",
-        ["&lt;script&gt;alert(1)&lt;/script&gt;"],
+        ["\\<script\\>alert(1)\\</script\\> \\*\\*bold\\*\\*"],  # Markdown-escaped, not HTML
     ),
     Case(
         "sys_exit_cell",

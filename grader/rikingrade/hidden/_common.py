@@ -11,17 +11,33 @@ and whose ``check`` scores the student's outcomes against the reference
   missing and extra solutions are reported separately; every returned
   solution is also put through the reference FK, which says why an extra
   one is wrong; at a singular target any member of a family counts;
-* unreachable targets must raise ValueError (or a subclass).
+* at and near a singular configuration a solution is judged by FK and by the
+  family it belongs to, not by its joint distance to the reference's representative:
+  every returned row that reaches the target (FK within POSE_TOL) and respects the
+  joint limits is a solution, counted for the nearest reference branch;
+* the cost of an answer is bounded: at most MAX_ROWS rows are read, and matching
+  is linear in the rows (a few vectorised passes);
+* unreachable targets must raise ValueError (or a subclass); a value the grader cannot
+  read is a wrong return, never a pass of "must raise".
+
+Inputs reach the student's function as the stubs annotate them: ``q``, ``p`` and ``T``
+as float64 numpy arrays, lengths as Python floats, passed positionally in the order of
+the stub's signature (parameter names do not matter).
 
 Partial credit: a test's fraction is the mean over its cases; an IK case
-scores ``matched / (expected + wrong)``. Feedback never shows a hidden input
-(numbers in a student's own error message are masked) unless ``reveal``.
+scores ``matched / (expected + wrong)``. Feedback is composed by the grader from a
+whitelist (test names, counts, the grader's own words, exception class names that
+are Python's or rikin's): no student-controlled text (messages, class or type names
+of the notebook's own) is echoed next to hidden values, and numbers equal to a hidden
+input or expected value are masked as a last guard, unless ``reveal``.
 """
 
 from __future__ import annotations
 
 import builtins
 import re
+import reprlib
+import time
 from collections import Counter
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -31,8 +47,8 @@ import numpy as np
 
 import rikin
 
-from ..reference._common import ExerciseArm, Solutions, wrap
-from ..spec import Call, HiddenTest, Outcome, Score
+from ..reference._common import REACH_TOL, ExerciseArm, Solutions, wrap
+from ..spec import Call, HiddenTest, Outcome, Score, _plain
 
 #: A student's joint value within this of the reference's matches (rad; for
 #: prismatic joints times the arm's size).
@@ -43,6 +59,18 @@ POSE_TOL = 1e-6
 DEGREES_SUSPECT = 2 * np.pi + 1e-6
 #: Exception names accepted as "raised ValueError" (rikin's errors subclass it).
 RIKIN_VALUE_ERRORS = {"RikinError", "InputError", "IKError", "UnreachableError"}
+#: At most this many rows of an IK answer are read (the arms have at most 4 solutions;
+#: duplicates are free, but an answer may not cost the grader without bound: matching is
+#: linear in the rows, about 1 s for this many on one core).
+MAX_ROWS = 10_000
+#: Wrong rows explained one by one (FK in degrees etc.); more are counted, not explained.
+MAX_WRONG_EXPLAINED = 64
+#: A row that reaches the target belongs to the nearest reference branch when it is
+#: within this of it (rad, or times the arm's size): near a singularity the IK is
+#: ill-conditioned, so a right answer can sit 1e-4 from the representative.
+BRANCH_TOL = 0.05
+#: Imaginary parts up to this (times max(1, |value|)) are rounding, not complex answers.
+IMAG_TOL = 1e-9
 
 #: Wall-clock seconds per call. The reference answers a call in about a millisecond
 #: and a student's numerical solution (scipy, sympy.nsolve) in about 50 ms; what
@@ -64,9 +92,49 @@ def _fmt(v: Any, digits: int = 4) -> str:
     return "(" + ", ".join(f"{x:.{digits}g}" for x in a.ravel()) + ")"
 
 
+_NUMBER = re.compile(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?")
+
+
 def mask_numbers(text: str) -> str:
-    """The text with every number replaced by '#', so it cannot reveal a hidden input."""
-    return re.sub(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?", "#", text)
+    """The text with every number replaced by '#' (for the instructor's tools only)."""
+    return _NUMBER.sub("#", text)
+
+
+def hidden_numbers(calls: list[Call]) -> np.ndarray:
+    """Every number of the calls' inputs (absolute values), for :func:`mask_hidden`."""
+    vals: list[float] = []
+    for c in calls:
+        for v in c.kwargs.values():
+            try:
+                vals.extend(np.abs(np.ravel(np.asarray(v, dtype=float))).tolist())
+            except (TypeError, ValueError):
+                pass
+    return np.unique(np.array([v for v in vals if v > 1e-3 and np.isfinite(v)]))
+
+
+def mask_hidden(text: str, hidden: np.ndarray) -> str:
+    """``text`` with the numbers that show a hidden value to 3 or more significant digits
+    masked as '#'. Only those: counts ("3/5"), a student's words, rikin's "l2 + l3" and
+    "joint 3" stay as they are.
+    """
+    if not hidden.size:
+        return text
+
+    def sub(m: re.Match) -> str:
+        token = m.group(0)
+        mantissa, _, exp = token.lstrip("+-").lower().partition("e")
+        digits = mantissa.replace(".", "").lstrip("0")
+        if len(digits) < 3:
+            return token
+        decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+        try:
+            x = abs(float(token))
+            tol = 0.5 * 10.0 ** (-decimals + (int(exp) if exp else 0))
+        except (ValueError, OverflowError):
+            return token
+        return "#" if np.any(np.abs(hidden - x) <= tol * (1 + 1e-9)) else token
+
+    return _NUMBER.sub(sub, text)
 
 
 def sentences(parts: list[str]) -> str:
@@ -74,30 +142,111 @@ def sentences(parts: list[str]) -> str:
     return " ".join(p[:1].upper() + p[1:] + ("" if p.endswith(".") else ".") for p in parts if p)
 
 
-def describe_failure(out: Outcome, reveal: bool, timeout: float, context: str = "") -> str:
-    """The student-facing reason why a call did not return normally.
+#: Python's and rikin's exception messages that carry nothing a call's input could
+#: choose beyond a known type name or a one- or two-digit count; only these are shown.
+_TYPE = (
+    r"'?(?:list|tuple|dict|set|str|int|float|complex|bool|NoneType|numpy\.ndarray|ndarray"
+    r"|function|numpy\.float64)'?"
+)
+_SAFE_MESSAGES = tuple(
+    re.compile(p + r"\Z")
+    for p in (
+        r"math domain error",
+        r"list indices must be integers or slices, not " + _TYPE,
+        r"tuple indices must be integers or slices, not " + _TYPE,
+        _TYPE + r" object is not (?:subscriptable|callable|iterable)",
+        _TYPE
+        + r" object has no attribute "
+        + r"'(?:shape|T|dot|reshape|astype|ndim|size|copy|flatten|ravel|tolist|item)'",
+        r"unsupported operand type\(s\) for [-+*/@]{1,2}: " + _TYPE + " and " + _TYPE,
+        r"can only concatenate \w{1,10} \(not \"?\w{1,10}\"?\) to \w{1,10}",
+        r"setting an array element with a sequence\..{0,200}",
+        r"too many indices for array: array is \d-dimensional, but \d were indexed",
+        r"cannot convert expression to float",
+        r"only (?:length-1|0-dimensional) arrays can be converted to Python scalars",
+        r"The truth value of an array with more than one element is ambiguous\. "
+        r"Use a\.any\(\) or a\.all\(\)",
+        r"float division by zero|division by zero|integer division or modulo by zero",
+        r"not enough values to unpack \(expected \d{1,2}, got \d{1,2}\)",
+        r"too many values to unpack \(expected \d{1,2}\)",
+        r"No module named '(?:scipy|sympy|numpy|math|rikin|matplotlib)'",
+        r"name '(?:dh_table|(?:fk|ik)_(?:cartesian|cylindrical|spherical|scara)(?:_6dof)?"
+        r"|np|numpy|math|scipy|sympy|rikin|L|TOOL|REVOLUTE)' is not defined",
+    )
+)
 
-    ``context`` (e.g. "on a reachable target") goes after the exception's name.
+
+def safe_message(msg: str) -> str:
+    """``msg`` if it is one of the fixed messages above, else ""."""
+    msg = " ".join(str(msg).split())[:300]
+    return msg if any(p.match(msg) for p in _SAFE_MESSAGES) else ""
+
+
+def exception_words(out: Outcome) -> str:
+    """The exception's class in words the grader vouches for.
+
+    Python's own and rikin's classes by name; a class the notebook defines (its name is
+    student-controlled text) as "an exception of your own (a subclass of ValueError)".
+    """
+    name = out.error_type or "an exception"
+    bases = out.error_bases
+    known = name in RIKIN_VALUE_ERRORS or name == "CheckFailed"
+    cls = getattr(builtins, name, None)
+    builtin = isinstance(cls, type) and issubclass(cls, BaseException)
+    if bases:
+        builtin = bases[0] == f"builtins.{name}"
+        known = known and bases[0].startswith("rikin")
+    if builtin or known:
+        return name
+    base = next(
+        (
+            b.split(".", 1)[1]
+            for b in bases[1:]
+            if b.startswith("builtins.") and b != "builtins.object"
+        ),
+        "Exception",
+    )
+    base = base if base.isidentifier() else "Exception"
+    return f"an exception of your own (a subclass of {base})"
+
+
+def describe_failure(out: Outcome, reveal: bool, timeout: float, context: str = "") -> str:
+    """The student-facing reason why a call did not return a readable value.
+
+    ``context`` (e.g. "on a reachable target") goes after the exception's name. Composed
+    from the grader's own words: the student's message is shown only when it is one of
+    Python's fixed messages (:func:`safe_message`), or with ``reveal``.
     """
     if out.timed_out:
         return out.detail or f"timed out (over {timeout:g} s)"
     if out.crashed:
         return f"the notebook's process died ({out.detail or 'no detail'})"
+    if out.unreadable:  # the grader's words (see spec.Outcome)
+        return out.error_message or "returned a value the grader cannot read"
+    if out.error_type == "NameError" and not out.error_bases:  # the engine: no such function
+        return "not run: the function is not defined (see the notes on your notebook above)"
     if out.error_type == "NotImplementedError":
         return "not implemented yet (raises NotImplementedError)"
-    msg = (out.error_message or "").strip().splitlines()
-    msg = msg[0][:160] if msg else ""
-    if not reveal:
-        msg = mask_numbers(msg)
+    lines = (out.error_message or "").strip().splitlines()
+    first = lines[0][:160] if lines else ""
+    msg = first if reveal else safe_message(first)
     ctx = f" {context}" if context else ""
-    return f"raised {out.error_type}{ctx}" + (f": {msg}" if msg else "")
+    head = f"raised {exception_words(out) if not reveal else out.error_type}{ctx}"
+    if msg:
+        return f"{head}: {msg}"
+    if first:
+        return head + " (its message is not shown here, as it could carry the hidden input)"
+    return head
 
 
 def raised_value_error(out: Outcome) -> bool:
     """Whether the call raised ValueError or a subclass of it (a student's own included).
 
     Decided from the exception's bases when the engine sent them, else from its name.
+    A value the grader could not read was returned, not raised: never a ValueError.
     """
+    if out.unreadable or out.timed_out or out.crashed:
+        return False
     if out.error_bases:
         return "builtins.ValueError" in out.error_bases
     return is_value_error(out.error_type)
@@ -106,8 +255,8 @@ def raised_value_error(out: Outcome) -> bool:
 def is_value_error(name: str | None) -> bool:
     """Whether an exception class name stands for ValueError or a subclass of it.
 
-    For outcomes without bases: builtin and rikin names are checked; an unknown
-    (student-defined) name is given the benefit of the doubt.
+    For outcomes without bases (the engine sends them for every exception a call
+    raises): builtin and rikin names are checked; any other name is not a ValueError.
     """
     if not name:
         return False
@@ -116,16 +265,29 @@ def is_value_error(name: str | None) -> bool:
     cls = getattr(builtins, name, None)
     if isinstance(cls, type) and issubclass(cls, BaseException):
         return issubclass(cls, ValueError)
-    return name not in {"NotImplementedError", "CheckFailed"}
+    return False
 
 
 def as_array(value: Any) -> np.ndarray | None:
-    """The JSON value as a float array, or None if it is not numbers."""
+    """The returned value as a float64 array, or None if it is not numbers.
+
+    The same rule as the visible checks' ``_as_numbers``: numbers of any kind, nested
+    lists of them; complex numbers only with a zero (rounding) imaginary part; strings,
+    None and numbers beyond float64 are not numbers.
+    """
     try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
+        arr = np.asarray(value)
+        if arr.dtype.kind == "O":
+            arr = arr.astype(np.complex128)
+        if arr.dtype.kind not in "biufc":
+            return None
+        if arr.dtype.kind == "c":
+            if np.any(np.abs(arr.imag) > IMAG_TOL * np.maximum(1.0, np.abs(arr.real))):
+                return None
+            arr = arr.real
+        return np.asarray(arr, dtype=np.float64)
+    except (TypeError, ValueError, OverflowError, MemoryError, RecursionError):
         return None
-    return arr
 
 
 def pose_error(T: np.ndarray, T_ref: np.ndarray, scale: float) -> tuple[float, float]:
@@ -177,6 +339,7 @@ class Spec:
         return s + (self.tool(kwargs) if self.six else 0.0)
 
     def ref_fk(self, q: np.ndarray, kwargs: dict[str, Any]) -> np.ndarray:
+        """The reference pose at ``q`` (n,) or poses at rows ``q`` (k, n)."""
         q = np.where(self.revolute, wrap(q), q)
         if self.six:
             return self.arm.fk_6dof(q, self.tool(kwargs), **self.lengths(kwargs))
@@ -185,7 +348,7 @@ class Spec:
     def cached(self, what: str, kwargs: dict[str, Any], compute: Callable[[], Any]) -> Any:
         """``compute()``, remembered per call's inputs: every submission is graded on
         the same calls, so reference answers and texts are worked out once per run."""
-        key = (what, repr(sorted(kwargs.items())))
+        key = (what, repr(sorted((k, _plain(v)) for k, v in kwargs.items())))
         try:
             return self._cache[key]
         except KeyError:
@@ -230,18 +393,35 @@ class Spec:
 
     def reaches(self, q: np.ndarray, kwargs: dict[str, Any]) -> tuple[bool, float]:
         """Whether FK(q) reaches the target; and by how much it misses (length units)."""
-        T = self.ref_fk(q, kwargs)
+        ok, miss = self.reaches_rows(np.asarray(q, dtype=float)[None, :], kwargs)
+        return bool(ok[0]), float(miss[0])
+
+    def reaches_rows(
+        self, Q: np.ndarray, kwargs: dict[str, Any]
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Per row of ``Q`` (k, n): whether FK reaches the target, and the miss (one pass)."""
+        if not len(Q):
+            return np.zeros(0, bool), np.zeros(0)
+        T = np.reshape(self.ref_fk(Q, kwargs), (-1, 4, 4))
         T_t = self.target_pose(kwargs)
-        dp, dr = pose_error(T, T_t, self.scale(kwargs))
-        ok = dp <= POSE_TOL and (dr <= POSE_TOL or not self.six)
-        return ok, dp * self.scale(kwargs) + (dr if self.six else 0.0)
+        scale = self.scale(kwargs)
+        dp = np.linalg.norm(T[:, :3, 3] - T_t[:3, 3], axis=1) / scale
+        dr = np.abs(T[:, :3, :3] - T_t[:3, :3]).max(axis=(1, 2))
+        ok = (dp <= POSE_TOL) & ((dr <= POSE_TOL) | (not self.six))
+        return ok, dp * scale + (dr if self.six else 0.0)
 
     def case_kwargs(self, L: dict[str, float], tool: float | None, **extra: Any) -> dict[str, Any]:
-        kw: dict[str, Any] = dict(extra)
+        """A call's inputs in the order of the stub's signature: ``q``/``p``/``T`` (as
+        float64 arrays, as the stubs annotate them), the lengths, then ``tool``."""
+        kw: dict[str, Any] = {k: np.array(v, dtype=np.float64) for k, v in extra.items()}
         kw.update({k: float(v) for k, v in L.items()})
         if self.six:
             kw["tool"] = float(tool)  # type: ignore[arg-type]
         return kw
+
+    def call(self, function: str, kwargs: dict[str, Any]) -> Call:
+        """A call that passes every input positionally, in the signature's order."""
+        return Call(function, kwargs, tuple(kwargs))
 
     def hidden_text(self, kwargs: dict[str, Any]) -> str:
         """The call's hidden inputs in words (for the instructor's detail or ``reveal``)."""
@@ -283,10 +463,14 @@ class IKCase:
 
 
 def student_rows(value: Any, n: int) -> tuple[np.ndarray | None, str, str]:
-    """The returned solutions as (k, n), or None and why; plus a note on the shape."""
+    """The returned solutions as (k, n), or None and why; plus a note on the shape.
+
+    The same rule as the visible checks' ``_as_rows``: numbers, shape (k, n), or (n,)
+    for a single solution; at most MAX_ROWS rows are read.
+    """
     arr = as_array(value)
     if arr is None:
-        return None, f"returned {type(value).__name__}, not an array of numbers", ""
+        return None, "returned something that is not an array of numbers", ""
     note = ""
     if arr.ndim == 1 and arr.shape[0] == n:
         arr = arr[None, :]
@@ -294,12 +478,48 @@ def student_rows(value: Any, n: int) -> tuple[np.ndarray | None, str, str]:
     if arr.size == 0:
         return np.zeros((0, n)), "", note
     if arr.ndim != 2 or arr.shape[1] != n:
-        return None, f"returned shape {arr.shape}, expected (k, {n}): one solution per row", note
+        shape = tuple(int(x) for x in arr.shape)
+        return None, f"returned shape {shape}, expected (k, {n}): one solution per row", note
+    if arr.shape[0] > MAX_ROWS:
+        return (
+            None,
+            f"returned more than {MAX_ROWS} rows (this arm has at most 4 solutions per target)",
+            note,
+        )
     return arr, "", note
 
 
+def _wrapped_distance(spec: Spec, rows: np.ndarray, refs: np.ndarray, scale: float,
+                      compared: np.ndarray) -> np.ndarray:
+    """(k, m) max joint distance of each row to each reference row (angles modulo 2*pi,
+    prismatic values over ``scale``), over the joints ``compared`` (m, n) of each reference."""
+    rev = spec.revolute
+    d = rows[:, None, :] - refs[None, :, :]
+    d = np.abs(np.where(rev, wrap(d), d / scale))
+    return np.where(compared[None, :, :], d, 0.0).max(axis=2)
+
+
+def _why_wrong(spec: Spec, r: np.ndarray, reaches: bool, kwargs: dict[str, Any],
+               case: IKCase) -> str:
+    """Why one returned row is not a solution, in the student's terms."""
+    rev = spec.revolute
+    if reaches:
+        scale = spec.scale(kwargs)
+        neg = [k + 1 for k in range(spec.n) if not rev[k] and r[k] < -JOINT_TOL * scale]
+        return f"a solution that needs q{neg[0]} < 0 (prismatic joints only extend)"
+    if np.any(np.abs(r[rev]) > DEGREES_SUSPECT):
+        case.degrees = True
+        if spec.reaches(radians_of(r, rev), kwargs)[0]:
+            return "a right solution written in degrees"
+    return "a solution that does not reach the target (FK check)"
+
+
 def compare_ik(spec: Spec, kwargs: dict[str, Any], value: Any) -> IKCase:
-    """Score one IK answer against the reference set (see the module docstring)."""
+    """Score one IK answer against the reference set (see the module docstring).
+
+    Linear in the rows: one FK pass over all rows, one (k, m) distance table to the m
+    (at most 4) reference rows, one greedy pass to merge the wrong rows that repeat.
+    """
     ref = spec.ref_ik(kwargs)
     rev = spec.revolute
     scale = spec.scale(kwargs)
@@ -311,59 +531,53 @@ def compare_ik(spec: Spec, kwargs: dict[str, Any], value: Any) -> IKCase:
         case.failure = why
         return case
     finite = np.all(np.isfinite(rows), axis=1)
-    for _ in range(int((~finite).sum())):
-        case.wrong.append("a solution with NaN or infinity")
+    case.wrong += ["a solution with NaN or infinity"] * int((~finite).sum())
     rows = rows[finite]
-    # merge duplicates (angles modulo 2*pi)
-    distinct: list[np.ndarray] = []
-    for r in rows:
-        tol = JOINT_TOL * np.where(rev, 1.0, scale)
-        if any(np.all(np.abs(np.where(rev, wrap(r - d), r - d)) <= tol) for d in distinct):
-            case.duplicates += 1
-        else:
-            distinct.append(r)
-    matched: set[int] = set()
-
-    # per reference row, the joints compared (a singular family's free joints are not)
+    # a singular family's free joints are not compared
     compared = np.ones(ref.q.shape, bool)
     for j, free in enumerate(ref.free):
         compared[j, list(free)] = False
-
-    def match(r: np.ndarray) -> int | None:
-        """The first reference row ``r`` matches (within its family when singular)."""
-        d = r - ref.q
-        d = np.where(rev, wrap(d), d / scale)
-        close = np.all((np.abs(d) <= JOINT_TOL) | ~compared, axis=1)
-        for j in np.flatnonzero(close):
-            if not ref.free[j] or spec.reaches(r, kwargs)[0]:
-                return int(j)
-        return None
-
-    for r in distinct:
-        j = match(r)
-        if j is not None:
-            matched.add(j)
-            continue
-        if np.any(np.abs(r[rev]) > DEGREES_SUSPECT):
-            case.degrees = True
-            if match(radians_of(r, rev)) is not None:
-                case.wrong.append("a right solution written in degrees")
-                continue
-        ok, miss = spec.reaches(r, kwargs)
-        if ok:
-            neg = [i + 1 for i in range(spec.n) if not rev[i] and r[i] < -JOINT_TOL * scale]
-            if neg:
-                case.wrong.append(
-                    f"a solution that needs q{neg[0]} < 0 (prismatic joints only extend)"
-                )
-            else:  # pragma: no cover - would mean the reference misses a solution
-                case.wrong.append(
-                    "a solution the reference does not list (please tell the instructor)"
-                )
-        else:
-            case.wrong.append("a solution that does not reach the target (FK check)")
+    # reference rows that lie within BRANCH_TOL of each other (near a singularity) are
+    # one branch for the student: any one row of them stands for all
+    cluster = np.arange(len(ref))
+    if len(ref) > 1:
+        dref = _wrapped_distance(spec, ref.q, ref.q, scale, compared)
+        for j in range(len(ref)):
+            close = np.flatnonzero(dref[j] <= JOINT_TOL * 1e3)
+            cluster[close] = cluster[close].min()
+    reach, _ = spec.reaches_rows(rows, kwargs)
+    prismatic_ok = np.all(rev | (rows >= -REACH_TOL * scale - JOINT_TOL * scale), axis=1)
+    dist = (
+        _wrapped_distance(spec, rows, ref.q, scale, compared)
+        if len(rows)
+        else np.zeros((0, len(ref)))
+    )
+    nearest = dist.argmin(axis=1) if len(ref) else np.zeros(len(rows), int)
+    near = dist[np.arange(len(rows)), nearest] if len(ref) else np.full(len(rows), np.inf)
+    good = reach & prismatic_ok & (near <= BRANCH_TOL)
+    hit = cluster[nearest[good]] if len(ref) else np.zeros(0, int)
+    matched = {int(c) for c in hit}
+    case.duplicates += int(good.sum()) - len(matched)
+    unlisted = reach & prismatic_ok & ~good
+    if unlisted.any():  # pragma: no cover - would mean the reference misses a solution
+        case.notes.append(
+            "a returned solution reaches the target but the reference does not list it "
+            "(not penalised; please tell the instructor)"
+        )
+    bad = ~(reach & prismatic_ok)
+    if bad.any():
+        # the same wrong row twice costs once: rows equal to JOINT_TOL (angles wrapped)
+        key = np.where(rev, wrap(rows[bad]), rows[bad] / scale)
+        _, first = np.unique(np.round(key / JOINT_TOL), axis=0, return_index=True)
+        case.duplicates += int(bad.sum()) - len(first)
+        for i in np.flatnonzero(bad)[np.sort(first)][:MAX_WRONG_EXPLAINED]:
+            case.wrong.append(_why_wrong(spec, rows[i], bool(reach[i]), kwargs, case))
+        extra = len(first) - MAX_WRONG_EXPLAINED
+        case.wrong += ["a solution that does not reach the target (FK check)"] * max(0, extra)
+    reps = sorted({int(c) for c in cluster})
+    case.expected = len(reps)
     case.matched = len(matched)
-    case.missing = [ref.labels[j] for j in range(len(ref)) if j not in matched]
+    case.missing = [ref.labels[j] for j in reps if j not in matched]
     case.credit = case.matched / (case.expected + len(case.wrong))
     return case
 
@@ -412,12 +626,36 @@ def _first_failing_hint(
     return ""
 
 
+_REPR = reprlib.Repr()
+_REPR.maxlist = _REPR.maxtuple = 8
+_REPR.maxstring = _REPR.maxother = 200
+_REPR.maxlevel = 3
+
+
 def _detail(spec: Spec, calls: list[Call], outcomes: list[Outcome], notes: list[str]) -> str:
+    """The instructor's log lines of one test (bounded: a huge answer is not printed whole)."""
     lines = []
     for i, (c, o) in enumerate(zip(calls, outcomes, strict=True)):
-        got = o.value if o.ok else f"{o.error_type}: {o.error_message}"
-        lines.append(f"[{i}] {spec.hidden_text(c.kwargs)} -> {notes[i]} | got {got!r:.400}")
+        got = _REPR.repr(o.value) if o.ok else f"{o.error_type}: {o.error_message!s:.300}"
+        lines.append(f"[{i}] {spec.hidden_text(c.kwargs)} -> {notes[i]} | got {got:.400}")
     return "\n".join(lines)
+
+
+def _guarded(check: Callable[[list[Call], list[Outcome], bool], Score]):
+    """``check`` timed (the time goes to the instructor's detail) and with the last guard
+    on its feedback: numbers equal to a hidden input are masked unless ``reveal``."""
+
+    def run(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
+        t0 = time.perf_counter()
+        score = check(calls, outcomes, reveal)
+        feedback = score.feedback
+        if not reveal:
+            feedback = mask_hidden(feedback, hidden_numbers(calls))
+        ms = (time.perf_counter() - t0) * 1e3
+        return Score(score.fraction, feedback, f"{score.detail}\nscored in {ms:.1f} ms")
+
+    run.__doc__ = check.__doc__
+    return run
 
 
 @dataclass
@@ -455,7 +693,7 @@ def fk_test(arm: ExerciseArm, six: bool, weight: float, name: str, n: int = N_FK
             L = arm.sample_lengths(rng)
             tool = arm.sample_tool(rng) if six else None
             q = arm.sample_q_6dof(rng, L) if six else arm.sample_q(rng, L)
-            calls.append(Call(fname, spec.case_kwargs(L, tool, q=q.tolist())))
+            calls.append(spec.call(fname, spec.case_kwargs(L, tool, q=q)))
         return calls
 
     def check(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
@@ -466,7 +704,9 @@ def fk_test(arm: ExerciseArm, six: bool, weight: float, name: str, n: int = N_FK
         fb = tally.feedback(head) + _first_failing_hint(reveal, spec, calls, tally.good)
         return Score(tally.fraction, fb, _detail(spec, calls, outcomes, tally.notes))
 
-    return HiddenTest(name, weight, title, make_calls, check, timeout=TIMEOUT, tags=("fk",))
+    return HiddenTest(
+        name, weight, title, make_calls, _guarded(check), timeout=TIMEOUT, tags=("fk",)
+    )
 
 
 def _fk_case(spec: Spec, kw: dict[str, Any], out: Outcome, reveal: bool) -> str:
@@ -475,9 +715,10 @@ def _fk_case(spec: Spec, kw: dict[str, Any], out: Outcome, reveal: bool) -> str:
         return describe_failure(out, reveal, TIMEOUT)
     T = as_array(out.value)
     if T is None:
-        return f"returned {type(out.value).__name__}, expected a (4, 4) matrix"
+        return "returned something that is not a matrix of numbers, expected a (4, 4) matrix"
     if T.shape != (4, 4):
-        return f"returned shape {T.shape}, expected a (4, 4) matrix"
+        shape = tuple(int(x) for x in T.shape)
+        return f"returned shape {shape}, expected a (4, 4) matrix"
     if not np.all(np.isfinite(T)):
         return "the matrix contains NaN or infinity"
     q = np.asarray(kw["q"], dtype=float)
@@ -526,17 +767,20 @@ def rows_to_arm(arm: ExerciseArm, value: Any) -> tuple[rikin.SerialArm | None, s
     links = []
     for i, row in enumerate(value, 1):
         bad = set(row) - set(DH_FIELDS)
-        if bad:
-            return None, f"row {i} has unknown keys {sorted(bad)}; use {list(DH_FIELDS[:-1])}"
+        if bad:  # the keys are the student's text: not echoed
+            return None, f"row {i} has keys rikin.Link does not know; use {list(DH_FIELDS[:-1])}"
         joint = row.get("joint", "R")
         want = arm.joint_types[i - 1]
         if joint != want:
             kind = {"R": "revolute ('R')", "P": "prismatic ('P')"}[want]
-            return None, f"joint {i} is {kind}, the table says {joint!r}"
+            says = repr(joint) if joint in ("R", "P") else "something else"
+            return None, f"joint {i} is {kind}, the table says {says}"
         try:
             vals = {k: float(row[k]) for k in DH_FIELDS[1:-1] if k in row}
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             return None, f"row {i} has a value that is not a number"
+        if not all(np.isfinite(v) for v in vals.values()):
+            return None, f"row {i} has a value that is NaN or infinity"
         for k in ("alpha", "offset", "theta"):
             angle = not (k == "offset" and joint == "P")  # a prismatic offset is a length
             if k in vals and angle and abs(vals[k]) > DEGREES_SUSPECT:
@@ -558,7 +802,7 @@ def dh_test(arm: ExerciseArm, weight: float, name: str = "dh_table", n: int = N_
 
     def make_calls(rng: np.random.Generator) -> list[Call]:
         return [
-            Call("dh_table", {k: float(v) for k, v in arm.sample_lengths(rng).items()})
+            spec.call("dh_table", {k: float(v) for k, v in arm.sample_lengths(rng).items()})
             for _ in range(n)
         ]
 
@@ -600,7 +844,9 @@ def dh_test(arm: ExerciseArm, weight: float, name: str = "dh_table", n: int = N_
         fb = tally.feedback(head) + _first_failing_hint(reveal, spec, calls, tally.good)
         return Score(tally.fraction, fb, _detail(spec, calls, outcomes, tally.notes))
 
-    return HiddenTest(name, weight, title, make_calls, check, timeout=TIMEOUT, tags=("dh",))
+    return HiddenTest(
+        name, weight, title, make_calls, _guarded(check), timeout=TIMEOUT, tags=("dh",)
+    )
 
 
 def ik_test(
@@ -619,28 +865,31 @@ def ik_test(
         title = f"IK at the wrist singularity, any member of the family ({fname})"
     elif special == "positioning":
         rng0 = np.random.default_rng(0)
-        kind = arm.sample_special_q(rng0, arm.sample_lengths(rng0))
-        title = f"IK {kind[0] if kind else ''} ({fname})"
+        L0 = arm.sample_lengths(rng0)
+        kinds = list(dict.fromkeys(arm.sample_special_q(rng0, L0, i)[0] for i in range(2)))
+        title = f"IK {' and '.join(kinds)} ({fname})"
     else:
         title = f"IK of the {what}, all solutions ({fname})"
 
     def make_calls(rng: np.random.Generator) -> list[Call]:
         calls = []
-        count = 2 if special else n
+        count = {"": n, "positioning": 4}.get(special, 2)
         for i in range(count):
             L = arm.sample_lengths(rng)
             tool = arm.sample_tool(rng) if six else None
             if special == "wrist":
                 q = arm.sample_wrist_singular_q(rng, L, (0.0, np.pi)[i % 2])
             elif special == "positioning":
-                q = arm.sample_special_q(rng, L)[1]  # type: ignore[index]
+                q = arm.sample_special_q(rng, L, i)[1]  # type: ignore[index]
             else:
                 q = arm.sample_q_6dof(rng, L) if six else arm.sample_q(rng, L)
+                if i == 0:  # the statement allows a prismatic joint exactly at zero
+                    q[: len(arm.revolute)][~arm.revolute] = 0.0
             if six:
-                kw = spec.case_kwargs(L, tool, T=arm.fk_6dof(q, tool, **L).tolist())
+                kw = spec.case_kwargs(L, tool, T=arm.fk_6dof(q, tool, **L))
             else:
-                kw = spec.case_kwargs(L, None, p=arm.fk(q, **L)[:3, 3].tolist())
-            calls.append(Call(fname, kw))
+                kw = spec.case_kwargs(L, None, p=arm.fk(q, **L)[:3, 3])
+            calls.append(spec.call(fname, kw))
         return calls
 
     def check(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
@@ -663,7 +912,7 @@ def ik_test(
         return Score(frac, fb, _detail(spec, calls, outcomes, notes))
 
     tags = ("ik",) + (("singular",) if special else ())
-    return HiddenTest(name, weight, title, make_calls, check, timeout=TIMEOUT, tags=tags)
+    return HiddenTest(name, weight, title, make_calls, _guarded(check), timeout=TIMEOUT, tags=tags)
 
 
 def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> HiddenTest:
@@ -677,11 +926,11 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
         if six:
             tool = arm.sample_tool(rng)
             return [
-                Call(fname, spec.case_kwargs(L, tool, T=T.tolist()))
+                spec.call(fname, spec.case_kwargs(L, tool, T=T))
                 for _, T in arm.unreachable_poses(rng, L, tool)
             ]
         return [
-            Call(fname, spec.case_kwargs(L, None, p=p.tolist()))
+            spec.call(fname, spec.case_kwargs(L, None, p=p))
             for _, p in arm.unreachable_points(rng, L)
         ]
 
@@ -697,15 +946,18 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
                 nan = arr is not None and arr.size and not np.all(np.isfinite(arr))
                 r = f"{k}: returned {'NaN ' if nan else ''}values instead of raising ValueError"
                 credits.append(0.0)
+            elif o.unreadable:
+                r = f"{k}: {describe_failure(o, reveal, TIMEOUT)} instead of raising ValueError"
+                credits.append(0.0)
             elif (
                 o.error_type == "ValueError"
                 and (o.error_message or "").strip() == "math domain error"
             ):
                 r = (
-                    f"{k}: raised ValueError('math domain error') from math.sqrt/acos; check "
-                    "reachability yourself and say why in the message (half credit)"
+                    f"{k}: raised ValueError('math domain error') from math.sqrt/acos, which "
+                    "Task 5 says is not enough: check reachability yourself and say why"
                 )
-                credits.append(0.5)
+                credits.append(0.0)
             elif raised_value_error(o):
                 r = ""
                 credits.append(1.0)
@@ -726,7 +978,7 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
         return Score(float(np.mean(credits)), fb, _detail(spec, calls, outcomes, notes))
 
     return HiddenTest(
-        name, weight, title, make_calls, check, timeout=TIMEOUT, tags=("unreachable",)
+        name, weight, title, make_calls, _guarded(check), timeout=TIMEOUT, tags=("unreachable",)
     )
 
 

@@ -297,9 +297,13 @@ class ExerciseArm:
         raise NotImplementedError
 
     def sample_special_q(
-        self, rng: np.random.Generator, L: dict[str, float]
+        self, rng: np.random.Generator, L: dict[str, float], i: int = 0
     ) -> tuple[str, FloatArray] | None:
-        """A singular or boundary configuration of the positioning arm (kind, q), or None."""
+        """A singular or boundary configuration of the positioning arm (kind, q), or None.
+
+        ``i`` counts the special cases of one test, so an arm with several kinds of
+        special configuration (SCARA: stretched and folded) samples each of them.
+        """
         return None
 
     def unreachable_points(

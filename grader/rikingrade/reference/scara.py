@@ -97,8 +97,11 @@ class Scara(ExerciseArm):
         q2 = rng.uniform(0.25, np.pi - 0.25) * rng.choice([-1.0, 1.0])
         return np.array([rng.uniform(-np.pi, np.pi), q2, rng.uniform(0.2, 10.0)])
 
-    def sample_special_q(self, rng, L):
+    def sample_special_q(self, rng, L, i=0):
         q = self.sample_q(rng, L)
+        if i % 2:
+            q[1] = np.pi
+            return "fully folded (q2 = pi)", q
         q[1] = 0.0
         return "at full reach (elbow straight, q2 = 0)", q
 

@@ -84,7 +84,7 @@ class Spherical(ExerciseArm):
             [rng.uniform(-np.pi, np.pi), rng.uniform(-1.3, 1.3), rng.uniform(0.2, 10.0)]
         )
 
-    def sample_special_q(self, rng, L):
+    def sample_special_q(self, rng, L, i=0):
         q = self.sample_q(rng, L)
         q[1] = np.pi / 2 * rng.choice([-1.0, 1.0])
         return "on the vertical line through the shoulder (q1 free)", q

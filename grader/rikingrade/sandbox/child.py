@@ -8,14 +8,16 @@ working directory and serves JSON lines on that socket:
 
 grader -> child
     {"op": "exec", "cells": [[index, source], ...], "output_limit": int}
-    {"op": "call", "id": int, "function": str, "kwargs": <wire>}
-    {"op": "calls", "calls": [{"id", "function", "kwargs"}, ...]}  (answered one by one)
+    {"op": "call", "id": int, "function": str, "args": [<wire>, ...], "kwargs": <wire>}
+    {"op": "calls", "calls": [{"id", "function", "args", "kwargs"}, ...]}  (answered one by one)
 child -> grader
     {"event": "cell_start", "cell": i}
     {"event": "cell_end", "cell": i, "error": ..., "output": ..., "seconds": ...}
     {"event": "exec_done", "functions": [...]}
     {"id": int, "value": <wire>} or
     {"id": int, "error_type": str, "error_message": str, "error_bases": ["mod.Name", ...]}
+    {"id": int, "error_type": "UnreadableResult", "error_message": <reason code>,
+     "error_bases": ["rikingrade.UnreadableResult"]}  (it returned; the value cannot be read)
 
 Nothing here decides a score: values go back as JSON (never pickle) and the grader compares.
 Wire format: JSON plus one-key marker objects: {"$float": "nan"|"inf"|"-inf"},
@@ -82,7 +84,22 @@ np = None  # numpy, once preloaded
 
 
 class EncodeError(Exception):
-    """A return value the grader cannot read."""
+    """A return value the grader cannot read.
+
+    The message is a reason code, not prose: ``elements``, ``depth``, ``bigint``,
+    ``string``, ``symbols``, ``dictkey:<type>``, ``dtype:<dtype>`` or ``type:<type>``.
+    The grader composes the student's text from it (``rikingrade.wire.unreadable_text``),
+    naming the type only when it is a well-known one.
+    """
+
+
+UNREADABLE = "UnreadableResult"
+UNREADABLE_BASES = ["rikingrade.UnreadableResult"]
+
+
+def _type_name(obj):
+    t = type(obj)
+    return f"{getattr(t, '__module__', '') or ''}.{getattr(t, '__qualname__', '?')}"[:120]
 
 
 # ----------------------------------------------------------------------------- wire format
@@ -93,26 +110,31 @@ def _enc_float(x):
 
 
 def encode(obj, depth=0, budget=None):
-    """Plain JSON-able data for ``obj``; raises EncodeError for anything else."""
+    """Plain JSON-able data for ``obj``; raises EncodeError (a reason code) otherwise.
+
+    Reads what the visible checks read with ``numpy.asarray``: numbers of any kind
+    (Python, numpy of any width, sympy, Fraction, Decimal), lists, tuples, numpy
+    arrays and their subclasses, sympy matrices, and anything with ``__array__``.
+    """
     if budget is None:
         budget = [MAX_ELEMENTS]
     budget[0] -= 1
     if budget[0] < 0:
-        raise EncodeError(f"the result has more than {MAX_ELEMENTS} elements")
+        raise EncodeError("elements")
     if depth > MAX_DEPTH:
-        raise EncodeError(f"the result is nested more than {MAX_DEPTH} levels deep")
+        raise EncodeError("depth")
     t = type(obj)
     if obj is None or t is bool:
         return obj
     if t is int:
         if obj.bit_length() > 256:
-            raise EncodeError("the result contains an integer too large to send")
+            raise EncodeError("bigint")
         return obj
     if t is float:
         return _enc_float(obj)
     if t is str:
         if len(obj) > MAX_STR:
-            raise EncodeError(f"the result contains a string longer than {MAX_STR} characters")
+            raise EncodeError("string")
         return obj
     if t is complex:
         return {"$complex": [_enc_float(obj.real), _enc_float(obj.imag)]}
@@ -124,7 +146,7 @@ def encode(obj, depth=0, budget=None):
             if type(k) in (int, float, bool) or (np is not None and isinstance(k, np.generic)):
                 k = str(k.item() if hasattr(k, "item") else k)
             elif type(k) is not str:
-                raise EncodeError(f"the result is a dict with a {type(k).__name__} key")
+                raise EncodeError(f"dictkey:{_type_name(k)}")
             out[k] = encode(v, depth + 1, budget)
         if any(k.startswith("$") for k in out):
             return {"$dict": [[k, v] for k, v in out.items()]}
@@ -132,11 +154,11 @@ def encode(obj, depth=0, budget=None):
     if np is not None:
         if isinstance(obj, np.ndarray):
             if obj.size > MAX_ELEMENTS:
-                raise EncodeError(f"the result has more than {MAX_ELEMENTS} elements")
+                raise EncodeError("elements")
             if obj.dtype.kind not in "biufcUSO":
-                raise EncodeError(f"the result is an array of dtype {obj.dtype}")
+                raise EncodeError(f"dtype:{str(obj.dtype)[:40]}")
             budget[0] -= int(obj.size)
-            return encode(np.ndarray.tolist(obj), depth, budget)
+            return encode(np.ndarray.tolist(np.asarray(obj)), depth, budget)
         if isinstance(obj, np.generic):
             return encode(obj.item(), depth, budget)
     # bool/int/float subclasses (e.g. IntEnum), sympy numbers, Fraction, Decimal
@@ -150,34 +172,29 @@ def encode(obj, depth=0, budget=None):
         return [encode(x, depth + 1, budget) for x in obj]
     mod = type(obj).__module__ or ""
     if mod.startswith("sympy"):
+        if getattr(obj, "is_Matrix", False) and hasattr(obj, "tolist"):
+            return encode(obj.tolist(), depth + 1, budget)
         free = getattr(obj, "free_symbols", None)
         if free:
-            names = ", ".join(sorted(str(s) for s in free)[:5])
-            raise EncodeError(
-                f"the result is a sympy expression with free symbols ({names}); "
-                "return numbers (substitute values and use float())"
-            )
+            raise EncodeError("symbols")
         try:
             z = complex(obj)
         except Exception:
-            raise EncodeError(f"the result is a sympy {type(obj).__name__} object") from None
+            raise EncodeError(f"type:{_type_name(obj)}") from None
         return _enc_float(z.real) if z.imag == 0 else encode(z, depth, budget)
     if hasattr(obj, "__array__") and np is not None:
         try:
             arr = np.asarray(obj)
         except Exception:
             arr = None
-        if arr is not None and arr.dtype.kind in "biufc":
+        if arr is not None and arr.dtype.kind in "biufcO":
             return encode(arr, depth, budget)
     if hasattr(obj, "__float__") and not hasattr(obj, "__len__"):
         try:
             return _enc_float(float(obj))
         except Exception:
             pass
-    raise EncodeError(
-        f"the result is a {type(obj).__name__} object, which the grader cannot read; "
-        "return numbers, lists or numpy arrays"
-    )
+    raise EncodeError(f"type:{_type_name(obj)}")
 
 
 def decode(obj):
@@ -533,6 +550,7 @@ class Runner:
             return
         try:
             with _CleanBuiltins():
+                args = decode(msg.get("args") or [])
                 kwargs = decode(msg.get("kwargs") or {})
         except Exception as exc:
             self.chan.send(
@@ -543,7 +561,7 @@ class Runner:
                 }
             )
             return
-        value, exc, _ = self._captured(lambda: fn(**kwargs))
+        value, exc, _ = self._captured(lambda: fn(*args, **kwargs))
         _close_figures()
         if exc is not None:
             msg = str(exc)
@@ -562,17 +580,15 @@ class Runner:
             with _CleanBuiltins():
                 wire = encode(value)
             self.chan.send({"id": cid, "value": wire})
-        except RecursionError:
+        except (RecursionError, EncodeError) as exc:
+            why = str(exc) if isinstance(exc, EncodeError) else "depth"
             self.chan.send(
                 {
                     "id": cid,
-                    "error_type": "UnsupportedResult",
-                    "error_message": "the result is nested too deeply",
+                    "error_type": UNREADABLE,
+                    "error_message": why[:200],
+                    "error_bases": UNREADABLE_BASES,
                 }
-            )
-        except EncodeError as exc:
-            self.chan.send(
-                {"id": cid, "error_type": "UnsupportedResult", "error_message": str(exc)}
             )
 
     def serve(self):
