@@ -222,3 +222,17 @@ def test_checks_are_folded(page: str) -> None:
                 if re.search(r"^\s*assert ", b, re.M)
                 and not re.match(r":tags: \[[^\]]*(hide-input|hide-cell|remove-input)", b)]
     assert not unfolded, f"{page}: {len(unfolded)} asserting cells are shown unfolded: {unfolded[:3]}"
+
+
+def test_exercises_chapter_states_the_problems() -> None:
+    """The Exercises chapter states each arm's problem with its drawing (not a generated
+    list of notebook headings and grader weights)."""
+    text = _source("book/exercises")
+    for arm in ("cartesian", "cylindrical", "spherical", "scara"):
+        assert f'arm_figure("{arm}")' in text, f"exercises: no drawing of the {arm} arm"
+        assert f"{{download}}`{arm}.ipynb" in text, f"exercises: no link to {arm}.ipynb"
+    for heading in ("Cartesian", "Cylindrical", "Spherical", "SCARA", "Angular"):
+        assert re.search(rf"^### \d\. {heading}", text, re.M), f"exercises: no problem {heading}"
+    assert "How your notebook is graded" not in text, "exercises: grader weights copied in"
+    for page in TAUGHT:
+        assert f"{{doc}}`{Path(page).name}`" in text, f"exercises: no pointer to {page}'s exercises"
