@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
+import tempfile
+import time
 from pathlib import Path
 
 import pytest
@@ -293,3 +296,82 @@ def test_a_95_mib_cell_is_sent_in_time(tmp_path):
     )
     res = report.results[0]
     assert (res.score, res.status) == (5, "ok"), res.problems
+
+
+def test_a_private_tmpdir_does_not_stop_the_sandbox(tmp_path, monkeypatch):
+    """TMPDIR inside a 0700 folder: a root grader stages where its sandbox user can reach."""
+    require_bwrap()
+    private = tmp_path / "home-like"
+    (private / "tmp").mkdir(parents=True)
+    os.chmod(private, 0o700)
+    monkeypatch.setenv("TMPDIR", str(private / "tmp"))
+    monkeypatch.setattr("tempfile.tempdir", None)  # re-read TMPDIR
+    info = check_sandbox()
+    assert info["ok"], info
+    (tmp_path / "s.ipynb").write_bytes(SOLUTION.read_bytes())
+    report = grade(ASSIGNMENT, [tmp_path / "s.ipynb"], tmp_path / "out", workers=1, **FAST)
+    assert report.results[0].score == 5
+
+
+def test_bubblewrap_errors_say_what_failed_not_install_bubblewrap():
+    from rikingrade.sandbox.config import bwrap_failure
+
+    staged = bwrap_failure(
+        "bwrap: Can't find source path /root/private/tmp/rikingrade-stage-x1/s0: Permission denied"
+    )
+    assert "cannot reach a folder" in staged and "TMPDIR=/tmp" in staged
+    assert "apt-get install" not in staged
+    ns = bwrap_failure("bwrap: No permissions to create new namespace, likely because ...")
+    assert "user namespaces" in ns and "--sandbox uid" in ns and "apt-get" not in ns
+
+
+def test_a_checkout_under_home_shows_nothing_around_what_python_needs(tmp_path):
+    """Folders above a bound directory (/home, /home/<user>, the checkout) cannot be listed."""
+    require_bwrap()
+    from rikingrade.sandbox import Limits, Sandbox, SandboxConfig, prepare_workdir
+    from rikingrade.sandbox.config import sandbox_workdir
+
+    home = Path(tempfile.mkdtemp(prefix="rikin-test-user-", dir="/home"))
+    try:
+        pkg = home / "checkout" / "pkgdir"
+        pkg.mkdir(parents=True)
+        (pkg / "ok.txt").write_text("bound")
+        (home / "checkout" / "secret.txt").write_text("the course")
+        for d in (home, home / "checkout", pkg):
+            os.chmod(d, 0o755)
+        os.chmod(pkg / "ok.txt", 0o644)
+        config = SandboxConfig(extra_ro_binds=[pkg])
+        workdir = sandbox_workdir()
+        prepare_workdir(workdir, True)
+        box = Sandbox(config, workdir)
+        try:
+            child = box.spawn(Limits())
+            deadline = time.monotonic() + 30
+            code = (
+                "import os\n"
+                "def look(paths):\n"
+                "    out = {}\n"
+                "    for p in paths:\n"
+                "        try:\n"
+                "            isdir = os.path.isdir(p)\n"
+                "            out[p] = sorted(os.listdir(p)) if isdir else open(p).read()\n"
+                "        except OSError as e:\n"
+                "            out[p] = type(e).__name__\n"
+                "    return out\n"
+            )
+            child.send({"op": "exec", "cells": [[1, code]], "output_limit": 1000}, deadline)
+            while child.recv(deadline).get("event") != "exec_done":
+                pass
+            paths = ["/home", str(home), str(home / "checkout"), str(pkg), str(pkg / "ok.txt")]
+            child.send(
+                {"op": "call", "id": 1, "function": "look", "kwargs": {"paths": paths}}, deadline
+            )
+            seen = child.recv(deadline)["value"]
+            child.close()
+        finally:
+            box.close()
+            shutil.rmtree(workdir, ignore_errors=True)
+    finally:
+        shutil.rmtree(home, ignore_errors=True)
+    assert seen["/home"] == seen[str(home)] == seen[str(home / "checkout")] == "PermissionError"
+    assert seen[str(pkg)] == ["ok.txt"] and seen[str(pkg / "ok.txt")] == "bound"

@@ -13,7 +13,6 @@ import os
 import queue
 import shutil
 import sys
-import tempfile
 import threading
 import time
 import traceback
@@ -32,14 +31,21 @@ from .progress import Progress, summarize, summary_text
 from .report import GRADER_ERROR, INVALID, SubmissionResult, TestResult
 from .runner import RunOptions, SubmissionRunner
 from .sandbox import (
-    INSTALL_HINT,
     Limits,
     Sandbox,
     SandboxConfig,
     SandboxUnavailable,
     prepare_workdir,
 )
-from .sandbox.config import package_dir
+from .sandbox.config import (
+    DESCRIBE,
+    NONE,
+    UID,
+    package_dir,
+    resolve_mode,
+    sandbox_workdir,
+)
+from .sandbox.uidmode import SHARED_WRITABLE
 from .views import export, write_student
 
 log = logging.getLogger("rikingrade")
@@ -85,6 +91,7 @@ def grade(
     late_cap: float = 100.0,
     grace_minutes: float = 0.0,
     extensions: str | None = None,
+    sandbox: str = "auto",
     unsafe_no_sandbox: bool = False,
     progress: bool | None = None,
     quiet: bool = False,
@@ -155,6 +162,11 @@ def grade(
     extensions : str or None
         A CSV of per-student due times: columns student (id, as in grades.csv, or LMS id),
         due, reason.
+    sandbox : {"auto", "bwrap", "uid"}
+        How student code is isolated: ``bwrap`` (bubblewrap namespaces), ``uid`` (no
+        namespaces; a root grader runs each worker as its own unprivileged uid and first
+        proves the grader's files unreadable to it), or ``auto``: the strongest that works
+        here. The log says which was used.
     unsafe_no_sandbox : bool
         Run student code without bubblewrap (development only: no isolation at all).
     progress : bool or None
@@ -174,7 +186,8 @@ def grade(
     SubmissionsError
         A path does not exist, holds no notebook, or does not look like a class.
     SandboxUnavailable
-        bubblewrap is missing or cannot run here (and ``unsafe_no_sandbox`` is False).
+        No sandbox mode can run here (and ``unsafe_no_sandbox`` is False); the message
+        says what failed.
     GradebookBusy
         Another grader is writing the same gradebook.
     """
@@ -272,11 +285,14 @@ def grade(
             if todo:
                 config = SandboxConfig(
                     sandbox=not unsafe_no_sandbox,
+                    mode=sandbox,
                     tmp_mb=int(tmp_mb),
                     hidden=_hidden_paths(a, out, subs) + [gb_path.parent],
                 )
-                if config.sandbox and shutil.which(config.bwrap) is None:
-                    raise SandboxUnavailable(INSTALL_HINT)
+                resolve_mode(config)
+                for note in config.notes:
+                    log.warning("%s", note)
+                log.info("sandbox: %s", DESCRIBE[config.mode])
                 if not config.sandbox:
                     log.warning(
                         "UNSAFE: grading without a sandbox (--unsafe-no-sandbox); "
@@ -545,7 +561,7 @@ def _run_pool(
     jobs: queue.Queue[Submission] = queue.Queue()
     for s in todo:
         jobs.put(s)
-    workdir = Path(tempfile.mkdtemp(prefix="rikingrade-"))
+    workdir = sandbox_workdir()
     prepare_workdir(workdir, config.sandbox)
     start_errors: list[str] = []
     lock = threading.Lock()
@@ -610,7 +626,7 @@ def _run_pool(
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
     if start_errors and len(start_errors) == len(threads):
-        raise SandboxUnavailable(start_errors[0] + "\n\n" + INSTALL_HINT)
+        raise SandboxUnavailable("\n".join([*config.notes, start_errors[0]]))
     for e in start_errors:
         log.warning("a worker's sandbox did not start: %s", e)
     for s in todo:  # every submission ends in the gradebook, graded or with the reason
@@ -698,17 +714,25 @@ def check_sandbox(
     unsafe_no_sandbox: bool = False,
     paths: Sequence[str | Path] = (),
     hidden: Sequence[str | Path] = (),
+    sandbox: str = "auto",
 ) -> dict[str, Any]:
     """Start a sandbox and report what a notebook inside it can see and do.
 
     ``paths`` must be unreadable from inside; ``hidden`` are masked like the grader package
-    (use it for paths inside a bound directory) and must be unreadable too.
+    (use it for paths inside a bound directory) and must be unreadable too. ``sandbox`` is
+    the mode to probe (``auto``: the one :func:`grade` would use here).
 
     Returns a dict with ``ok`` (True when none of those paths, the grader package or the
-    course is readable, there is no network and nothing outside the private ``/scratch`` is writable), the
-    probe's raw findings and the bubblewrap command used.
+    course is readable, there is no network and nothing outside the places the mode wipes
+    is writable), ``mode`` and its description, why stronger modes were not used
+    (``notes``), the probe's raw findings and the command used.
+
+    Raises
+    ------
+    SandboxUnavailable
+        No sandbox of that mode can start here (the message says what failed).
     """
-    config = SandboxConfig(sandbox=not unsafe_no_sandbox)
+    config = SandboxConfig(sandbox=not unsafe_no_sandbox, mode=sandbox)
     grader_pkg = package_dir("rikingrade")
     secret = [str(p) for p in [*paths, *hidden]]
     config.hidden = [Path(h) for h in hidden]
@@ -722,14 +746,16 @@ def check_sandbox(
             str(course / "grader"),
             str(course / ".git"),
         ]
-    if config.sandbox and shutil.which(config.bwrap) is None:
-        raise SandboxUnavailable(INSTALL_HINT)
-    workdir = Path(tempfile.mkdtemp(prefix="rikingrade-"))
-    sandbox = Sandbox(config, workdir)
+    resolve_mode(config)
+    workdir = sandbox_workdir()
+    sandbox_ = Sandbox(config, workdir)
     try:
         prepare_workdir(workdir, config.sandbox)
-        sandbox.start()
-        child = sandbox.spawn(Limits())
+        try:
+            sandbox_.start()
+        except SandboxUnavailable as exc:
+            raise SandboxUnavailable("\n".join([*config.notes, str(exc)])) from None
+        child = sandbox_.spawn(Limits())
         deadline = time.monotonic() + 30
         child.send({"op": "exec", "cells": [[1, PROBE]], "output_limit": 1000}, deadline)
         while child.recv(deadline).get("event") != "exec_done":
@@ -740,24 +766,32 @@ def check_sandbox(
         reply = child.recv(deadline)
         child.close()
         found = reply.get("value") or {}
-        host_uid = _host_uid(sandbox.proc.pid) if sandbox.proc is not None else None
+        host_uid = _host_uid(sandbox_.proc.pid) if sandbox_.proc is not None else None
+        # the uid mode cannot stop writes to the world-writable folders: it wipes them after
+        wiped = set(SHARED_WRITABLE) if config.mode == UID else set()
+        writable = [d for d in found.get("writable") or [] if d not in wiped]
         ok = (
-            (host_uid != 0 or not config.sandbox)
+            config.mode != NONE
+            and host_uid not in (0, None)
             and not found.get("visible")
             and found.get("network") is False
-            and not found.get("writable")
+            and not writable
             and found.get("uid") != 0
         )
         return {
             "ok": bool(ok),
+            "mode": config.mode,
+            "mode_description": DESCRIBE[config.mode],
+            "notes": list(config.notes),
             "sandboxed": config.sandbox,
             "probe": found,
             "error": reply.get("error_message"),
-            "preload_errors": sandbox.preload_errors,
-            "command": getattr(sandbox, "command", None),
+            "preload_errors": sandbox_.preload_errors,
+            "launcher": sandbox_.launcher_notes,
+            "command": getattr(sandbox_, "command", None),
             "grader_uid": os.geteuid(),
             "sandbox_host_uid": host_uid,
         }
     finally:
-        sandbox.close()
+        sandbox_.close()
         shutil.rmtree(workdir, ignore_errors=True)

@@ -117,6 +117,12 @@ GRADE_OPTIONS: list[tuple[str, str]] = [
     ("grace_minutes", "minutes after --due that are not late"),
     ("extensions", "CSV of per-student due times: student, due, reason"),
     (
+        "sandbox",
+        "how student code is isolated: bwrap (bubblewrap namespaces), uid (no namespaces: "
+        "a root grader runs each worker as its own uid, after proving the grader's files "
+        "unreadable to it) or auto, the strongest that works here",
+    ),
+    (
         "unsafe_no_sandbox",
         "DEVELOPMENT ONLY: run student code without bubblewrap, with no isolation",
     ),
@@ -211,8 +217,9 @@ def bundle_parser() -> argparse.ArgumentParser:
             ("memory_mb", "memory (MiB) a notebook may allocate on top of the preloaded libraries"),
             (
                 "unsafe_no_sandbox",
-                "run without bubblewrap inside Gradescope (each submission already gets "
-                "its own container there, but student code can then read the hidden tests)",
+                "run student code with no isolation inside Gradescope (normally not needed: "
+                "without user namespaces the bundle uses the uid sandbox; with this, "
+                "student code can read the hidden tests)",
             ),
         ],
     )
@@ -241,6 +248,7 @@ def run_parser() -> argparse.ArgumentParser:
             ("timeout", "wall-clock seconds per test call (default: each test's own)"),
             ("cell_timeout", "wall-clock seconds per notebook cell"),
             ("memory_mb", "memory (MiB) a notebook may allocate on top of the preloaded libraries"),
+            ("sandbox", "bwrap, uid or auto (the strongest that works here)"),
             ("unsafe_no_sandbox", "run without bubblewrap (no isolation)"),
         ],
     )
@@ -254,6 +262,12 @@ def check_parser() -> argparse.ArgumentParser:
         "(user id, visible paths, network, writable directories).",
     )
     p.add_argument("paths", nargs="*", metavar="PATH", help="more paths that must be invisible")
+    p.add_argument(
+        "--sandbox",
+        default="auto",
+        choices=("auto", "bwrap", "uid"),
+        help="the mode to probe (default: auto, the one grading would use here)",
+    )
     p.add_argument(
         "--unsafe-no-sandbox", action="store_true", help="probe the unsandboxed mode instead"
     )
@@ -362,9 +376,14 @@ def main(argv: Sequence[str] | None = None) -> int:
             from .api import check_sandbox
 
             ns = check_parser().parse_args(args_list[1:])
-            info = check_sandbox(unsafe_no_sandbox=ns.unsafe_no_sandbox, paths=ns.paths)
+            info = check_sandbox(
+                unsafe_no_sandbox=ns.unsafe_no_sandbox, paths=ns.paths, sandbox=ns.sandbox
+            )
             print(json.dumps(info, indent=2))
-            print("sandbox OK" if info["ok"] else "sandbox NOT isolated", file=sys.stderr)
+            for note in info["notes"]:
+                print(note, file=sys.stderr)
+            verdict = "OK" if info["ok"] else "NOT isolated"
+            print(f"sandbox {verdict}: mode {info['mode_description']}", file=sys.stderr)
             return EXIT_OK if info["ok"] else EXIT_SANDBOX
         if cmd in ("override", "export"):
             return _gradebook_command(cmd, args_list[1:])

@@ -800,10 +800,13 @@ def _remove(path):
 
 
 class Zygote:
-    def __init__(self, ctl, scratch, in_pidns):
+    def __init__(self, ctl, scratch, in_pidns, by_uid=False):
         self.ctl = ctl
         self.scratch = scratch
         self.in_pidns = in_pidns
+        # uid mode (no namespaces): every process of this uid is ours, so kill(-1) as it
+        # ends them all, daemons included (it spares the caller)
+        self.by_uid = by_uid
         self.children = {}
         self.statuses = {}
         self.counter = 0
@@ -824,7 +827,7 @@ class Zygote:
 
     def kill_all(self):
         """Kill every process but this one (and the namespace's init)."""
-        if self.in_pidns:
+        if self.in_pidns or self.by_uid:
             # Everything else in the namespace descends from us (we are its init), so keep
             # killing and reaping until /proc lists nobody else, zombies included.
             deadline = _monotonic() + 3.0
@@ -852,9 +855,23 @@ class Zygote:
     def _others_exist(self):
         me = os.getpid()
         try:
-            return any(p.isdigit() and int(p) not in (1, me) for p in os.listdir("/proc"))
+            pids = [int(p) for p in os.listdir("/proc") if p.isdigit() and int(p) not in (1, me)]
         except OSError:
             return False
+        if not self.by_uid:
+            return bool(pids)
+        uid = str(os.getuid())
+        for pid in pids:
+            try:
+                with open(f"/proc/{pid}/status") as f:
+                    for line in f:
+                        if line.startswith("Uid:"):
+                            if line.split()[1] == uid:
+                                return True
+                            break
+            except OSError:
+                continue
+        return False
 
     def _scratch_state(self):
         """What /scratch holds before any student runs: its mode and the grader's files."""
@@ -985,8 +1002,16 @@ def main(argv):
     except Exception:
         pass
     in_pidns = bool(config.get("pidns")) and os.getpid() <= 3
+    by_uid = config.get("reap") == "uid"
+    if by_uid:  # orphans (daemonised grandchildren) become our children: we reap them
+        try:
+            import ctypes
+
+            ctypes.CDLL(None).prctl(36, 1, 0, 0, 0)  # PR_SET_CHILD_SUBREAPER
+        except Exception:
+            pass
     scratch = config.get("scratch", "/scratch")
-    zygote = Zygote(ctl, scratch, in_pidns)
+    zygote = Zygote(ctl, scratch, in_pidns, by_uid)
     zygote.pristine = zygote._scratch_state()
     zygote.send(
         {

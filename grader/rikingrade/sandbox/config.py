@@ -8,6 +8,11 @@ else is absent: the course, the grader package with its hidden tests and referen
 submissions and the output folder (hidden even when they sit inside a bound directory).
 ``/scratch`` (not /tmp, so a checkout under /tmp stays visible) is a small private tmpfs; there is no network, a new PID/IPC/UTS namespace and an
 unprivileged user.
+
+That is the ``bwrap`` mode. Where user namespaces are refused (a Docker container with the
+default seccomp profile, such as Gradescope's), a root grader uses the ``uid`` mode instead
+(see ``uidmode.py``): no private view of the filesystem, but the grader's files are proven
+unreadable to the sandbox's own uid. :func:`resolve_mode` picks the strongest that works.
 """
 
 from __future__ import annotations
@@ -17,8 +22,10 @@ import os
 import shutil
 import site
 import stat
+import subprocess
 import sys
 import sysconfig
+import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -40,10 +47,27 @@ INSTALL_HINT = (
     "Check it with:    rikin-grade check-sandbox\n"
     "For development only, --unsafe-no-sandbox runs student code without isolation."
 )
+NAMESPACE_HINT = (
+    "This system refuses the user namespaces bubblewrap needs (e.g. a Docker container with "
+    "the default seccomp profile, or a chroot). Run the grader as root there: it then uses "
+    "the uid sandbox (--sandbox uid), which needs the grader's files unreadable to other "
+    "users (the Gradescope bundle's setup.sh installs it that way)."
+)
+
+#: Sandbox modes, strongest first; "auto" picks the first that works here.
+AUTO, BWRAP, UID, NONE = "auto", "bwrap", "uid", "none"
+MODES = (AUTO, BWRAP, UID)
+DESCRIBE = {
+    BWRAP: "bwrap (bubblewrap namespaces: private read-only filesystem view, no network, "
+    "own PID namespace, unprivileged user)",
+    UID: "uid (no namespaces: each worker's own unprivileged uid, grader files proven "
+    "unreadable to it, no sockets, per-uid process limit, kill(-1) cleanup)",
+    NONE: "none (UNSAFE: student code runs as the grader, with no isolation)",
+}
 
 
 class SandboxUnavailable(RuntimeError):
-    """bubblewrap is missing or cannot create namespaces here."""
+    """No sandbox can start here (bubblewrap missing or refused, uid mode impossible)."""
 
 
 @dataclass(frozen=True)
@@ -78,6 +102,16 @@ class SandboxConfig:
     extra_ro_binds: list[Path] = field(default_factory=list)
     bwrap: str = "bwrap"
     uid: int = NOBODY
+    #: "bwrap", "uid" or "none" once resolved ("auto" until :func:`resolve_mode`)
+    mode: str = AUTO
+    #: why stronger modes were not used (shown in the log and by check-sandbox)
+    notes: list[str] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        if not self.sandbox:
+            self.mode = NONE
+        elif self.mode not in MODES:
+            raise ValueError(f"sandbox mode must be one of {', '.join(MODES)}, not {self.mode!r}")
 
 
 def _under(path: Path, parent: Path) -> bool:
@@ -229,6 +263,19 @@ def bwrap_command(
         "--dir",
         MPL_DIR,
     ]
+    # The folders above each bind (/home, /home/<user>, /root/.pyenv, ...) exist only as
+    # mount points: make them traversable but not listable (mode 0111; / is remounted
+    # read-only, so nobody can chmod them back), so a checkout under /home shows nothing
+    # of /home, the user or the course around .venv and rikin.
+    made: set[str] = set()
+    for _src, dest in binds:
+        for parent in reversed(Path(dest).parents):
+            sp = str(parent)
+            if sp == "/" or sp in made or _under(parent, Path("/usr")):
+                continue
+            made.add(sp)
+            if not any(sp == d for _s, d in binds):
+                cmd += ["--perms", "0111", "--dir", sp]
     for src, dest in binds:
         cmd += ["--ro-bind", src, dest]
     for h in hidden:  # mask what must stay invisible even inside a bound directory
@@ -250,3 +297,123 @@ def find_bwrap(config: SandboxConfig) -> str:
     if path is None:
         raise SandboxUnavailable(INSTALL_HINT)
     return path
+
+
+def reachable_tmpdir() -> Path:
+    """A temporary directory every user can traverse (for what the sandbox user must read).
+
+    ``tempfile.gettempdir()`` may be a private (0700) folder (a TMPDIR under a home
+    directory): a root grader's sandbox runs as another user and could not reach it.
+    """
+    for cand in (tempfile.gettempdir(), "/tmp", "/var/tmp", "/dev/shm"):
+        p = Path(cand)
+        if p.is_dir() and world_readable(p) and os.access(p, os.W_OK | os.X_OK):
+            st = os.stat(p)
+            if st.st_mode & stat.S_IXOTH:
+                return p
+    raise SandboxUnavailable(
+        f"no temporary directory the sandbox user can reach (TMPDIR={tempfile.gettempdir()} "
+        "is private, and /tmp, /var/tmp and /dev/shm are not usable): set TMPDIR to a "
+        "directory every user can traverse, e.g. TMPDIR=/tmp"
+    )
+
+
+def sandbox_workdir(prefix: str = "rikingrade-") -> Path:
+    """A fresh grader work folder (mode 0755) where the sandbox user can read its scripts."""
+    d = Path(tempfile.mkdtemp(prefix=prefix, dir=reachable_tmpdir() if os.geteuid() == 0 else None))
+    os.chmod(d, 0o755)
+    return d
+
+
+def bwrap_failure(stderr: str) -> str:
+    """What a bubblewrap error means, in words, with what to do about it."""
+    text = stderr.strip()
+    if "Can't find source path" in text and "Permission denied" in text:
+        return (
+            f"bubblewrap could not start: {text}\nThe sandbox user cannot reach a folder it "
+            "must see (a parent directory is private, e.g. TMPDIR or a home directory): "
+            "make it traversable (chmod o+x) or set TMPDIR=/tmp."
+        )
+    if any(
+        w in text
+        for w in (
+            "No permissions to create new namespace",
+            "Creating new namespace failed",
+            "setting up uid map",
+            "Operation not permitted",
+            "unshare",
+        )
+    ):
+        return f"bubblewrap could not create its namespaces: {text}\n{NAMESPACE_HINT}"
+    return f"bubblewrap could not start: {text}" if text else "bubblewrap could not start"
+
+
+def bwrap_works(config: SandboxConfig) -> str:
+    """Empty when bubblewrap can create its namespaces here, else why not (in words)."""
+    path = shutil.which(config.bwrap)
+    if path is None:
+        return "bubblewrap (bwrap) is not installed"
+    as_root = os.geteuid() == 0
+    try:
+        r = subprocess.run(
+            [
+                path,
+                "--unshare-all",
+                "--unshare-user",
+                "--die-with-parent",
+                "--ro-bind",
+                "/",
+                "/",
+                "--proc",
+                "/proc",
+                "true",
+            ],
+            capture_output=True,
+            text=True,
+            timeout=30,
+            stdin=subprocess.DEVNULL,
+            # a root grader starts bwrap as nobody (see launcher.py): probe the same way
+            user=config.uid if as_root else None,
+            group=config.uid if as_root else None,
+            extra_groups=[] if as_root else None,
+            cwd="/",
+        )
+    except (OSError, subprocess.SubprocessError) as exc:
+        return f"bubblewrap could not run: {exc}"
+    return "" if r.returncode == 0 else bwrap_failure(r.stderr)
+
+
+def resolve_mode(config: SandboxConfig) -> SandboxConfig:
+    """Settle ``config.mode`` on the strongest sandbox that works here; raise if none does.
+
+    ``auto`` tries bubblewrap, then (as root) the uid mode; an explicit mode is checked the
+    same way. Why a stronger mode was not used is kept in ``config.notes``. Whether the uid
+    mode's file permissions hold is proven when its zygote starts.
+    """
+    if config.mode == NONE:
+        return config
+    if config.mode in (AUTO, BWRAP):
+        why = bwrap_works(config)
+        if not why:
+            config.mode = BWRAP
+            return config
+        if config.mode == BWRAP or os.geteuid() != 0:
+            hint = INSTALL_HINT if shutil.which(config.bwrap) is None else ""
+            if os.geteuid() != 0 and shutil.which(config.bwrap) is not None:
+                hint = NAMESPACE_HINT
+            raise SandboxUnavailable("\n".join(x for x in (why, hint) if x))
+        missing = shutil.which(config.bwrap) is None
+        config.notes.append(
+            f"bwrap mode unavailable: {why.splitlines()[0]}"
+            + ("\n" + INSTALL_HINT if missing else "")
+        )
+    if os.geteuid() != 0:
+        raise SandboxUnavailable(
+            "the uid sandbox needs a root grader (it runs each worker as its own uid)"
+        )
+    from .uidmode import candidate_uids
+
+    if not candidate_uids():
+        raise SandboxUnavailable("the uid sandbox found no unused uid range in this user namespace")
+    config.mode = UID
+    return config

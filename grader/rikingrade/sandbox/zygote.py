@@ -25,17 +25,21 @@ from pathlib import Path
 from typing import Any
 
 from ..wire import WireError, decode_message, encode_message
+from . import uidmode
 from .config import (
     CHILD_PATH,
     MPL_DIR,
     NOBODY,
     SCRATCH,
+    UID,
     Limits,
     SandboxConfig,
     SandboxUnavailable,
     bwrap_command,
+    bwrap_failure,
     find_bwrap,
     hidden_paths,
+    reachable_tmpdir,
     read_only_binds,
     world_readable,
 )
@@ -178,6 +182,9 @@ class Sandbox:
         self.lock = threading.Lock()
         self.stderr_path = self.workdir / f"zygote-{id(self):x}.stderr"
         self.staging: Path | None = None
+        self.lease: uidmode.UidLease | None = None  # uid mode: this zygote's own uid
+        self.scratch: Path | None = None
+        self.launcher_notes: dict[str, Any] = {}
 
     # ------------------------------------------------------------------ lifecycle
     def start(self) -> None:
@@ -203,11 +210,18 @@ class Sandbox:
         self.ctl = ours
         try:
             msg = self._ctl_recv(START_TIMEOUT)
+            if "launcher" in msg:  # uid mode: what the launcher could remove (network)
+                self.launcher_notes = msg["launcher"]
+                msg = self._ctl_recv(START_TIMEOUT)
         except Exception as exc:
             err = self._stderr_tail()
             self.close()
+            if self.config.mode == UID or not self.config.sandbox:
+                raise SandboxUnavailable(
+                    f"the sandbox did not start ({exc}).\n{err}".rstrip()
+                ) from None
             raise SandboxUnavailable(
-                f"the sandbox did not start ({exc}).\n{err}".rstrip()
+                f"{bwrap_failure(err)}\n(the sandbox did not start: {exc})"
             ) from None
         if not msg.get("ready"):
             self.close()
@@ -249,6 +263,8 @@ class Sandbox:
             env["HOME"] = child_cfg["scratch"]
             argv = [cfg.python, "-s", str(self.workdir / "child.py"), json.dumps(child_cfg)]
             return argv, env, [ctl_fd]
+        if cfg.mode == UID:
+            return self._uid_command(ctl_fd, env, child_cfg)
         bwrap = find_bwrap(cfg)
         binds = read_only_binds(cfg)
         hidden = hidden_paths(cfg, binds)
@@ -259,8 +275,10 @@ class Sandbox:
         root = os.geteuid() == 0
         stage: list[list[str]] = []
         bind_pairs: list[tuple[str, str]] = []
-        if root:
-            self.staging = Path(tempfile.mkdtemp(prefix="rikingrade-stage-"))
+        if root:  # bubblewrap runs as nobody: stage where nobody can reach (not a 0700 TMPDIR)
+            self.staging = Path(
+                tempfile.mkdtemp(prefix="rikingrade-stage-", dir=reachable_tmpdir())
+            )
             os.chmod(self.staging, 0o755)
         for i, b in enumerate(binds):
             if root and not world_readable(b):
@@ -289,6 +307,50 @@ class Sandbox:
                 [ctl_fd],
             )
         return argv, {}, [ctl_fd]
+
+    def _uid_command(
+        self, ctl_fd: int, env: dict[str, str], child_cfg: dict[str, Any]
+    ) -> tuple[list[str], dict[str, str], list[int]]:
+        """No namespaces: the launcher drops to this zygote's own uid and execs it."""
+        cfg = self.config
+        self.lease = uidmode.UidLease.acquire()
+        uid = self.lease.uid
+        self.scratch = uidmode.private_scratch(self.workdir, uid)
+        mpl = self.scratch / ".mpl"
+        mpl.mkdir(mode=0o700)
+        font = self._font_cache()
+        if font is not None:
+            shutil.copyfile(font, mpl / font.name)
+            os.chown(mpl / font.name, uid, uid)
+        os.chown(mpl, uid, uid)
+        env.update({"MPLCONFIGDIR": str(mpl), "HOME": str(self.scratch)})
+        child_cfg.update({"pidns": False, "reap": "uid", "scratch": str(self.scratch)})
+        child = str(self.workdir / "child.py")
+        argv = [cfg.python, "-I", "-B", child, json.dumps(child_cfg)]
+        secret = [str(h) for h in cfg.hidden if os.path.exists(h)]
+        self.command = argv
+        launcher = {
+            "op": "uid",
+            "uid": uid,
+            "gid": uid,
+            "ctl_fd": ctl_fd,
+            "cwd": str(self.scratch),
+            "readable": [child],
+            "secret": secret,
+            "argv": argv,
+            "env": env,
+        }
+        log.info("sandbox (uid mode) as uid %d: %s", uid, argv)
+        return (
+            [sys.executable, "-S", "-E", "-s", str(LAUNCHER_SCRIPT), json.dumps(launcher)],
+            {},
+            [ctl_fd],
+        )
+
+    @property
+    def uid(self) -> int | None:
+        """The host uid student code runs as (uid mode), else None."""
+        return self.lease.uid if self.lease is not None else None
 
     def _unsafe_scratch(self) -> Path:
         d = self.workdir / f"scratch-{id(self):x}"
@@ -330,6 +392,14 @@ class Sandbox:
             self.staging = None
         if not self.config.sandbox:
             shutil.rmtree(self.workdir / f"scratch-{id(self):x}", ignore_errors=True)
+        if self.lease is not None:  # uid mode: kill(-1) as that uid, then what it left
+            uidmode.reap(self.lease.uid)
+            uidmode.sweep_files(self.lease.uid)
+            if self.scratch is not None:
+                shutil.rmtree(self.scratch, ignore_errors=True)
+                self.scratch = None
+            self.lease.release()
+            self.lease = None
 
     @property
     def alive(self) -> bool:

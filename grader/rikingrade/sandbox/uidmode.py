@@ -1,0 +1,254 @@
+"""The sandbox without namespaces: each worker's zygote runs as its own unprivileged uid.
+
+Where user namespaces are refused (a Docker container with the default seccomp profile, as
+on Gradescope, or a chroot) bubblewrap cannot start. A root grader can still isolate
+student code with plain Unix permissions:
+
+- each worker leases a uid of its own from a reserved range (a lock file per uid, so two
+  graders on one machine never share one) that owns no process, no file and no account;
+- the zygote runs as that uid and group with no supplementary groups and
+  ``PR_SET_NO_NEW_PRIVS`` (setuid programs cannot give root back), so ``RLIMIT_NPROC``
+  counts that worker's processes alone and a fork bomb stops at its limit;
+- before starting, the launcher checks *as that uid* that none of the grader's files (the
+  grader package with its hidden tests and reference, the assignment, the submissions and
+  the output folder) can be read, and refuses to start otherwise: this mode is only as safe
+  as those permissions, so it proves them instead of assuming them;
+- network sockets are refused by a seccomp filter (``socket()`` fails with EACCES; a new
+  network namespace is used as well where one can be made);
+- ``kill(-1)`` as that uid ends every process it owns, daemonised grandchildren included
+  (the zygote does it between submissions; the grader, through the launcher, when the
+  zygote itself is gone), and files it left in the world-writable directories are removed.
+
+What it does not hide: the rest of the machine's world-readable files (``/etc/passwd``,
+the Python installation). On Gradescope those hold nothing of the course.
+"""
+
+from __future__ import annotations
+
+import errno
+import fcntl
+import json
+import logging
+import os
+import pwd
+import shutil
+import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+log = logging.getLogger("rikingrade.sandbox")
+
+#: Preferred uids (far above any account); used when this user namespace maps them.
+UID_BASE = 2_100_000_000
+#: Fallback inside a user namespace that maps only the usual 65,536 ids.
+UID_BASE_SMALL = 64_000
+UID_COUNT = 256
+#: Directories anyone may write to: what a sandbox uid leaves there is removed.
+SHARED_WRITABLE = ("/tmp", "/var/tmp", "/dev/shm", "/run/lock", "/var/lock")
+LAUNCHER = Path(__file__).resolve().parent / "launcher.py"
+
+
+def _mapped_ranges() -> list[tuple[int, int]]:
+    try:
+        with open("/proc/self/uid_map") as f:
+            rows = [line.split() for line in f if line.strip()]
+        return [(int(r[0]), int(r[0]) + int(r[2])) for r in rows]
+    except OSError:
+        return [(0, 2**32 - 1)]
+
+
+def candidate_uids() -> list[int]:
+    """The uids a worker may lease here, preferred first."""
+    ranges = _mapped_ranges()
+    for base in (UID_BASE, UID_BASE_SMALL):
+        if any(lo <= base and base + UID_COUNT <= hi for lo, hi in ranges):
+            return list(range(base, base + UID_COUNT))
+    return []
+
+
+def _lock_dir() -> Path:
+    """A directory only root can write, for one lock file per leased uid."""
+    for parent in ("/run", "/var/lock", "/tmp"):
+        d = Path(parent) / "rikingrade-uids"
+        try:
+            d.mkdir(mode=0o700, exist_ok=True)
+            st = os.lstat(d)
+        except OSError:
+            continue
+        if stat.S_ISDIR(st.st_mode) and st.st_uid == 0 and not st.st_mode & 0o077:
+            return d
+    raise OSError("no private directory for the sandbox's uid locks (tried /run, /var/lock, /tmp)")
+
+
+class UidLease:
+    """One uid reserved for one zygote until :meth:`release`."""
+
+    def __init__(self, uid: int, fd: int) -> None:
+        self.uid = uid
+        self.fd = fd
+
+    @classmethod
+    def acquire(cls) -> UidLease:
+        lock_dir = _lock_dir()
+        for uid in candidate_uids():
+            try:
+                pwd.getpwuid(uid)
+                continue  # a real account: never borrow it
+            except KeyError:
+                pass
+            fd = os.open(lock_dir / f"uid-{uid}.lock", os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o600)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                os.close(fd)
+                continue
+            if processes_of(uid):  # left by a grader that was killed: end them first
+                reap(uid)
+            if processes_of(uid):
+                os.close(fd)
+                continue
+            sweep_files(uid)
+            return cls(uid, fd)
+        raise OSError("every sandbox uid is in use (too many graders on this machine?)")
+
+    def release(self) -> None:
+        if self.fd >= 0:
+            os.close(self.fd)
+            self.fd = -1
+
+
+def processes_of(uid: int) -> list[int]:
+    """Pids whose real uid is ``uid`` (zombies included: they still count for RLIMIT_NPROC)."""
+    found = []
+    for name in os.listdir("/proc"):
+        if not name.isdigit():
+            continue
+        try:
+            with open(f"/proc/{name}/status") as f:
+                for line in f:
+                    if line.startswith("Uid:"):
+                        if int(line.split()[1]) == uid:
+                            found.append(int(name))
+                        break
+        except (OSError, ValueError):
+            continue
+    return found
+
+
+def reap(uid: int, timeout: float = 5.0) -> list[int]:
+    """Kill every process of ``uid`` with ``kill(-1)`` as that uid; returns survivors."""
+    if not processes_of(uid):
+        return []
+    cfg = {"op": "reap", "uid": uid, "timeout": timeout}
+    try:
+        subprocess.run(
+            [sys.executable, "-S", "-E", "-s", str(LAUNCHER), json.dumps(cfg)],
+            stdin=subprocess.DEVNULL,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            timeout=timeout + 5,
+            check=False,
+        )
+    except subprocess.TimeoutExpired:
+        pass
+    deadline = time.monotonic() + 1.0
+    left = processes_of(uid)
+    while left and time.monotonic() < deadline:
+        time.sleep(0.02)  # zombies waiting for their (new) parent to reap them
+        left = [p for p in processes_of(uid) if not _zombie(p)]
+    if left:
+        log.error("processes of sandbox uid %d survived kill(-1): %s", uid, left)
+    return left
+
+
+def _zombie(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] == "Z"
+    except (OSError, IndexError):
+        return False
+
+
+def sweep_files(uid: int, roots: tuple[str, ...] = SHARED_WRITABLE) -> int:
+    """Remove what ``uid`` created in the world-writable directories; returns the count."""
+    removed = 0
+
+    def walk(d: str, depth: int) -> None:
+        nonlocal removed
+        try:
+            entries = list(os.scandir(d))
+        except OSError:
+            return
+        for e in entries:
+            try:
+                st = e.stat(follow_symlinks=False)
+            except OSError:
+                continue
+            if st.st_uid == uid:
+                try:
+                    if stat.S_ISDIR(st.st_mode):
+                        _make_removable(e.path)
+                        shutil.rmtree(e.path)
+                    else:
+                        os.unlink(e.path)
+                    removed += 1
+                except OSError as exc:
+                    log.warning("could not remove %s left by sandbox uid %d: %s", e.path, uid, exc)
+            elif stat.S_ISDIR(st.st_mode) and st.st_mode & stat.S_IWOTH and depth < 8:
+                walk(e.path, depth + 1)  # the uid could write only here
+
+    for root in roots:
+        if os.path.isdir(root) and not os.path.islink(root):
+            walk(root, 0)
+    return removed
+
+
+def _make_removable(path: str) -> None:
+    """A sandbox may leave chmod 000 folders: give the owner (us, root) the bits back."""
+    for dirpath, dirnames, _files in os.walk(path):
+        for name in dirnames:
+            p = os.path.join(dirpath, name)
+            try:
+                if not os.path.islink(p):
+                    os.chmod(p, 0o700)
+            except OSError:
+                pass
+
+
+def private_scratch(parent: Path, uid: int) -> Path:
+    """A folder owned by ``uid`` (mode 0700) for the zygote's scratch space."""
+    d = parent / f"scratch-{uid}"
+    if d.exists():
+        shutil.rmtree(d, ignore_errors=True)
+    d.mkdir(mode=0o700)
+    os.chown(d, uid, uid)
+    return d
+
+
+def readable_by(uid: int, paths: list[str]) -> list[str]:
+    """Which of ``paths`` the user ``uid`` could read (checked as that user)."""
+    cfg = {"op": "check", "uid": uid, "secret": [str(p) for p in paths]}
+    r = subprocess.run(
+        [sys.executable, "-S", "-E", "-s", str(LAUNCHER), json.dumps(cfg)],
+        stdin=subprocess.DEVNULL,
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
+    if r.returncode not in (0, 3):
+        raise OSError(errno.EPERM, f"could not check permissions as uid {uid}: {r.stderr.strip()}")
+    return json.loads(r.stdout or "[]")
+
+
+__all__ = [
+    "UidLease",
+    "candidate_uids",
+    "private_scratch",
+    "processes_of",
+    "readable_by",
+    "reap",
+    "sweep_files",
+]
