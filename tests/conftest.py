@@ -23,3 +23,17 @@ settings.register_profile(
 # A quicker local profile is available with HYPOTHESIS_PROFILE=dev; "ci" is the default.
 settings.register_profile("dev", parent=settings.get_profile("ci"), max_examples=50)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+def pytest_report_header(config):
+    """Say up front whether the grader's sandbox can run here (its tests fail if not)."""
+    try:
+        from grader_fixtures.helpers import _bwrap_problem
+    except Exception as exc:  # pragma: no cover - the grader is not installed
+        return f"grader sandbox: cannot check ({type(exc).__name__}: {exc})"
+    why = _bwrap_problem()
+    if not why:
+        return "grader sandbox: bubblewrap works"
+    return (
+        f"grader sandbox: UNAVAILABLE, the grader's sandbox tests will FAIL: {why.splitlines()[0]}"
+    )

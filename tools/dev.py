@@ -143,27 +143,54 @@ def _names_a_path(arg: str) -> bool:
 # Debian packages some tests need: the grader's sandbox (bwrap) and the book's browser
 # test (headless Chromium and its driver).
 SYSTEM_PACKAGES = {"bwrap": "bubblewrap", "chromium": "chromium", "chromedriver": "chromium-driver"}
+# The same on Fedora, for the instructions printed when dev.py cannot install them itself.
+FEDORA_PACKAGES = {"bwrap": "bubblewrap", "chromium": "chromium", "chromedriver": "chromedriver"}
+NEEDED_BY = {
+    "bwrap": "the grader's sandbox tests",
+    "chromium": "the book's browser tests",
+    "chromedriver": "the book's browser tests",
+}
+
+
+def _missing() -> list[str]:
+    return [exe for exe in SYSTEM_PACKAGES if shutil.which(exe) is None]
 
 
 def ensure_system_packages() -> None:
-    """Install the missing Debian packages when we can (root with apt-get); else say so."""
-    missing = [pkg for exe, pkg in SYSTEM_PACKAGES.items() if shutil.which(exe) is None]
+    """Install the missing Debian packages when we can (root with apt-get); else say how.
+
+    Nothing is skipped for want of them: the tests that need a package fail, saying why.
+    """
+    missing = _missing()
     if not missing:
         return
     can_install = (
         shutil.which("apt-get") is not None and hasattr(os, "geteuid") and os.geteuid() == 0
     )
-    if not can_install:
+    if can_install:
+        env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
+        pkgs = [SYSTEM_PACKAGES[e] for e in missing]
+        lock = ["-o", "DPkg::Lock::Timeout=300"]
+        check(["apt-get", "update", "-qq"], env)
+        check(["apt-get", "install", "-y", "-qq", *lock, "--no-install-recommends", *pkgs], env)
+        missing = _missing()
+        if not missing:
+            return
         print(
-            "dev.py: WARNING: missing system packages "
-            + " ".join(missing)
-            + " (install them with apt-get as root); the tests that need them will fail",
+            "dev.py: WARNING: installed, but still not on PATH: " + " ".join(missing),
             flush=True,
         )
-        return
-    env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
-    check(["apt-get", "update", "-qq"], env)
-    check(["apt-get", "install", "-y", "-qq", "--no-install-recommends", *missing], env)
+    print(
+        "dev.py: WARNING: missing "
+        + ", ".join(f"{e} ({NEEDED_BY[e]})" for e in missing)
+        + ": those tests will FAIL, not skip. Install:\n"
+        "  Debian/Ubuntu: sudo apt-get install -y "
+        + " ".join(SYSTEM_PACKAGES[e] for e in missing)
+        + "\n  Fedora:        sudo dnf install -y "
+        + " ".join(FEDORA_PACKAGES[e] for e in missing)
+        + "\n  (run as root, tools/dev.py installs them itself with apt-get)",
+        flush=True,
+    )
 
 
 def cmd_test(args: argparse.Namespace, extra: list[str]) -> int:
