@@ -134,9 +134,12 @@ def test_gradescope_bundle_runs_locally(tmp_path):
         } <= names
         assert not [n for n in names if "__pycache__" in n]
         assert (z.getinfo("run_autograder").external_attr >> 16) & 0o111
-        assert (
-            "apt-get install -y --no-install-recommends bubblewrap" in z.read("setup.sh").decode()
-        )
+        setup = z.read("setup.sh").decode()
+        assert "--no-install-recommends \\\n    bubblewrap python3 python3-venv" in setup
+        # only this assignment's hidden tests: a .py assignment ships none of the exercises'
+        for ex in ("scara", "cartesian", "cylindrical", "spherical"):
+            assert f"packages/rikingrade/rikingrade/hidden/{ex}.py" not in names
+            assert f"packages/rikingrade/rikingrade/reference/{ex}.py" not in names
         root = tmp_path / "autograder"
         z.extractall(root / "source")
     (root / "submission").mkdir()
@@ -190,32 +193,62 @@ def test_api_accepts_a_single_path_and_progress_lines(tmp_path, capsys):
     assert Path(report.out) == (tmp_path / "o").resolve()
 
 
-def test_gradescope_run_writes_results_even_when_the_sandbox_cannot_start(tmp_path, monkeypatch):
-    # Gradescope shows a student nothing useful unless results.json exists: a sandbox
-    # that cannot start must give a results.json that says so (not a traceback).
+def test_gradescope_run_marks_not_graded_when_no_sandbox_can_start(tmp_path, monkeypatch, capsys):
+    # A submission that could not be graded must not be recorded as 0: no results.json
+    # (Gradescope shows an autograder failure, no score), the reason in the output.
     monkeypatch.setenv("PATH", str(tmp_path))  # no bwrap on PATH
     (tmp_path / "sub").mkdir()
     (tmp_path / "sub" / "fake2r.ipynb").write_bytes(SOLUTION.read_bytes())
-    res = gradescope_run(
-        str(ASSIGNMENT),
-        submission=str(tmp_path / "sub"),
-        results=str(tmp_path / "r" / "results.json"),
-    )
+    results = tmp_path / "r" / "results.json"
+    results.parent.mkdir()
+    results.write_text('{"score": 0}')  # a stale one must not stand in for this run
+    res = gradescope_run(str(ASSIGNMENT), submission=str(tmp_path / "sub"), results=str(results))
+    out = capsys.readouterr().out
     assert res.status == GRADER_ERROR
-    data = json.loads((tmp_path / "r" / "results.json").read_text())
-    assert data["score"] == 0 and "not a problem with your work" in data["output"]
-    assert {t["output"] for t in data["tests"]} == {"not run: the autograder could not start"}
+    assert not results.exists()
+    assert "NOT GRADED" in out and "bubblewrap (bwrap) is not installed" in out
+    assert "apt-get install -y bubblewrap" in out
+
+
+def test_gradescope_bundle_ships_only_its_exercise(tmp_path):
+    bundle = gradescope_bundle("scara", tmp_path / "b.zip")
+    with zipfile.ZipFile(bundle) as z:
+        names = set(z.namelist())
+        z.extractall(tmp_path / "x")
+    pkg = "packages/rikingrade/rikingrade"
+    assert {f"{pkg}/hidden/scara.py", f"{pkg}/reference/scara.py"} <= names
+    for other in ("cartesian", "cylindrical", "spherical"):
+        assert not [n for n in names if other in n], other
+    # the bundled grader still loads and grades its one exercise
+    code = (
+        "from rikingrade.assignment import load_assignment, available_exercises\n"
+        "from rikingrade.reference import ARMS\n"
+        "a = load_assignment('scara')\n"
+        "print(available_exercises(), sorted(ARMS), len(a.tests), a.max_score)\n"
+    )
+    env = dict(os.environ, PYTHONPATH=str(tmp_path / "x" / "packages" / "rikingrade"))
+    r = subprocess.run([PY, "-c", code], capture_output=True, text=True, env=env, timeout=120)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.startswith("['scara'] ['scara'] "), r.stdout
+    from rikingrade.assignment import load_assignment
+
+    a = load_assignment("scara")
+    assert r.stdout.split()[-2:] == [str(len(a.tests)), str(a.max_score)]
 
 
 def test_gradescope_setup_fails_the_image_build_without_a_sandbox(tmp_path):
-    # The instructor must learn at upload time, not from every student's submission.
+    # The instructor must learn at upload time, not from every student's submission; an
+    # --unsafe-no-sandbox bundle warns there instead (its setup used to fail its own check).
     for unsafe in (False, True):
         bundle = gradescope_bundle(
             ASSIGNMENT, tmp_path / f"b{unsafe}.zip", unsafe_no_sandbox=unsafe
         )
         with zipfile.ZipFile(bundle) as z:
             setup = z.read("setup.sh").decode()
+            run = z.read("run_autograder").decode()
         assert setup.startswith("#!/usr/bin/env bash") and "set -euo pipefail" in setup
         check = re.search(r"if ! (.*check-sandbox.*); then\n(.*?)\nfi", setup, re.S)
-        assert check and "exit 1" in check.group(2)
-        assert ("--unsafe-no-sandbox" in check.group(1)) == unsafe
+        assert check and "--unsafe-no-sandbox" not in check.group(1)
+        assert ("exit 1" in check.group(2)) != unsafe
+        assert ("WARNING" in check.group(2)) == unsafe
+        assert ("--unsafe-no-sandbox" in run) == unsafe

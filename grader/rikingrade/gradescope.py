@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import io
 import json
+import re
 import shutil
 import stat
 import tempfile
@@ -28,31 +29,58 @@ from .sandbox.config import SandboxUnavailable, package_dir
 
 SETUP_SH = """#!/usr/bin/env bash
 # Gradescope runs this once while building the autograder image (Ubuntu, as root).
+# Student code then runs in the strongest sandbox the container allows: bubblewrap
+# namespaces, or, where user namespaces are refused (Docker's default seccomp profile),
+# its own unprivileged uid. For that uid mode the grader is installed root-only:
+#   $VENV       every user can read it: the Python student code runs with (rikin, numpy, ...)
+#   $GRADER     root only: rikingrade with the hidden tests and the reference
+#   this folder root only: the bundle itself
 set -euo pipefail
 cd "$(dirname "$0")"
+SOURCE="$(pwd)"
+VENV="${{RIKIN_GRADE_VENV:-/opt/rikin-venv}}"
+GRADER="${{RIKIN_GRADE_HOME:-/opt/rikingrade}}"
 export DEBIAN_FRONTEND=noninteractive
 apt-get update
-apt-get install -y --no-install-recommends bubblewrap python3 python3-venv python3-pip
-python3 -m venv /opt/rikin-venv
-/opt/rikin-venv/bin/pip install --upgrade pip
-/opt/rikin-venv/bin/pip install ./packages/rikin ./packages/rikingrade
+apt-get install -y -o DPkg::Lock::Timeout=600 --no-install-recommends \\
+    bubblewrap python3 python3-venv
+umask 022
+# The system Python: the sandbox's uid must be able to run it (not one under /root).
+/usr/bin/python3 -m venv --clear "$VENV"
+"$VENV/bin/pip" install --disable-pip-version-check --progress-bar off \\
+    ./packages/rikin "ipython>=8,<10"
+rm -rf "$GRADER"
+mkdir -p -m 0700 "$GRADER"
+"$VENV/bin/pip" install --disable-pip-version-check --progress-bar off --no-deps \\
+    --target "$GRADER/lib" ./packages/rikingrade
+chmod -R go-rwx "$GRADER" "$SOURCE"
+export PYTHONPATH="$GRADER/lib"
 # Fail the image build (Gradescope shows this log on the Configure Autograder page) rather
 # than every student's submission later, if student code cannot be isolated here.
-if ! /opt/rikin-venv/bin/python -m rikingrade.cli check-sandbox {check_flag}; then
-    echo "ERROR: bubblewrap cannot isolate student code in this container." >&2
-    echo "Rebuild the bundle with: rikin-grade gradescope-bundle ... --unsafe-no-sandbox" >&2
-    echo "(only if you accept that student code then runs as root beside the grader" >&2
-    echo " and could read the hidden tests and the reference solutions)." >&2
-    exit 1
+if ! "$VENV/bin/python" -m rikingrade.cli check-sandbox "$SOURCE" "$GRADER"; then
+{on_failure}
 fi
 """
+
+SETUP_FAIL = """\
+    echo "ERROR: no sandbox can isolate student code in this container (see above)." >&2
+    exit 1"""
+
+SETUP_FAIL_UNSAFE = """\
+    echo "WARNING: no sandbox can isolate student code here; this bundle was built with" >&2
+    echo "--unsafe-no-sandbox, so student code runs as root beside the grader and could" >&2
+    echo "read the hidden tests and the reference solutions." >&2"""
 
 RUN_AUTOGRADER = """#!/usr/bin/env bash
 # Gradescope runs this for every submission. Paths can be overridden to test locally.
 set -uo pipefail
 ROOT="${{AUTOGRADER_ROOT:-/autograder}}"
-PY="${{RIKIN_GRADE_PYTHON:-/opt/rikin-venv/bin/python}}"
+PY="${{RIKIN_GRADE_PYTHON:-${{RIKIN_GRADE_VENV:-/opt/rikin-venv}}/bin/python}}"
+GRADER="${{RIKIN_GRADE_HOME:-/opt/rikingrade}}"
 mkdir -p "$ROOT/results"
+# Nothing of the grader, the upload or the results may be readable by the sandbox's uid.
+chmod 0700 "$ROOT/results" "$ROOT/source" "$ROOT/submission" 2>/dev/null || true
+export PYTHONPATH="$GRADER/lib${{PYTHONPATH:+:$PYTHONPATH}}"
 exec "$PY" -m rikingrade.cli gradescope-run {assignment} \\
     --submission "$ROOT/submission" --results "$ROOT/results/results.json" {options}
 """
@@ -73,11 +101,13 @@ include = ["{name}", "{name}.*"]
 """
 
 
-def _add_tree(z: zipfile.ZipFile, src: Path, arc: str) -> None:
+def _add_tree(z: zipfile.ZipFile, src: Path, arc: str, skip=lambda rel: False) -> None:
     for p in sorted(src.rglob("*")):
         if "__pycache__" in p.parts or p.suffix in (".pyc", ".pyo") or not p.is_file():
             continue
-        z.write(p, f"{arc}/{p.relative_to(src).as_posix()}")
+        rel = p.relative_to(src).as_posix()
+        if not skip(rel):
+            z.write(p, f"{arc}/{rel}")
 
 
 def _add_text(z: zipfile.ZipFile, arc: str, text: str, executable: bool = False) -> None:
@@ -85,6 +115,49 @@ def _add_text(z: zipfile.ZipFile, arc: str, text: str, executable: bool = False)
     info.external_attr = ((0o755 if executable else 0o644) | stat.S_IFREG) << 16
     info.compress_type = zipfile.ZIP_DEFLATED
     z.writestr(info, text)
+
+
+HIDDEN_INIT = '''"""Hidden tests of the one exercise this Gradescope bundle grades."""
+
+EXERCISES = {exercises!r}
+'''
+
+REFERENCE_INIT = '''"""Reference of the one exercise this bundle grades (instructor side only)."""
+
+from __future__ import annotations
+
+{imports}from ._common import ExerciseArm, Solutions
+
+ARMS: dict[str, ExerciseArm] = {{{arms}}}
+
+__all__ = ["ARMS", "ExerciseArm", "Solutions"{names}]
+'''
+
+
+def _exercise_of(a) -> str | None:
+    """The built-in exercise an assignment is (``scara``), or None for a custom module."""
+    from .hidden import EXERCISES
+
+    parts = a.module.__name__.split(".")
+    if parts[:2] == ["rikingrade", "hidden"] and len(parts) == 3 and parts[2] in EXERCISES:
+        return parts[2]
+    return None
+
+
+def _skip_other_exercises(keep: str | None):
+    """Leave out every built-in exercise's hidden tests and reference but ``keep``'s."""
+    from .hidden import EXERCISES
+
+    others = {e for e in EXERCISES if e != keep}
+    generated = {"hidden/__init__.py", "reference/__init__.py"}
+
+    def skip(rel: str) -> bool:
+        if rel in generated:
+            return True
+        folder, _, name = rel.partition("/")
+        return folder in ("hidden", "reference") and name.removesuffix(".py") in others
+
+    return skip
 
 
 def gradescope_bundle(
@@ -101,8 +174,10 @@ def gradescope_bundle(
     """Write the Gradescope autograder zip for ``assignment``; returns its path.
 
     The zip holds ``setup.sh``, ``run_autograder``, ``packages/rikin`` and
-    ``packages/rikingrade`` (with the hidden tests and the reference), and, when the
-    assignment was given as a ``.py`` path, ``assignment.py``.
+    ``packages/rikingrade`` with the hidden tests and the reference of this assignment only
+    (none of the other exercises'), and, when the assignment was given as a ``.py`` path,
+    ``assignment.py``. ``setup.sh`` installs the grader root-only and checks that a sandbox
+    works (bubblewrap, or the uid mode where the container refuses user namespaces).
     """
     import rikin
 
@@ -112,6 +187,7 @@ def gradescope_bundle(
     grader_dir = package_dir("rikingrade")
     assert rikin_dir is not None and grader_dir is not None
     is_path = str(assignment).endswith(".py") or Path(str(assignment)).is_file()
+    exercise = None if is_path else _exercise_of(a)
     target = '"$ROOT/source/assignment.py"' if is_path else a.name
     opts = [
         f"--seed {int(seed)}",
@@ -124,12 +200,13 @@ def gradescope_bundle(
         opts.append("--reveal")
     if unsafe_no_sandbox:
         opts.append("--unsafe-no-sandbox")
+    kept = [exercise] if exercise else []
     buf = io.BytesIO()
     with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
         _add_text(
             z,
             "setup.sh",
-            SETUP_SH.format(check_flag="--unsafe-no-sandbox " if unsafe_no_sandbox else ""),
+            SETUP_SH.format(on_failure=SETUP_FAIL_UNSAFE if unsafe_no_sandbox else SETUP_FAIL),
             executable=True,
         )
         _add_text(
@@ -157,7 +234,18 @@ def gradescope_bundle(
                 deps='"rikin", "numpy>=1.24,<3", "ipython>=8,<10"',
             ),
         )
-        _add_tree(z, grader_dir, "packages/rikingrade/rikingrade")
+        pkg = "packages/rikingrade/rikingrade"
+        _add_tree(z, grader_dir, pkg, _skip_other_exercises(exercise))
+        _add_text(z, f"{pkg}/hidden/__init__.py", HIDDEN_INIT.format(exercises=tuple(kept)))
+        _add_text(
+            z,
+            f"{pkg}/reference/__init__.py",
+            REFERENCE_INIT.format(
+                imports="".join(f"from . import {e}\n" for e in kept),
+                arms=", ".join(f"{e}.ARM.name: {e}.ARM" for e in kept),
+                names="".join(f', "{e}"' for e in kept),
+            ),
+        )
         if is_path and a.source_path is not None:
             z.write(a.source_path, "assignment.py")
         _add_text(
@@ -181,20 +269,23 @@ def gradescope_run(
     timeout: float | None = None,
     cell_timeout: float = 30.0,
     memory_mb: int = 1024,
+    sandbox: str = "auto",
     unsafe_no_sandbox: bool = False,
 ) -> SubmissionResult:
-    """Grade the notebook in ``submission`` and write Gradescope's ``results.json``."""
+    """Grade the notebook in ``submission`` and write Gradescope's ``results.json``.
+
+    A submission that could not be graded (no sandbox could start, or a hidden test failed
+    inside the grader) gets no ``results.json``: Gradescope then shows an autograder
+    failure with no score, for the instructor to fix and rerun, instead of a 0. The reason
+    is printed (Gradescope keeps it in the autograder output). A missing notebook is the
+    student's to fix: it gets a results.json with 0 that says what to submit.
+    """
     a = load_assignment(assignment)
     sub_dir = Path(submission)
     nb, note = pick_notebook(_notebooks_in(sub_dir) if sub_dir.is_dir() else [], a.notebook)
     results_path = Path(results)
     if nb is None:
-        data = _not_graded(
-            a,
-            f"No .ipynb notebook found in the upload: submit {a.notebook}.",
-            "no notebook submitted",
-        )
-        atomic_write(results_path, json.dumps(data, indent=2))
+        atomic_write(results_path, json.dumps(_no_notebook(a), indent=2))
         return SubmissionResult(
             student="submission",
             path="",
@@ -203,7 +294,7 @@ def gradescope_run(
             reason="no notebook",
             max_score=a.max_score,
         )
-    work = Path(tempfile.mkdtemp(prefix="rikingrade-gs-"))
+    work = Path(tempfile.mkdtemp(prefix="rikingrade-gs-"))  # 0700: unreadable to the sandbox
     try:
         staged = work / "in" / "submission.ipynb"
         staged.parent.mkdir()
@@ -220,14 +311,13 @@ def gradescope_run(
                 cell_timeout=cell_timeout,
                 memory_mb=memory_mb,
                 regrade=True,
+                sandbox=sandbox,
                 unsafe_no_sandbox=unsafe_no_sandbox,
                 progress=False,
                 quiet=True,
             )
-        except SandboxUnavailable as exc:  # Gradescope must always get a results.json
-            print(f"rikin-grade: the sandbox could not start: {exc}")
-            data = _not_graded(a, SANDBOX_DOWN, "the autograder could not start")
-            atomic_write(results_path, json.dumps(data, indent=2))
+        except SandboxUnavailable as exc:
+            _not_graded(results_path, f"the sandbox could not start:\n{exc}")
             return SubmissionResult(
                 student="submission",
                 path=str(nb),
@@ -236,37 +326,44 @@ def gradescope_run(
                 reason=f"the sandbox could not start: {exc}",
                 max_score=a.max_score,
             )
+        log_text = (work / "out" / "grading.log").read_text(errors="replace")
+        mode = re.search(r"sandbox: (\w+)", log_text)
+        print(f"rikin-grade: student code ran in the {mode.group(1) if mode else '?'} sandbox")
         res = report.results[0]
+        if res.status == GRADER_ERROR:
+            _not_graded(results_path, f"{res.reason}\n\n{log_text[-5000:]}")
+            return res
         data = json.loads((work / "out" / "results" / f"{res.student}.json").read_text())
         if note:
             data["output"] = note + "\n\n" + data.get("output", "")
         atomic_write(results_path, json.dumps(data, indent=2))
-        if res.status == GRADER_ERROR:
-            print((work / "out" / "grading.log").read_text()[-5000:])
         return res
     finally:
         shutil.rmtree(work, ignore_errors=True)
 
 
-SANDBOX_DOWN = (
-    "Your notebook was not graded: the autograder could not start its sandbox on this "
-    "platform. This is not a problem with your work; your instructor needs to fix the "
-    "autograder and will regrade."
-)
+def _not_graded(results_path: Path, why: str) -> None:
+    """Leave no results.json (Gradescope: "autograder failed", no score) and say why."""
+    results_path.unlink(missing_ok=True)
+    print(
+        "rikin-grade: NOT GRADED. No results.json was written, so Gradescope records an "
+        "autograder failure with no score (not a 0): fix the autograder and rerun it on "
+        f"this submission. Reason: {why}"
+    )
 
 
-def _not_graded(a, output: str, why: str) -> dict:
-    """A Gradescope results.json for a submission that could not be graded."""
+def _no_notebook(a) -> dict:
+    """A Gradescope results.json for an upload without a notebook (the student's to fix)."""
     return {
         "score": 0.0,
-        "output": output,
+        "output": f"No .ipynb notebook found in the upload: submit {a.notebook}.",
         "tests": [
             {
                 "name": t.name,
                 "score": 0.0,
                 "max_score": t.weight,
                 "status": "failed",
-                "output": f"not run: {why}",
+                "output": "not run: no notebook submitted",
             }
             for t in a.tests
         ],

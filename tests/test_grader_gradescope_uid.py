@@ -1,0 +1,336 @@
+"""The Gradescope bundle where user namespaces are refused: the uid sandbox, end to end.
+
+The bundle's own ``setup.sh`` and ``run_autograder`` run under a seccomp filter like
+Docker's default profile (``grader_fixtures/nouserns.py``: no unshare, setns or
+namespace clones, so bubblewrap cannot start), as root, exactly as Gradescope runs them.
+setup.sh must pick the uid mode and install the grader root-only; then hostile notebooks
+must get no false pass, read none of the grader's files, forge no results and leave no
+process behind. A batch of the whole hostile corpus is graded the same way.
+
+These tests need root (the uid sandbox switches uids) and network access to PyPI and the
+Debian archive (setup.sh installs what Gradescope's image lacks). Where they cannot run
+they fail, saying why: they never skip.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+import zipfile
+from pathlib import Path
+
+import pytest
+from grader_fixtures import corpus
+from grader_fixtures.helpers import ASSIGNMENT, SOLUTION
+from rikingrade.gradescope import gradescope_bundle
+from rikingrade.sandbox import uidmode
+from rikingrade.sandbox.config import reachable_tmpdir
+from rikingrade.sandbox.uidmode import candidate_uids, processes_of
+
+NOUSERNS = [sys.executable, str(Path(__file__).parent / "grader_fixtures" / "nouserns.py")]
+SEED = 7
+
+
+def _sandbox_processes() -> dict[int, list[int]]:
+    """Processes of sandbox uids that no grader holds any more (there must be none).
+
+    A uid leased by a grader still running (another test run on this machine) is locked;
+    every other one must own no process once its grader has finished.
+    """
+    lock_dir = uidmode._lock_dir()
+    left = {}
+    for uid in candidate_uids()[:32]:
+        fd = os.open(lock_dir / f"uid-{uid}.lock", os.O_RDWR | os.O_CREAT, 0o600)
+        try:
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                continue  # in use by a grader that is still running
+            if pids := processes_of(uid):
+                left[uid] = pids
+        finally:
+            os.close(fd)
+    return left
+
+
+@pytest.fixture(scope="module")
+def gs():
+    """A Gradescope-like layout in a world-traversable folder, set up by the bundle's setup.sh."""
+    if os.geteuid() != 0:
+        pytest.fail(
+            "the uid sandbox test must run as root (Gradescope runs setup.sh and run_autograder "
+            "as root; the sandbox switches to its own uids): run the suite as root, as CI does",
+            pytrace=False,
+        )
+    r = subprocess.run(
+        [*NOUSERNS, "bwrap", "--unshare-all", "--ro-bind", "/", "/", "true"],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode != 0, "the seccomp filter must make bubblewrap fail, as in Docker"
+    base = Path(tempfile.mkdtemp(prefix="rikin-gs-uid-", dir=reachable_tmpdir()))
+    os.chmod(base, 0o755)  # like /: every user can traverse it; setup.sh must lock things down
+    try:
+        root = base / "autograder"
+        (root / "source").mkdir(parents=True)
+        (root / "submission").mkdir()
+        for d in (root, root / "source", root / "submission"):
+            os.chmod(d, 0o755)
+        bundle = gradescope_bundle(
+            ASSIGNMENT, base / "bundle.zip", seed=SEED, cell_timeout=5, memory_mb=512
+        )
+        with zipfile.ZipFile(bundle) as z:
+            z.extractall(root / "source")
+        for p in (root / "source").rglob("*"):  # zip extraction keeps no modes: as unzip does
+            os.chmod(p, 0o755 if p.is_dir() or p.name in ("setup.sh", "run_autograder") else 0o644)
+        env = dict(
+            os.environ,
+            AUTOGRADER_ROOT=str(root),
+            RIKIN_GRADE_VENV=str(base / "venv"),
+            RIKIN_GRADE_HOME=str(base / "grader"),
+        )
+        env.pop("PYTHONPATH", None)
+        setup = subprocess.run(
+            [*NOUSERNS, "bash", str(root / "source" / "setup.sh")],
+            capture_output=True,
+            text=True,
+            env=env,
+            timeout=1500,
+        )
+        assert setup.returncode == 0, setup.stdout[-3000:] + setup.stderr[-3000:]
+        yield {"base": base, "root": root, "env": env, "setup": setup}
+    finally:
+        shutil.rmtree(base, ignore_errors=True)
+
+
+def test_setup_picks_the_uid_mode_and_says_so(gs):
+    err = gs["setup"].stderr
+    assert "bwrap mode unavailable: bubblewrap could not create its namespaces" in err
+    assert "sandbox OK: mode uid" in err
+    info = json.loads(gs["setup"].stdout[gs["setup"].stdout.index("{\n") :])
+    assert info["mode"] == "uid" and info["ok"]
+    assert info["probe"]["network"] is False and info["launcher"]["seccomp"] is True
+    assert info["sandbox_host_uid"] in candidate_uids()
+    # the grader is root-only; the sandbox's Python is readable by all
+    for private in (gs["root"] / "source", gs["base"] / "grader"):
+        assert os.stat(private).st_mode & 0o077 == 0, private
+    assert os.stat(gs["base"] / "venv").st_mode & 0o005 == 0o005
+
+
+def _run(gs, nb: bytes) -> tuple[subprocess.CompletedProcess[str], dict | None]:
+    sub = gs["root"] / "submission"
+    shutil.rmtree(sub)
+    sub.mkdir()
+    (sub / "fake2r.ipynb").write_bytes(nb)
+    results = gs["root"] / "results" / "results.json"
+    results.unlink(missing_ok=True)
+    r = subprocess.run(
+        [*NOUSERNS, "bash", str(gs["root"] / "source" / "run_autograder")],
+        capture_output=True,
+        text=True,
+        env=gs["env"],
+        timeout=600,
+    )
+    data = json.loads(results.read_text()) if results.exists() else None
+    return r, data
+
+
+def _probe_notebook(paths: list[str]) -> bytes:
+    """add() returns -999 when any of ``paths`` could be read or written."""
+    return corpus._dump(
+        corpus._append(
+            corpus.solution(),
+            "import os\n"
+            f"PATHS = {paths!r}\n"
+            "found = []\n"
+            "for p in PATHS:\n"
+            "    for attempt in (lambda: os.listdir(p), lambda: open(p, 'rb').read(1),\n"
+            "                    lambda: open(os.path.join(p, 'results.json'), 'w').write('{}')):\n"
+            "        try:\n"
+            "            attempt()\n"
+            "            found.append(p)\n"
+            "        except OSError:\n"
+            "            pass\n"
+            "def add(a, b):\n"
+            "    return a + b if not found else -999\n",
+        )
+    )
+
+
+def test_a_solution_gets_full_marks_in_the_uid_sandbox(gs):
+    r, data = _run(gs, SOLUTION.read_bytes())
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "student code ran in the uid sandbox" in r.stdout
+    assert data["score"] == 5
+    assert not _sandbox_processes()
+
+
+def test_no_read_of_the_grader_files(gs):
+    root, base = gs["root"], gs["base"]
+    grader = base / "grader" / "lib" / "rikingrade"
+    secrets = [
+        str(p)
+        for p in (
+            root / "source",
+            root / "source" / "assignment.py",
+            root / "source" / "packages" / "rikingrade" / "rikingrade" / "hidden" / "_common.py",
+            root / "results",
+            root / "submission",
+            root / "submission" / "fake2r.ipynb",
+            base / "grader",
+            grader,
+            grader / "hidden",
+            grader / "reference" / "_common.py",
+            "/root",
+            "/proc/1/environ",
+        )
+    ]
+    assert all(os.path.exists(p) for p in secrets)  # so the probe could find them
+    r, data = _run(gs, _probe_notebook(secrets))
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert data["score"] == 5, data
+    # ... and the probe does find what is readable: the check above could fail
+    r, data = _run(gs, _probe_notebook([str(base / "venv")]))
+    assert data["score"] == 3, data
+
+
+def test_a_daemon_forging_results_is_killed_and_forges_nothing(gs):
+    """The original attack: a detached process rewriting results.json to 100 after grading."""
+    marker = gs["base"] / "daemon-alive"
+    marker.write_text("")
+    os.chmod(marker, 0o666)
+    results = gs["root"] / "results" / "results.json"
+    nb = corpus._dump(
+        corpus._append(
+            corpus.solution(),
+            "import os, time, json, signal\n"
+            "if os.fork() == 0:\n"
+            "    os.setsid()\n"
+            "    if os.fork() == 0:\n"
+            "        for s in (signal.SIGTERM, signal.SIGHUP, signal.SIGINT):\n"
+            "            signal.signal(s, signal.SIG_IGN)\n"
+            "        for _ in range(600):\n"
+            "            try:\n"
+            f"                open({str(results)!r}, 'w').write(json.dumps({{'score': 100}}))\n"
+            "            except OSError:\n"
+            "                pass\n"
+            f"            open({str(marker)!r}, 'a').write('alive\\n')\n"
+            "            time.sleep(0.1)\n"
+            "        os._exit(0)\n"
+            "    os._exit(0)\n"
+            "time.sleep(0.5)\n",
+        )
+    )
+    r, data = _run(gs, nb)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert marker.read_text().startswith("alive")  # the daemon did run
+    assert data["score"] == 5
+    assert not _sandbox_processes()
+    size = marker.stat().st_size
+    time.sleep(1.0)
+    assert marker.stat().st_size == size, "a daemon survived the submission"
+    assert json.loads(results.read_text())["score"] == 5
+
+
+def test_readable_grader_files_stop_the_uid_sandbox_and_nothing_is_scored(gs):
+    """If the grader's files become readable, the uid sandbox refuses to start, and the
+    submission is marked not graded (no results.json: Gradescope shows an autograder
+    failure with no score), never 0."""
+    grader = gs["base"] / "grader"
+    subprocess.run(["chmod", "-R", "o+rX", str(grader)], check=True)
+    try:
+        r, data = _run(gs, SOLUTION.read_bytes())
+    finally:
+        subprocess.run(["chmod", "-R", "go-rwx", str(grader)], check=True)
+    assert r.returncode == 1 and data is None, r.stdout + r.stderr
+    assert "NOT GRADED" in r.stdout and "no score (not a 0)" in r.stdout
+    assert "can read the grader's files" in r.stdout and str(grader) in r.stdout
+    assert not _sandbox_processes()
+
+
+# Where the uid mode scores a hostile case lower than bubblewrap does (never higher):
+UID_MODE_LOWER = {
+    # world-readable host files (/etc/passwd, /home, this checkout) are visible without a
+    # private filesystem view: the probe finds them and its add() sabotages itself
+    "read_files": 3,
+}
+# The zygote is not a PID 1 here: a notebook can kill it (its own uid), and its process
+# dies with it; how far it got first varies (kill_zygote 4 or 5, kill_everything 1 or 2
+# points seen). Never more than with bubblewrap.
+UID_MODE_AT_MOST = {"kill_zygote", "kill_everything"}
+# /dev/shm is writable for the sandbox's uid (wiped afterwards): the cell does not raise
+UID_MODE_STATUS = {"fill_dev_shm": "ok"}
+
+
+@pytest.fixture(scope="module")
+def batch(gs):
+    """The whole hostile corpus graded in one batch (2 workers) in the uid sandbox."""
+    base = gs["base"]
+    private = base / "batch"
+    private.mkdir(mode=0o700)
+    shutil.copyfile(ASSIGNMENT, private / "fake2r.py")  # the tests' copy is world-readable
+    corpus.write_corpus(private / "class")
+    env = dict(gs["env"], PYTHONPATH=str(base / "grader" / "lib"))
+    r = subprocess.run(
+        [
+            *NOUSERNS,
+            str(base / "venv" / "bin" / "python"),
+            "-m",
+            "rikingrade.cli",
+            str(private / "fake2r.py"),
+            str(private / "class"),
+            "--out",
+            str(private / "out"),
+            "--workers",
+            "2",
+            "--seed",
+            str(SEED),
+            "--sandbox",
+            "uid",
+            "--memory-mb",
+            "512",
+            "--cell-timeout",
+            "2",
+            "--cpu-seconds",
+            "30",
+            "--quiet",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=1200,
+    )
+    return r, private / "out"
+
+
+def test_hostile_corpus_in_the_uid_sandbox(batch):
+    r, out = batch
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "sandbox: uid" in (out / "grading.log").read_text()
+    got = {}
+    for case in corpus.CASES:
+        data = json.loads((out / "results" / f"{case.name}.json").read_text())
+        got[case.name] = data["score"]
+    expected = {c.name: c.score for c in corpus.CASES}
+    false_pass = {n: s for n, s in got.items() if s > expected[n] + 1e-9}
+    assert not false_pass
+    want = {
+        c.name: UID_MODE_LOWER.get(c.name, c.score)
+        for c in corpus.CASES
+        if c.name not in UID_MODE_AT_MOST
+    }
+    assert {n: got[n] for n in want} == pytest.approx(want, abs=1e-9)
+    rows = {
+        line.split(",")[0]: line.split(",")[1]
+        for line in (out / "grades.csv").read_text().splitlines()[1:]
+    }
+    for case in corpus.CASES:
+        if case.name not in UID_MODE_AT_MOST:  # their status varies as their score does
+            assert rows[case.name] == UID_MODE_STATUS.get(case.name, case.status), case.name
+    assert not _sandbox_processes()
