@@ -35,11 +35,11 @@ _KIND_HELP = {
 
 
 def _solver(arm: SerialArm) -> Solver:
+    """The arm's own solver (lesson robots), else the general 6R one (raises if none applies)."""
     if arm.solver is None:
-        raise InputError(
-            f"{arm.name!r} has no closed-form IK in rikin; build it with a constructor from "
-            "rikin.robots, or use rikin.ik.ik_numerical for a single numerical solution"
-        )
+        from .pieper import general_solver
+
+        return general_solver(arm)
     return arm.solver
 
 
@@ -208,7 +208,10 @@ def _finish(
                 wrist = "singular"
             else:
                 wrist = "no-flip" if np.sin(row[mid]) >= 0 else "flip"
-        branches.append(Branch(raw.slots[s].shoulder, elbow, wrist))
+        shoulder = raw.slots[s].shoulder
+        if raw.shoulder_front is not None:
+            shoulder = "front" if raw.shoulder_front[0, s] else "back"
+        branches.append(Branch(shoulder, elbow, wrist))
 
     T_check = T_world
     err = _fk_error(arm, q, T_check, kind)

@@ -25,6 +25,8 @@ class RawSolutions:
     slots : tuple of Branch, one per slot: the slot's shoulder and wrist branch
         (the elbow label is geometric and comes from ``elbow_up``).
     elbow_up : (N, k) bool or None: elbow above the shoulder-wrist line.
+    shoulder_front : (N, k) bool or None: the wrist centre ahead of axis 1, for
+        solvers whose slots do not fix the shoulder (then it overrides the slot's).
     singular : name -> (N,) bool mask (e.g. "wrist", "shoulder", "elbow").
     """
 
@@ -32,6 +34,7 @@ class RawSolutions:
     valid: np.ndarray
     slots: tuple[Branch, ...]
     elbow_up: np.ndarray | None = None
+    shoulder_front: np.ndarray | None = None
     singular: dict[str, np.ndarray] = field(default_factory=dict)
 
 

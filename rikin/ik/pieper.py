@@ -1,0 +1,828 @@
+"""Closed-form IK of any 6R arm with a spherical wrist, read from its DH table (Pieper).
+
+Every revolute DH link, standard or modified, is ``A_i = P_i Rz(theta_i) Q_i``
+with constant ``P_i, Q_i`` (standard: ``P = I, Q = Tz(d) Tx(a) Rx(alpha)``;
+modified: ``P = Rx(alpha) Tx(a), Q = Tz(d)``), so the whole arm is
+
+    T_0_6 = M0 Rz(th1) M1 Rz(th2) M2 Rz(th3) M3 Rz(th4) M4 Rz(th5) M5 Rz(th6) M6
+
+with ``M0 = P_1``, ``M_i = Q_i P_{i+1}``, ``M6 = Q_6`` and ``th_i = q_i + offset_i``.
+Each ``M_i`` (i = 1..5) is again of the form ``Tz(d) Tx(a) Rx(alpha)``: the
+distance ``a``, offset ``d`` and twist ``alpha`` between axes i and i+1.
+
+The arm has a *spherical wrist* when axes 4, 5 and 6 meet in one point ``c``,
+the wrist centre. Then (Pieper 1968) the pose splits in two problems:
+
+1. **position**: joints 1-3 put the wrist centre where the target puts it,
+   ``Rz(th1) M1 Rz(th2) M2 Rz(th3) v = p'``. Writing ``g(th3) = M2 Rz(th3) v``,
+   the rotation about axis 1 keeps the height ``p'_z`` and the distance
+   ``|p'|``; with ``M1 = (a1, d1, alpha1)`` that gives two equations in
+   ``th2, th3``::
+
+       2 a1 (c2 g_x - s2 g_y)        = |p'|^2 - |g|^2 - a1^2 + d1^2 - 2 d1 p'_z
+       sin(alpha1) (s2 g_x + c2 g_y) = p'_z - d1 - cos(alpha1) g_z
+
+   Squaring and adding removes ``th2`` and leaves a trigonometric polynomial
+   of degree 2 in ``th3`` (a quartic, up to 4 roots). When axes 1 and 2 meet
+   (``a1 = 0``) or are parallel (``sin alpha1 = 0``) one equation alone fixes
+   ``th3`` (a quadratic: 2 roots) and the other gives 2 values of ``th2``.
+   ``th1`` then turns the point into place.
+2. **orientation**: ``Rz(th4) Rx(b1) Rz(th5) Rx(b2) Rz(th6) = R_w``, the
+   wrist's rotation left after joints 1-3; two solutions (no-flip and flip).
+
+Up to 8 solutions in all, in 8 fixed slots (position slot ``a`` times wrist
+slot ``b`` -> ``2 a + b``). Every solution is polished by two Gauss-Newton
+steps on the full pose and kept only if it reaches the target.
+"""
+
+from __future__ import annotations
+
+import math
+import weakref
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .._validate import FloatArray
+from ..errors import InputError
+from ..tolerances import REACH_TOL, SINGULAR_TOL
+from .base import RawSolutions, Singularity
+from .kernels import spherical_wrist
+from .result import Branch
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..dh import SerialArm
+
+__all__ = ["IKClass", "classify", "Pieper6RSolver", "general_solver"]
+
+#: Axes closer than this (relative to the arm's size) meet; twists whose sine is
+#: below it are parallel axes. DH tables are typed with exact zeros, so this
+#: only absorbs the rounding of ``cos(pi / 2)``.
+GEOMETRY_TOL = 1e-9
+
+#: A root ``z`` of the quartic counts as real (``|z| = 1``) within this. A double
+#: root (arm at its reach) splits into a pair ``1 +- ~sqrt(eps)``; the final FK
+#: check decides whether the polished solution reaches the target.
+ROOT_TOL = 1e-5
+
+#: A polished solution is kept when its pose error (position / arm size, and
+#: rotation) is at most this: the reach slack of the lesson solvers.
+ACCEPT_TOL = max(REACH_TOL, 1e-10)
+
+#: Position roots closer than this (rad) are one root: the elbow at its reach.
+SAME_ROOT_TOL = 1e-7
+
+POSITION_SLOTS = 4
+
+#: Polishing stops once every pose error (relative) is below this: rounding level.
+POLISHED = 1e-14
+
+SHOULDER = Singularity(
+    "the wrist centre is on the axis of joint 1, so q1 is free", (1,)
+)
+UPPER_ARM = Singularity(
+    "the wrist centre is on the axis of joint 2, so q2 is free", (2,)
+)
+ELBOW = Singularity(
+    "the wrist centre is at the edge of what joints 1-3 reach: two position branches coincide",
+    (),
+)
+WRIST = Singularity(
+    "wrist singularity: axes 4 and 6 line up, so only q4 + q6 (or q4 - q6) is fixed",
+    (4, 6),
+    drop_flip=True,
+)
+
+
+# ------------------------------------------------------------------ geometry
+def _rx(alpha: float) -> FloatArray:
+    c, s = math.cos(alpha), math.sin(alpha)
+    if abs(c) < 1e-15:  # cos(pi / 2) is 6e-17, not 0: keep the table's exact zeros
+        c = 0.0
+    if abs(s) < 1e-15:
+        s = 0.0
+    return np.array([[1.0, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])
+
+
+def _translate(x: float = 0.0, z: float = 0.0) -> FloatArray:
+    T = np.eye(4)
+    T[0, 3], T[2, 3] = x, z
+    return T
+
+
+@dataclass(frozen=True)
+class ChainModel:
+    """An arm as ``M0 Rz(th1) M1 ... Rz(th6) M6`` (see the module docstring).
+
+    Attributes
+    ----------
+    M : ndarray, shape (7, 4, 4)
+    offsets : ndarray, shape (6,)
+        ``th_i = q_i + offsets[i - 1]``, rad.
+    scale : float
+        A length of the arm, for relative tolerances.
+    """
+
+    M: FloatArray
+    offsets: FloatArray
+    scale: float
+
+    def dh(self, i: int) -> tuple[float, float, float]:
+        """``(a, d, alpha)`` of ``M_i = Tz(d) Tx(a) Rx(alpha)``, i = 1..5."""
+        Mi = self.M[i]
+        return float(Mi[0, 3]), float(Mi[2, 3]), math.atan2(Mi[2, 1], Mi[1, 1])
+
+
+def chain_model(arm: SerialArm) -> ChainModel:
+    """The constant factors of a 6R arm's FK (no base, no tool)."""
+    P, Q = [], []
+    for lk in arm.links:
+        d, a, al = float(lk.d), float(lk.a), float(lk.alpha)
+        if arm.convention == "standard":
+            P.append(np.eye(4))
+            Q.append(_translate(a, d) @ _rx(al))
+        else:
+            P.append(_rx(al) @ _translate(a, 0.0))
+            Q.append(_translate(0.0, d))
+    M = [P[0]] + [Q[i] @ P[i + 1] for i in range(5)] + [Q[5]]
+    offsets = np.array([float(lk.offset) for lk in arm.links])
+    scale = max(sum(abs(float(lk.a)) + abs(float(lk.d)) for lk in arm.links), 1e-300)
+    return ChainModel(np.stack(M), offsets, scale)
+
+
+def _closest(p1: FloatArray, d1: FloatArray, p2: FloatArray, d2: FloatArray):
+    """Closest points of two lines ``p + s d`` (unit ``d``): ``(s1, s2, distance)``,
+    or None when the lines are parallel."""
+    w0 = p1 - p2
+    b = float(d1 @ d2)
+    denom = 1.0 - b * b
+    if denom < GEOMETRY_TOL**2:
+        return None
+    dd, ee = float(d1 @ w0), float(d2 @ w0)
+    s1 = (b * ee - dd) / denom
+    s2 = (ee - b * dd) / denom
+    dist = float(np.linalg.norm(p1 + s1 * d1 - (p2 + s2 * d2)))
+    return s1, s2, dist
+
+
+@dataclass(frozen=True)
+class WristGeometry:
+    """Where the wrist centre sits, and the wrist's twists.
+
+    ``c4``: the centre in the frame before ``Rz(th4)`` (on its z axis);
+    ``c_flange``: the centre in the flange frame 6; ``v``: the centre in the
+    frame after ``Rz(th3)`` (``M3 c4``); ``b1, b2``: the twists of ``M4, M5``.
+    """
+
+    c4: FloatArray
+    c_flange: FloatArray
+    v: FloatArray
+    b1: float
+    b2: float
+
+
+def _units(arm: SerialArm) -> str:
+    return f" {arm.units}" if arm.units else ""
+
+
+def wrist_geometry(arm: SerialArm, model: ChainModel) -> WristGeometry | str:
+    """The wrist centre of ``arm``, or the reason (text) why axes 4, 5, 6 do not meet."""
+    tol = GEOMETRY_TOL * model.scale
+    u = _units(arm)
+    M4, M5, M6 = model.M[4], model.M[5], model.M[6]
+    z = np.array([0.0, 0.0, 1.0])
+    o = np.zeros(3)
+    # axis 4 is the z axis of the frame before Rz(th4); axis 5 the z axis of M4 there
+    hit = _closest(o, z, M4[:3, 3], M4[:3, 2])
+    if hit is None:
+        return "axes 4 and 5 are parallel, so the wrist has no centre"
+    s4, _, dist = hit
+    if dist > tol:
+        return f"axes 4, 5, 6 do not meet: axis 5 passes {dist:.6g}{u} from axis 4"
+    c4 = np.array([0.0, 0.0, s4])
+    c5 = np.linalg.solve(M4, np.append(c4, 1.0))[:3]  # on axis 5 = z of that frame
+    e6 = M5[:3, 2]
+    if np.linalg.norm(np.cross(e6, z)) < GEOMETRY_TOL:
+        return "axes 5 and 6 are parallel, so the wrist has no centre"
+    off = c5 - M5[:3, 3]
+    dist6 = float(np.linalg.norm(off - (off @ e6) * e6))
+    if dist6 > tol:
+        return (
+            f"axes 4, 5, 6 do not meet: axis 6 passes {dist6:.6g}{u} from the point "
+            "where axes 4 and 5 meet"
+        )
+    c6 = np.linalg.solve(M5, np.append(c5, 1.0))[:3]
+    c_flange = np.linalg.solve(M6, np.append(c6, 1.0))[:3]
+    v = (model.M[3] @ np.append(c4, 1.0))[:3]
+    b1 = math.atan2(M4[2, 1], M4[1, 1])
+    b2 = math.atan2(M5[2, 1], M5[1, 1])
+    return WristGeometry(c4, c_flange, v, b1, b2)
+
+
+@dataclass(frozen=True)
+class IKClass:
+    """Which closed form solves an arm, or why none does.
+
+    Attributes
+    ----------
+    closed_form : bool
+    family : str
+        The solver in words (e.g. ``"6R with a spherical wrist: axes 1 and 2
+        meet, so the wrist centre's position is a quadratic"``), or ``""``.
+    reason : str
+        Why there is no closed form, in the arm's terms; ``""`` when there is.
+    """
+
+    closed_form: bool
+    family: str = ""
+    reason: str = ""
+
+    def __str__(self) -> str:
+        return self.family if self.closed_form else f"no closed form: {self.reason}"
+
+
+def _general_reason(arm: SerialArm) -> tuple[str, str]:
+    """``(family, "")`` for an arm the general solver takes, else ``("", reason)``."""
+    if arm.n != 6:
+        return "", f"it has {arm.n} joints; the general closed form is for six revolute joints"
+    prismatic = [i + 1 for i, lk in enumerate(arm.links) if not lk.is_revolute]
+    if prismatic:
+        which = ", ".join(str(j) for j in prismatic)
+        return "", (
+            f"joint{'s' if len(prismatic) > 1 else ''} {which} "
+            f"{'are' if len(prismatic) > 1 else 'is'} prismatic; the general closed form is "
+            "for six revolute joints"
+        )
+    model = chain_model(arm)
+    wg = wrist_geometry(arm, model)
+    if isinstance(wg, str):
+        return "", wg
+    a1, _, al1 = model.dh(1)
+    a2, _, al2 = model.dh(2)
+    tol = GEOMETRY_TOL * model.scale
+    meet12, parallel12 = abs(a1) <= tol, abs(math.sin(al1)) <= GEOMETRY_TOL
+    if meet12 and parallel12:
+        return "", "axes 1 and 2 are the same line, so joints 1 and 2 do the same motion"
+    if abs(a2) <= tol and abs(math.sin(al2)) <= GEOMETRY_TOL:
+        return "", "axes 2 and 3 are the same line, so joints 2 and 3 do the same motion"
+    if math.hypot(wg.v[0], wg.v[1]) <= tol:
+        return "", (
+            "the wrist centre lies on axis 3, so joint 3 cannot move it and joints 1-2 "
+            "alone cannot place it in 3D"
+        )
+    if not _positions_span_3d(model, wg):
+        if abs(a2) <= tol and meet12:
+            return "", (
+                "axes 1, 2 and 3 meet in one point, so joints 1-3 only move the wrist centre "
+                "on a sphere around it"
+            )
+        return "", (
+            "joints 1-3 cannot move the wrist centre in three independent directions at any "
+            "configuration"
+        )
+    if meet12:
+        how = "axes 1 and 2 meet, so the wrist centre's position is a quadratic"
+    elif parallel12:
+        how = "axes 1 and 2 are parallel, so the wrist centre's position is a quadratic"
+    else:
+        how = "axes 1 and 2 are skew, so the wrist centre's position is a quartic"
+    return f"6R with a spherical wrist (Pieper's decoupling): {how}", ""
+
+
+def _positions_span_3d(model: ChainModel, wg: WristGeometry) -> bool:
+    """True when joints 1-3 move the wrist centre in 3 independent directions somewhere
+    (the position Jacobian has full rank at one of a few random configurations)."""
+    rng = np.random.default_rng(0)
+    th = rng.uniform(-np.pi, np.pi, size=(8, 3))
+    M = model.M
+    T = np.broadcast_to(M[0], (8, 4, 4))
+    axes, origins = [], []
+    for i in range(3):
+        axes.append(T[:, :3, 2])
+        origins.append(T[:, :3, 3])
+        T = T @ _rz4(th[:, i]) @ M[i + 1]
+    W = (T @ np.append(wg.c4, 1.0))[:, :3]
+    J = np.stack([np.cross(z, W - o) for z, o in zip(axes, origins, strict=True)], axis=-1)
+    sv = np.linalg.svd(J, compute_uv=False)
+    return bool((sv[:, -1] > 1e-9 * model.scale).any())
+
+
+def classify(arm: SerialArm) -> IKClass:
+    """Which closed-form IK rikin uses for ``arm``, or exactly why it has none.
+
+    Parameters
+    ----------
+    arm : SerialArm
+
+    Returns
+    -------
+    IKClass
+        ``closed_form`` and the family in words, or the reason in the arm's
+        terms (e.g. ``"axes 4, 5, 6 do not meet: axis 5 passes 12 mm from
+        axis 4"``).
+
+    Examples
+    --------
+    >>> from rikin import robots
+    >>> classify(robots.aula10_6r()).closed_form
+    True
+    """
+    from ..dh import SerialArm
+
+    if not isinstance(arm, SerialArm):
+        raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
+    if arm.solver is not None:
+        doc = (type(arm.solver).__doc__ or type(arm.solver).__name__).strip()
+        return IKClass(True, " ".join(doc.split("\n\n")[0].split()))
+    family, reason = _general_reason(arm)
+    return IKClass(not reason, family, reason)
+
+
+_SOLVERS: weakref.WeakKeyDictionary[SerialArm, Pieper6RSolver] = weakref.WeakKeyDictionary()
+
+
+def general_solver(arm: SerialArm) -> Pieper6RSolver:
+    """The general closed-form solver for ``arm`` (built once per arm).
+
+    Raises
+    ------
+    InputError
+        The arm has no closed form; the message says why and points at the
+        numerical IK.
+    """
+    solver = _SOLVERS.get(arm)
+    if solver is None:
+        family, reason = _general_reason(arm)
+        if reason:
+            raise InputError(
+                f"{arm.name!r} has no closed-form IK in rikin: {reason}. "
+                "Use rikin.ik.ik_numerical (one solution near a start) or "
+                "rikin.ik.ik_numerical_multistart (several)"
+            )
+        solver = Pieper6RSolver(arm)
+        _SOLVERS[arm] = solver
+    return solver
+
+
+# ------------------------------------------------------------------ batched helpers
+def _rz4(theta: FloatArray) -> FloatArray:
+    """``Rz(theta)`` as 4x4 matrices, shape ``theta.shape + (4, 4)``."""
+    c, s = np.cos(theta), np.sin(theta)
+    R = np.zeros(np.shape(theta) + (4, 4))
+    R[..., 0, 0], R[..., 0, 1], R[..., 1, 0], R[..., 1, 1] = c, -s, s, c
+    R[..., 2, 2] = R[..., 3, 3] = 1.0
+    return R
+
+
+def _solve_sinusoid(
+    a: FloatArray, b: FloatArray, c: FloatArray
+) -> tuple[FloatArray, FloatArray, np.ndarray, np.ndarray]:
+    """Both ``x`` with ``a cos x + b sin x = c``: ``(x+, x-, reachable, degenerate)``.
+
+    ``degenerate`` where ``a = b = 0`` (every x, or none).
+    """
+    rho = np.hypot(a, b)
+    degenerate = rho <= 1e-300
+    safe = np.where(degenerate, 1.0, rho)
+    ratio = c / safe
+    reachable = ~degenerate & (np.abs(ratio) <= 1.0 + math.sqrt(REACH_TOL))
+    phi = np.arctan2(b, a)
+    delta = np.arccos(np.clip(ratio, -1.0, 1.0))
+    return phi + delta, phi - delta, reachable, degenerate
+
+
+def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
+    """Real roots of trigonometric polynomials of degree 2 sampled at 5 angles.
+
+    Parameters
+    ----------
+    F : ndarray, shape (N, 5)
+        ``F(2 pi j / 5)`` for j = 0..4.
+
+    Returns
+    -------
+    theta : ndarray, shape (N, 4)
+    real : ndarray of bool, shape (N, 4)
+        The root is real (on the unit circle), after Newton polishing.
+    """
+    j = np.arange(5)
+    ang = 2 * np.pi * j / 5
+    a0 = F.mean(axis=1)
+    a = [2 / 5 * F @ np.cos(k * ang) for k in (1, 2)]
+    b = [2 / 5 * F @ np.sin(k * ang) for k in (1, 2)]
+    # z = exp(i theta): z^2 F = c2 z^4 + c1 z^3 + c0 z^2 + conj(c1) z + conj(c2)
+    c2 = (a[1] - 1j * b[1]) / 2
+    c1 = (a[0] - 1j * b[0]) / 2
+    big = np.maximum.reduce([np.abs(c2), np.abs(c1), np.abs(a0)])
+    big = np.where(big > 0, big, 1.0)
+    N = F.shape[0]
+    theta = np.zeros((N, 4))
+    real = np.zeros((N, 4), dtype=bool)
+    quartic = np.abs(c2) > 1e-12 * big
+    if quartic.any():
+        lead = c2[quartic]
+        C = np.zeros((int(quartic.sum()), 4, 4), dtype=complex)
+        C[:, 1:, :3] = np.eye(3)
+        C[:, 0, 0] = -c1[quartic] / lead
+        C[:, 0, 1] = -a0[quartic] / lead
+        C[:, 0, 2] = -np.conj(c1[quartic]) / lead
+        C[:, 0, 3] = -np.conj(lead) / lead
+        z = np.linalg.eigvals(C)
+        theta[quartic] = np.angle(z)
+        real[quartic] = np.abs(np.abs(z) - 1.0) < ROOT_TOL
+    lin = ~quartic
+    if lin.any():  # degree 1: a0 + a1 cos + b1 sin = 0
+        xp, xm, ok, _ = _solve_sinusoid(a[0][lin], b[0][lin], -a0[lin])
+        theta[lin, 0], theta[lin, 1] = xp, xm
+        real[lin, 0] = real[lin, 1] = ok
+    # Newton on F(theta) = a0 + sum a_k cos k theta + b_k sin k theta
+    for _ in range(3):
+        f = a0[:, None] + sum(
+            a[k - 1][:, None] * np.cos(k * theta) + b[k - 1][:, None] * np.sin(k * theta)
+            for k in (1, 2)
+        )
+        df = sum(
+            k * (-a[k - 1][:, None] * np.sin(k * theta) + b[k - 1][:, None] * np.cos(k * theta))
+            for k in (1, 2)
+        )
+        step = np.where(np.abs(df) > 1e-8 * big[:, None], f / np.where(df == 0, 1.0, df), 0.0)
+        step = np.clip(step, -1e-3, 1e-3)
+        theta = theta - step
+    return theta, real
+
+
+class Pieper6RSolver:
+    """Closed-form IK of a 6R arm with a spherical wrist, from its DH table: up to 8 solutions."""
+
+    target_kind = "pose"
+    wrist_middle = 4
+    singularities = {
+        "shoulder": SHOULDER,
+        "upper_arm": UPPER_ARM,
+        "elbow": ELBOW,
+        "wrist": WRIST,
+    }
+
+    def __init__(self, arm: SerialArm) -> None:
+        family, reason = _general_reason(arm)
+        if reason:
+            raise InputError(f"{arm.name}: {reason}")
+        self.family = family
+        self.model = model = chain_model(arm)
+        wg = wrist_geometry(arm, model)
+        assert not isinstance(wg, str)
+        self.wrist = wg
+        self.a1, self.d1, al1 = model.dh(1)
+        self.ca1, self.sa1 = math.cos(al1), math.sin(al1)
+        tol = GEOMETRY_TOL * model.scale
+        self.case = (
+            "meet" if abs(self.a1) <= tol else "parallel" if abs(self.sa1) <= GEOMETRY_TOL
+            else "skew"
+        )
+        sb1 = math.sin(wg.b1)
+        self.orthogonal = (
+            abs(abs(sb1) - 1.0) <= GEOMETRY_TOL
+            and abs(math.sin(wg.b1 + wg.b2)) <= GEOMETRY_TOL
+        )
+        self.sigma = float(np.sign(sb1))
+        self.kappa = 1.0 if math.cos(wg.b1 + wg.b2) > 0 else -1.0
+        self.M0_inv = np.linalg.inv(model.M[0])
+        self.slots = tuple(Branch(None, None, w) for _ in range(POSITION_SLOTS)
+                           for w in ("no-flip", "flip"))
+
+    def check(self, arm: SerialArm) -> None:  # noqa: D102 - the Solver protocol
+        _ = arm
+
+    # -------------------------------------------------------------- position
+    def _g(self, th3: FloatArray) -> FloatArray:
+        """``g = M2 Rz(th3) v``, shape ``th3.shape + (3,)``."""
+        v = np.append(self.wrist.v, 1.0)
+        return (self.model.M[2] @ (_rz4(th3) @ v)[..., None])[..., :3, 0]
+
+    def _position_equations(self, p: FloatArray, g: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Right-hand sides ``(B, A)`` of the two equations (module docstring)."""
+        a1, d1 = self.a1, self.d1
+        pz = p[..., 2]
+        B = (p * p).sum(-1) - (g * g).sum(-1) - a1 * a1 + d1 * d1 - 2 * d1 * pz
+        A = pz - d1 - self.ca1 * g[..., 2]
+        return B, A
+
+    def _position(
+        self, p: FloatArray, hint_th1: float
+    ) -> tuple[FloatArray, np.ndarray, dict[str, np.ndarray]]:
+        """Joints 1-3 (as theta, offsets included) putting the wrist centre at ``p'`` (N, 3).
+
+        Returns ``th (N, 4, 3)``, ``valid (N, 4)`` and singular masks ``(N, 4)``.
+        """
+        N = p.shape[0]
+        a1, sa1 = self.a1, self.sa1
+        th = np.zeros((N, POSITION_SLOTS, 3))
+        valid = np.zeros((N, POSITION_SLOTS), dtype=bool)
+        upper = np.zeros((N, POSITION_SLOTS), dtype=bool)
+        if self.case == "skew":
+            samples = 2 * np.pi * np.arange(5) / 5
+            g = self._g(samples)  # (5, 3)
+            B, A = self._position_equations(p[:, None, :], g[None])
+            gxy2 = (g[None, :, :2] ** 2).sum(-1)
+            F = sa1 * sa1 * B * B + 4 * a1 * a1 * A * A - 4 * a1 * a1 * sa1 * sa1 * gxy2
+            th3, real = _trig2_roots(F)
+            g3 = self._g(th3)  # (N, 4, 3)
+            B3, A3 = self._position_equations(p[:, None, :], g3)
+            X, Y = B3 / (2 * a1), A3 / sa1
+            gx, gy = g3[..., 0], g3[..., 1]
+            th2 = np.arctan2(gx * Y - gy * X, gx * X + gy * Y)
+            upper = gx * gx + gy * gy <= (SINGULAR_TOL * self.model.scale) ** 2
+            th[..., 1], th[..., 2], valid = th2, th3, real
+        else:
+            # one equation in th3 alone: (k0 + kc cos + ks sin) = 0, fitted from 3 samples
+            samples = np.array([0.0, np.pi / 2, np.pi])
+            g = self._g(samples)
+            B, A = self._position_equations(p[:, None, :], g[None])
+            E = B if self.case == "meet" else A
+            k0 = (E[:, 0] + E[:, 2]) / 2
+            kc = (E[:, 0] - E[:, 2]) / 2
+            ks = E[:, 1] - k0
+            r1, r2, ok, _ = _solve_sinusoid(kc, ks, -k0)
+            for m, th3 in enumerate((r1, r2)):
+                g3 = self._g(th3)
+                B3, A3 = self._position_equations(p, g3)
+                gx, gy = g3[:, 0], g3[:, 1]
+                if self.case == "meet":  # sa1 (s2 gx + c2 gy) = A
+                    t2p, t2m, ok2, deg = _solve_sinusoid(gy, gx, A3 / sa1)
+                else:  # 2 a1 (c2 gx - s2 gy) = B
+                    t2p, t2m, ok2, deg = _solve_sinusoid(gx, -gy, B3 / (2 * a1))
+                free = deg | (gx * gx + gy * gy <= (SINGULAR_TOL * self.model.scale) ** 2)
+                for n_, t2 in enumerate((t2p, t2m)):
+                    s = 2 * m + n_
+                    th[:, s, 1] = np.where(free, 0.0, t2)
+                    th[:, s, 2] = th3
+                    valid[:, s] = ok & (ok2 | free)
+                    upper[:, s] = free
+        # joint 1 turns r = M1 Rz(th2) g onto p'
+        r = self._arm_point(th[..., 1], th[..., 2])
+        rho_p = np.hypot(p[:, 0], p[:, 1])[:, None]
+        on_axis = rho_p <= SINGULAR_TOL * self.model.scale
+        th1 = np.arctan2(p[:, 1], p[:, 0])[:, None] - np.arctan2(r[..., 1], r[..., 0])
+        th[..., 0] = np.where(on_axis, hint_th1, th1)
+        shoulder = np.broadcast_to(on_axis, valid.shape) & valid
+        return th, valid, {"shoulder": shoulder, "upper_arm": upper & valid}
+
+    def _arm_point(self, th2: FloatArray, th3: FloatArray) -> FloatArray:
+        """``r = M1 Rz(th2) M2 Rz(th3) v``: the wrist centre after ``Rz(th1)``, shape (..., 3)."""
+        v = np.append(self.wrist.v, 1.0)
+        M1, M2 = self.model.M[1], self.model.M[2]
+        x = M1 @ _rz4(th2) @ M2 @ _rz4(th3) @ v
+        return x[..., :3]
+
+    # -------------------------------------------------------------- orientation
+    def _wrist(
+        self, R_w: FloatArray, hint_th4: float
+    ) -> tuple[FloatArray, np.ndarray, np.ndarray]:
+        """``th4, th5, th6`` of both wrist slots: ``(..., 2, 3)``, ``ok (..., 2)``, singular."""
+        if self.orthogonal:
+            C = np.eye(3) if self.kappa > 0 else np.diag([1.0, -1.0, -1.0])
+            M = R_w @ C.T
+            phi, theta, psi, sing = spherical_wrist(M, hint_th4)
+            out = np.stack([phi, -self.sigma * theta, self.kappa * psi], axis=-1)
+            ok = np.ones(out.shape[:-1], dtype=bool)
+            return out, ok, np.broadcast_to(sing[..., None], ok.shape)
+        b1, b2 = self.wrist.b1, self.wrist.b2
+        sb1, cb1, sb2, cb2 = math.sin(b1), math.cos(b1), math.sin(b2), math.cos(b2)
+        c5_raw = (cb1 * cb2 - R_w[..., 2, 2]) / (sb1 * sb2)
+        ok = np.abs(c5_raw) <= 1.0 + math.sqrt(REACH_TOL)
+        c5 = np.clip(c5_raw, -1.0, 1.0)
+        s5_abs = np.sqrt(1.0 - c5 * c5)
+        outs = []
+        sing = None
+        for sgn in (1.0, -1.0):
+            s5 = sgn * s5_abs
+            th5 = np.arctan2(s5, c5)
+            ax, ay = sb2 * s5, -cb1 * sb2 * c5 - sb1 * cb2
+            sing_k = np.hypot(ax, ay) < SINGULAR_TOL
+            th4 = np.arctan2(R_w[..., 1, 2], R_w[..., 0, 2]) - np.arctan2(ay, ax)
+            th4 = np.where(sing_k, hint_th4, th4)
+            # th6 from what is left, Rz(th6) = (Rz(th4) Rx(b1) Rz(th5) Rx(b2))^T R_w: consistent
+            # with th4 near the singularity, where th4 and th6 alone are ill-conditioned
+            lead = (
+                _rz4(th4)[..., :3, :3] @ _rx(b1)[:3, :3] @ _rz4(th5)[..., :3, :3]
+                @ _rx(b2)[:3, :3]
+            )
+            rest = np.swapaxes(lead, -1, -2) @ R_w
+            th6 = np.arctan2(rest[..., 1, 0] - rest[..., 0, 1], rest[..., 0, 0] + rest[..., 1, 1])
+            outs.append(np.stack([th4, th5, th6], axis=-1))
+            sing = sing_k if sing is None else sing | sing_k
+        assert sing is not None
+        both = np.stack([ok, ok], axis=-1)
+        return np.stack(outs, axis=-2), both, np.broadcast_to(sing[..., None], both.shape)
+
+    # -------------------------------------------------------------- polish
+    def _fk_frames(self, th: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Flange pose, joint axes and origins for thetas ``(..., 6)``."""
+        M = self.model.M
+        T = np.broadcast_to(M[0], th.shape[:-1] + (4, 4))
+        axes, origins = [], []
+        for i in range(6):
+            axes.append(T[..., :3, 2])
+            origins.append(T[..., :3, 3])
+            T = T @ _rz4(th[..., i]) @ M[i + 1]
+        return T, np.stack(axes, -2), np.stack(origins, -2)
+
+    def _pose_error(self, T: FloatArray, T_goal: FloatArray) -> FloatArray:
+        """6-vector error ``(dp, dw)``: position and rotation (axis-angle, small) to the goal."""
+        dp = T_goal[..., :3, 3] - T[..., :3, 3]
+        Rd = T_goal[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2)
+        dw = 0.5 * np.stack(
+            [Rd[..., 2, 1] - Rd[..., 1, 2], Rd[..., 0, 2] - Rd[..., 2, 0],
+             Rd[..., 1, 0] - Rd[..., 0, 1]], axis=-1
+        )
+        return np.concatenate([dp, dw], axis=-1)
+
+    def _polish(self, th: FloatArray, T_goal: FloatArray, steps: int = 8) -> FloatArray:
+        """Gauss-Newton steps on the whole pose (damped least squares), keeping only
+        improvements, until every error is at rounding level (at most ``steps``).
+
+        A simple root needs none or one; at a singular point (elbow at full reach, a
+        non-orthogonal wrist with coplanar axes) convergence is linear, and the joints
+        are fixed by the pose only to about the square root of its error.
+        """
+        L = self.model.scale
+        w = np.array([1 / L] * 3 + [1.0] * 3)
+        for _ in range(steps):
+            T, z, o = self._fk_frames(th)
+            e = self._pose_error(T, T_goal) * w
+            if np.abs(e).max(initial=0.0) <= POLISHED:  # the closed form is exact already
+                break
+            p_e = T[..., None, :3, 3]
+            J = np.concatenate([np.cross(z, p_e - o), z], axis=-1)  # (..., 6, 6): rows joints
+            J = np.swapaxes(J, -1, -2) * w[:, None]
+            JT = np.swapaxes(J, -1, -2)
+            lam = 1e-12
+            A = JT @ J + lam * np.eye(6)
+            step = np.linalg.solve(A, (JT @ e[..., None]))[..., 0]
+            cand = th + step
+            Tc, _, _ = self._fk_frames(cand)
+            ec = self._pose_error(Tc, T_goal) * w
+            err = np.abs(e).max(-1)
+            better = np.abs(ec).max(-1) < err
+            th = np.where(better[..., None], cand, th)
+            if not (better & (err > POLISHED)).any():
+                break
+        return th
+
+    def _residual(self, th: FloatArray, T_goal: FloatArray) -> FloatArray:
+        T, _, _ = self._fk_frames(th)
+        pos = np.linalg.norm(T[..., :3, 3] - T_goal[..., :3, 3], axis=-1) / self.model.scale
+        rot = np.abs(T[..., :3, :3] - T_goal[..., :3, :3]).max(axis=(-1, -2))
+        return np.maximum(pos, rot)
+
+    # -------------------------------------------------------------- solve
+    def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
+        """All solutions of N flange poses ``T_0_n (N, 4, 4)``; 8 slots."""
+        off = self.model.offsets
+        N = T_0_n.shape[0]
+        h1 = (0.0 if hint is None else float(hint[0])) + off[0]
+        h4 = (0.0 if hint is None else float(hint[3])) + off[3]
+        c = np.append(self.wrist.c_flange, 1.0)
+        p_w = (T_0_n @ c)[:, :3]
+        p = (self.M0_inv @ np.append(p_w, np.ones((N, 1)), axis=1)[..., None])[:, :3, 0]
+        th123, valid_pos, sing = self._position(p, h1)
+        # wrist: R_w = R_F4^T R_0_6 R_M6^T
+        M = self.model.M
+        R_F4 = (
+            M[0, :3, :3] @ _rz4(th123[..., 0])[..., :3, :3] @ M[1, :3, :3]
+            @ _rz4(th123[..., 1])[..., :3, :3] @ M[2, :3, :3]
+            @ _rz4(th123[..., 2])[..., :3, :3] @ M[3, :3, :3]
+        )
+        R_w = np.swapaxes(R_F4, -1, -2) @ T_0_n[:, None, :3, :3] @ M[6, :3, :3].T
+        th456, ok_w, wsing = self._wrist(R_w, h4)  # (N, 4, 2, 3)
+        th = np.empty((N, POSITION_SLOTS, 2, 6))
+        th[..., :3] = th123[:, :, None, :]
+        th[..., 3:] = th456
+        th = th.reshape(N, 2 * POSITION_SLOTS, 6)
+        valid = (valid_pos[:, :, None] & ok_w).reshape(N, -1)
+        goal = np.broadcast_to(T_0_n[:, None], th.shape[:-1] + (4, 4))
+        th = np.where(valid[..., None], th, 0.0)
+        th = self._polish(th, goal)
+        valid &= self._residual(th, goal) <= ACCEPT_TOL
+        q = th - off
+        # elbow at its reach: two valid position slots with the same joints 2-3
+        pos_q = q.reshape(N, POSITION_SLOTS, 2, 6)[:, :, 0, :3]
+        vp = valid.reshape(N, POSITION_SLOTS, 2).any(-1)
+        d = np.abs(np.angle(np.exp(1j * (pos_q[:, :, None] - pos_q[:, None])))).max(-1)
+        same = (d < SAME_ROOT_TOL) & vp[:, :, None] & vp[:, None, :]
+        same &= ~np.eye(POSITION_SLOTS, dtype=bool)
+        elbow = same.any(-1)
+        front, up = self._labels(th)
+        q[~valid] = np.nan
+
+        def per_slot(mask: np.ndarray) -> np.ndarray:
+            return np.repeat(mask, 2, axis=1) & valid
+
+        return RawSolutions(
+            q=q,
+            valid=valid,
+            slots=self.slots,
+            elbow_up=up,
+            shoulder_front=front,
+            singular={
+                "shoulder": per_slot(sing["shoulder"]),
+                "upper_arm": per_slot(sing["upper_arm"]),
+                "elbow": per_slot(elbow),
+                "wrist": wsing.reshape(N, -1) & valid,
+            },
+        )
+
+    def _labels(self, th: FloatArray) -> tuple[np.ndarray, np.ndarray]:
+        """Shoulder front (wrist centre ahead of axis 1 along the turned x axis) and elbow up
+        (elbow above the shoulder-wrist line, along axis 1), per solution ``(N, 8)``."""
+        th = np.where(np.isfinite(th), th, 0.0)
+        M = self.model.M
+        F1 = np.broadcast_to(M[0], th.shape[:-1] + (4, 4)) @ _rz4(th[..., 0])
+        F2 = F1 @ M[1]
+        F3 = F2 @ _rz4(th[..., 1]) @ M[2]
+        W = (F3 @ _rz4(th[..., 2]) @ np.append(self.wrist.v, 1.0))[..., :3]
+        fwd, axis1 = F1[..., :3, 0], F1[..., :3, 2]
+        S, E = F2[..., :3, 3], F3[..., :3, 3]
+        front = ((W - F1[..., :3, 3]) * fwd).sum(-1) >= -SINGULAR_TOL * self.model.scale
+        # the elbow's side of the shoulder-wrist line, seen along axis 2 (in the plane
+        # joint 2 swings the elbow in): "up" means towards +axis 1
+        n2 = F2[..., :3, 2]
+
+        def flat(x: FloatArray) -> FloatArray:
+            return x - (x * n2).sum(-1, keepdims=True) * n2
+
+        line, e, up_dir, fwd_p = flat(W - S), flat(E - S), flat(axis1), flat(fwd)
+        n_line = (line * line).sum(-1, keepdims=True)
+        h = e - (e * line).sum(-1, keepdims=True) / np.where(n_line > 0, n_line, 1.0) * line
+        across = np.linalg.norm(np.cross(line, up_dir), axis=-1)
+        vertical = across <= SINGULAR_TOL * (np.sqrt(n_line[..., 0]) + self.model.scale)
+        up = np.where(vertical, (h * fwd_p).sum(-1) > 0, (h * up_dir).sum(-1) > 0)
+        return front, up
+
+    def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
+        """Why one flange pose has no solution, and by how much (length units or rad)."""
+        c = np.append(self.wrist.c_flange, 1.0)
+        p_w = (T_0_n @ c)[:3]
+        p = (self.M0_inv @ np.append(p_w, 1.0))[:3]
+        gap, th = self._nearest_reach(p)
+        u = _units(arm)
+        if gap > ACCEPT_TOL * self.model.scale * 10:
+            return (
+                f"the wrist centre is {gap:.4g}{u} out of reach of joints 1-3 (the nearest "
+                f"point they can put it is {gap:.6g}{u} away)",
+                gap,
+            )
+        if not self.orthogonal:
+            b1, b2 = self.wrist.b1, self.wrist.b2
+            # axis 6 makes an angle with axis 4 between those of q5 = 0 and q5 = pi
+            lo, hi = sorted(
+                float(np.arccos(np.clip(math.cos(x), -1.0, 1.0))) for x in (b1 + b2, b1 - b2)
+            )
+            ang = self._tilt_needed(th, T_0_n)
+            ex = max(lo - ang, ang - hi, 0.0)
+            if ex > 0:
+                return (
+                    f"the wrist cannot tilt the tool that far: axis 6 must make "
+                    f"{math.degrees(ang):.4g} deg with axis 4, and this wrist only reaches "
+                    f"{math.degrees(lo):.4g}-{math.degrees(hi):.4g} deg",
+                    ex,
+                )
+        return "no joint values reproduce this pose (numerically at the edge of reach)", 0.0
+
+    def _tilt_needed(self, th123: FloatArray, T_0_n: FloatArray) -> float:
+        """Angle between axis 4 (after joints 1-3 reach ``p``) and the target's axis 6."""
+        M = self.model.M
+        R = M[0, :3, :3]
+        for i in range(3):
+            R = R @ _rz4(th123[i])[:3, :3] @ M[i + 1, :3, :3]
+        z4 = R[:, 2]
+        z6 = (T_0_n[:3, :3] @ M[6, :3, :3].T)[:, 2]
+        return float(np.arccos(np.clip(z4 @ z6, -1.0, 1.0)))
+
+    def _nearest_reach(self, p: FloatArray) -> tuple[float, FloatArray]:
+        """Distance from ``p'`` to what joints 1-3 reach, and the joints of the nearest point."""
+        rng = np.random.default_rng(0)
+        th = rng.uniform(-np.pi, np.pi, size=(64, 3))
+        v = np.append(self.wrist.v, 1.0)
+        M = self.model.M
+
+        def point(t: FloatArray) -> FloatArray:
+            return (
+                _rz4(t[..., 0]) @ M[1] @ _rz4(t[..., 1]) @ M[2] @ _rz4(t[..., 2]) @ v
+            )[..., :3]
+
+        for _ in range(60):
+            x = point(th)
+            e = p - x
+            eps = 1e-7
+            J = np.stack(
+                [(point(th + eps * np.eye(3)[k]) - x) / eps for k in range(3)], axis=-1
+            )
+            JT = np.swapaxes(J, -1, -2)
+            lam = 1e-6 * self.model.scale**2
+            step = np.linalg.solve(JT @ J + lam * np.eye(3), JT @ e[..., None])[..., 0]
+            th = th + step
+        d = np.linalg.norm(p - point(th), axis=-1)
+        best = int(np.argmin(d))
+        return float(d[best]), th[best]

@@ -1,0 +1,339 @@
+"""The general closed-form IK of 6R arms with a spherical wrist (rikin.ik.pieper).
+
+Every solution is put back through FK here (independently of the solver's own
+check); the generating joints must be among the solutions; lesson arms solved
+through their DH table alone must give the lesson solvers' solution sets and
+branch labels; arms without a closed form must say why in the arm's terms.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import rikin
+from rikin import Link, SerialArm, robots
+from rikin.ik.pieper import classify
+
+pi = np.pi
+POS_TOL = 1e-9  # times the arm's size
+ROT_TOL = 1e-9
+SAME_Q = 1e-6
+
+
+# ------------------------------------------------------------------ arms from their DH tables
+def puma560():
+    """Standard-DH Puma 560 (Corke's table, metres): shoulder offset d3, elbow offset a3."""
+    return SerialArm((
+        Link(d=0.6718, alpha=pi / 2), Link(a=0.4318), Link(d=0.15005, a=0.0203, alpha=-pi / 2),
+        Link(d=0.4318, alpha=pi / 2), Link(alpha=-pi / 2), Link(),
+    ), name="Puma 560", units="m")
+
+
+def kuka_kr5():
+    """Standard-DH KUKA KR5 (metres): shoulder offset a1, alpha1 = +pi/2, flipped flange."""
+    return SerialArm((
+        Link(d=0.4, a=0.18, alpha=pi / 2), Link(a=0.6), Link(a=0.12, alpha=pi / 2),
+        Link(d=-0.62, alpha=-pi / 2), Link(alpha=pi / 2), Link(d=-0.115, alpha=pi),
+    ), name="KUKA KR5", units="m")
+
+
+def kuka_kr6():
+    """Standard-DH KUKA KR6 (metres): alpha1 = -pi/2, joint-3 offset."""
+    return SerialArm((
+        Link(d=0.675, a=0.26, alpha=-pi / 2), Link(a=0.68), Link(a=-0.035, alpha=pi / 2, offset=-pi / 2),
+        Link(d=-0.67, alpha=-pi / 2), Link(alpha=pi / 2), Link(d=-0.115, alpha=pi),
+    ), name="KUKA KR6", units="m")
+
+
+def abb_irb120():
+    """Standard-DH ABB IRB 120 (metres): joint offsets on 2 and 6."""
+    return SerialArm((
+        Link(d=0.29, alpha=-pi / 2), Link(a=0.27, offset=-pi / 2), Link(a=0.07, alpha=-pi / 2),
+        Link(d=0.302, alpha=pi / 2), Link(alpha=-pi / 2), Link(d=0.072, offset=pi),
+    ), name="ABB IRB 120", units="m")
+
+
+def ur5():
+    """Standard-DH UR5: no spherical wrist (d5 separates axes 5 and 6)."""
+    return SerialArm((
+        Link(d=0.089159, alpha=pi / 2), Link(a=-0.425), Link(a=-0.39225),
+        Link(d=0.10915, alpha=pi / 2), Link(d=0.09465, alpha=-pi / 2), Link(d=0.0823),
+    ), name="UR5", units="m")
+
+
+def from_table(arm):
+    """The same arm built from its DH table alone (no lesson solver attached)."""
+    return SerialArm(arm.links, convention=arm.convention, base=arm.base, tool=arm.tool,
+                     units=arm.units, name=arm.name + " (table)")
+
+
+INDUSTRIAL = [puma560, kuka_kr5, kuka_kr6, abb_irb120]
+LESSON_6R = [robots.aula10_6r, robots.epson_c4, robots.barrientos_6r]
+
+
+def fk_errors(arm, q, T):
+    F = arm.fk(q)
+    pos = np.linalg.norm(F[..., :3, 3] - T[:3, 3], axis=-1) / arm.scale
+    rot = np.abs(F[..., :3, :3] - T[:3, :3]).max(axis=(-1, -2))
+    return pos, rot
+
+
+def assert_all_reach(arm, res, T):
+    pos, rot = fk_errors(arm, res.q, T)
+    assert pos.max() <= POS_TOL and rot.max() <= ROT_TOL, (pos.max(), rot.max())
+
+
+NEAR_WRIST = 1e-6  # wrist axes this close to aligned or coplanar: a singular wrist
+SINGULAR_WRIST_Q = 1e-4  # what such a pose fixes q4..q6 to (~ the square root of rounding)
+
+
+def distance_to(res, q, arm=None):
+    """Joint distance from ``q`` to the nearest solution.
+
+    At a wrist singularity the pose fixes q4..q6 far less well than the rest: with axes 4
+    and 6 aligned only their sum or difference, with the three wrist axes coplanar (a
+    non-orthogonal wrist at q5 = 0 or pi) each to about the square root of the pose's
+    rounding. There q4..q6 are compared to ``SINGULAR_WRIST_Q``; the FK check of every
+    solution (assert_all_reach) still holds them to the pose.
+    """
+    d = np.abs(rikin.wrap_angle(res.q - q))
+    if arm is not None:
+        F = arm.fk(q, frames=True)
+        k = 3 if arm.convention == "standard" else 4  # frame whose z is axis 4
+        z4, z5, z6 = F[k, :3, 2], F[k + 1, :3, 2], F[k + 2, :3, 2]
+        aligned = np.linalg.norm(np.cross(z4, z6)) < NEAR_WRIST
+        coplanar = abs(np.linalg.det(np.stack([z4, z5, z6]))) < NEAR_WRIST
+        if aligned:
+            d = d[:, [0, 1, 2, 4]]
+        elif coplanar:
+            d = np.concatenate([d[:, :3], d[:, 3:] * (SAME_Q / SINGULAR_WRIST_Q)], axis=1)
+    return d.max(axis=1).min()
+
+
+def random_pose(rng):
+    return rikin.homogeneous(rikin.rpy_to_r(*rng.uniform(-pi, pi, 3)), rng.uniform(-1, 1, 3))
+
+
+# ------------------------------------------------------------------ classify
+def test_classify_names_the_closed_form():
+    assert "quadratic" in str(classify(puma560()))  # axes 1 and 2 meet (a1 = 0)
+    assert "quartic" in str(classify(kuka_kr5()))  # a1 != 0 and alpha1 != 0: skew
+    assert classify(robots.aula10_6r()).closed_form  # the lesson solver
+
+
+def test_classify_says_why_not_in_the_arms_terms():
+    c = classify(ur5())
+    assert not c.closed_form
+    assert "axes 4, 5, 6 do not meet: axis 6 passes 0.09465 m" in c.reason
+    offset = SerialArm(kuka_kr5().links[:3] + (
+        Link(d=-620.0, a=12.0, alpha=-pi / 2), Link(alpha=pi / 2), Link(d=-115.0)
+    ), units="mm")
+    assert "axis 5 passes 12 mm from axis 4" in classify(offset).reason
+    prismatic = SerialArm((Link(), Link("P", alpha=pi / 2)) + puma560().links[2:])
+    assert "joint 2 is prismatic" in classify(prismatic).reason
+    assert "5 joints" in classify(SerialArm(puma560().links[:5])).reason
+
+
+def test_ik_of_an_arm_without_closed_form_points_at_numerical_ik():
+    with pytest.raises(rikin.InputError, match=r"axis 6 passes .*ik_numerical"):
+        ur5().ik(ur5().fk(np.full(6, 0.3)))
+
+
+# ------------------------------------------------------------------ the lesson arms
+@pytest.mark.parametrize("make", LESSON_6R)
+def test_lesson_arms_from_their_table_match_the_lesson_solver(make):
+    rng = np.random.default_rng(7)
+    base = random_pose(rng)
+    tool = random_pose(rng)
+    for arm in (make(), make(base=base, tool=tool)):
+        general = from_table(arm)
+        for _ in range(60):
+            T = arm.fk(rng.uniform(-pi, pi, 6))
+            lesson, other = arm.ik(T), general.ik(T)
+            assert len(lesson) == len(other)
+            assert_all_reach(general, other, T)
+            for q, label in zip(lesson.q, lesson.labels, strict=True):
+                d = np.abs(rikin.wrap_angle(other.q - q)).max(axis=1)
+                j = int(np.argmin(d))
+                assert d[j] < 1e-9
+                assert other.labels[j] == label
+
+
+# ------------------------------------------------------------------ industrial arms
+@pytest.mark.parametrize("make", INDUSTRIAL)
+def test_industrial_arms_round_trip(make):
+    arm = make()
+    rng = np.random.default_rng(11)
+    counts = []
+    for _ in range(150):
+        q = rng.uniform(-pi, pi, 6)
+        T = arm.fk(q)
+        res = arm.ik(T)
+        assert_all_reach(arm, res, T)
+        assert distance_to(res, q) < SAME_Q
+        assert len(set(res.labels)) == len(res)  # every solution its own branch
+        counts.append(len(res))
+    assert max(counts) == 8
+
+
+@pytest.mark.parametrize("make", INDUSTRIAL)
+def test_batch_matches_single_pose(make):
+    arm = make()
+    rng = np.random.default_rng(5)
+    q = rng.uniform(-pi, pi, (40, 6))
+    T = arm.fk(q)
+    batch = arm.ik_batch(T)
+    assert batch.valid.shape == (40, 8)
+    for i in range(40):
+        single = arm.ik(T[i])
+        got = batch.q[i][batch.valid[i]]
+        assert len(got) >= len(single)
+        for row in single.q:
+            assert np.abs(rikin.wrap_angle(got - row)).max(axis=1).min() < 1e-9
+        pos, rot = fk_errors(arm, got, T[i])
+        assert pos.max() <= POS_TOL and rot.max() <= ROT_TOL
+
+
+# ------------------------------------------------------------------ random tables
+angle = st.floats(-pi, pi, allow_nan=False)
+# Exact zeros as tables are typed, else values away from zero: a table with a2 = 1e-5 next
+# to a3 = 1 is a near-degenerate arm whose joints the pose fixes only to ~eps / 1e-5.
+special_twist = st.sampled_from([0.0, pi / 2, -pi / 2, pi])
+twist = st.one_of(special_twist, st.floats(0.1, 3.0), st.floats(-3.0, -0.1))
+wrist_twist = st.one_of(st.sampled_from([pi / 2, -pi / 2]), st.floats(0.3, 2.8), st.floats(-2.8, -0.3))
+length = st.one_of(st.just(0.0), st.floats(0.05, 2.0), st.floats(-2.0, -0.05))
+
+
+@st.composite
+def spherical_wrist_arms(draw):
+    convention = draw(st.sampled_from(["standard", "modified"]))
+    a = [draw(length) for _ in range(3)]
+    d = [draw(length) for _ in range(4)]
+    al = [draw(twist) for _ in range(3)]
+    b1, b2 = draw(wrist_twist), draw(wrist_twist)
+    off = [draw(st.one_of(st.just(0.0), angle)) for _ in range(6)]
+    d6, a6, al6 = draw(length), draw(length), draw(twist)
+    if convention == "standard":
+        links = [Link(d=d[i], a=a[i], alpha=al[i], offset=off[i]) for i in range(3)]
+        links += [Link(d=d[3], alpha=b1, offset=off[3]), Link(alpha=b2, offset=off[4]),
+                  Link(d=d6, a=a6, alpha=al6, offset=off[5])]
+    else:  # link i holds alpha_{i-1}, a_{i-1}; the wrist: a4 = d5 = a5 = 0
+        links = [Link(alpha=al[0], a=a[0], d=d[0], offset=off[0]),
+                 Link(alpha=al[1], a=a[1], d=d[1], offset=off[1]),
+                 Link(alpha=al[2], a=a[2], d=d[2], offset=off[2]),
+                 Link(alpha=draw(twist), a=draw(length), d=d[3], offset=off[3]),
+                 Link(alpha=b1, offset=off[4]), Link(alpha=b2, d=d6, offset=off[5])]
+    rpy = [draw(angle), draw(st.floats(-1.5, 1.5)), draw(angle)]
+    base = rikin.homogeneous(rikin.rpy_to_r(*rpy), [draw(st.floats(-1, 1)) for _ in range(3)])
+    tool = rikin.homogeneous(rikin.rpy_to_r(draw(angle), 0.3, draw(angle)),
+                             [draw(st.floats(-1, 1)) for _ in range(3)])
+    arm = SerialArm(tuple(links), convention=convention, base=base, tool=tool)
+    return arm
+
+
+@settings(max_examples=150, deadline=None)
+@given(spherical_wrist_arms(), st.lists(angle, min_size=6, max_size=6))
+def test_random_spherical_wrist_tables_round_trip(arm, q):
+    c = classify(arm)
+    if not c.closed_form:  # degenerate draws (axes 1-2 or 2-3 the same line, ...)
+        assert c.reason
+        return
+    q = np.array(q)
+    T = arm.fk(q)
+    res = arm.ik(T, near=q)  # at a singularity the free joints come from near
+    assert_all_reach(arm, res, T)
+    assert distance_to(res, q, arm) < SAME_Q
+
+
+def test_non_orthogonal_wrist_round_trip_and_unreachable_orientation():
+    arm = SerialArm(puma560().links[:3] + (
+        Link(d=0.4318, alpha=math.radians(60)), Link(alpha=math.radians(-45)), Link(d=0.05),
+    ), name="tilted wrist", units="m")
+    rng = np.random.default_rng(3)
+    for _ in range(100):
+        q = rng.uniform(-pi, pi, 6)
+        T = arm.fk(q)
+        res = arm.ik(T)
+        assert_all_reach(arm, res, T)
+        assert distance_to(res, q) < SAME_Q
+    # axis 6 can make 15..105 degrees with axis 4; ask for the tool along axis 4
+    q = np.zeros(6)
+    T = arm.fk(q)
+    F = arm.fk(q, frames=True)
+    R = F[4, :3, :3]  # frame 3: z along axis 4 (standard DH)
+    T_bad = rikin.homogeneous(R, T[:3, 3])
+    with pytest.raises(rikin.UnreachableError, match="cannot tilt") as err:
+        arm.ik(T_bad)
+    assert err.value.excess > 0
+
+
+# ------------------------------------------------------------------ singular poses
+def test_wrist_singularity_is_flagged_with_its_free_joints():
+    arm = puma560()
+    q = np.array([0.3, -0.4, 0.5, 0.7, 0.0, -0.2])
+    res = arm.ik(arm.fk(q), near=q)
+    assert res.singular and 4 in res.free_joints and 6 in res.free_joints
+    assert distance_to(res, q) < SAME_Q
+    assert_all_reach(arm, res, arm.fk(q))
+
+
+def test_shoulder_singularity_wrist_centre_on_axis_1():
+    """Aula 10 from its table with the wrist centre straight above the base."""
+    arm = from_table(robots.aula10_6r())
+    # the lesson solver finds such a pose: wrist centre on the axis of joint 1
+    q = np.array([0.0, 0.0, 0.0, 0.4, 0.8, 0.2])
+    for q3 in np.linspace(-pi, pi, 2001):
+        q[2] = q3
+        F = arm.fk(q, frames=True)
+        centre = F[-1, :3, 3] - 20.0 * F[-1, :3, 2]
+        if abs(centre[0]) < 1e-3 and abs(centre[1]) < 1e-3:
+            break
+    # refine q3 on the horizontal distance
+    lo, hi = q[2] - 0.01, q[2] + 0.01
+
+    def horizontal(q3):
+        qq = q.copy()
+        qq[2] = q3
+        F = arm.fk(qq, frames=True)
+        return (F[-1, :3, 3] - 20.0 * F[-1, :3, 2])[0]
+
+    for _ in range(80):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if np.sign(horizontal(mid)) == np.sign(horizontal(lo)) else (lo, mid)
+    q[2] = (lo + hi) / 2
+    T = arm.fk(q)
+    res = arm.ik(T, near=q)
+    assert res.singular and 1 in res.free_joints
+    assert_all_reach(arm, res, T)
+    assert distance_to(res, q) < SAME_Q
+
+
+def test_elbow_at_full_reach_gives_the_coinciding_branches_once():
+    arm = from_table(robots.aula10_6r())
+    lesson = robots.aula10_6r()
+    q = np.array([0.2, 0.3, 0.0, 0.5, 0.6, 0.7])  # q3 = 0 is the stretched elbow of Aula 10?
+    # find the stretched q3: where the wrist centre is farthest from the shoulder
+    best = max(np.linspace(-pi, pi, 721), key=lambda t: np.linalg.norm(
+        lesson.fk(np.r_[q[:2], t, q[3:]])[:3, 3] - [0, 0, 12]))
+    q[2] = best
+    T = lesson.fk(q)
+    a, b = lesson.ik(T), arm.ik(T)
+    assert len(a) == len(b)
+    assert_all_reach(arm, b, T)
+
+
+# ------------------------------------------------------------------ unreachable
+@pytest.mark.parametrize("make", [robots.aula10_6r, robots.epson_c4])
+def test_unreachable_says_by_how_much_like_the_lesson_solver(make):
+    lesson = make()
+    general = from_table(lesson)
+    T = lesson.fk(np.zeros(6))
+    T[:3, 3] *= 4.0
+    with pytest.raises(rikin.UnreachableError) as want:
+        lesson.ik(T)
+    with pytest.raises(rikin.UnreachableError, match="out of reach of joints 1-3") as got:
+        general.ik(T)
+    assert got.value.excess == pytest.approx(want.value.excess, rel=1e-6)
