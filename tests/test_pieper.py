@@ -259,15 +259,25 @@ def test_non_orthogonal_wrist_round_trip_and_unreachable_orientation():
         res = arm.ik(T)
         assert_all_reach(arm, res, T)
         assert distance_to(res, q) < SAME_Q
-    # axis 6 can make 15..105 degrees with axis 4; ask for the tool along axis 4
-    q = np.zeros(6)
-    T = arm.fk(q)
-    F = arm.fk(q, frames=True)
-    R = F[4, :3, :3]  # frame 3: z along axis 4 (standard DH)
-    T_bad = rikin.homogeneous(R, T[:3, 3])
-    with pytest.raises(rikin.UnreachableError, match="cannot tilt") as err:
-        arm.ik(T_bad)
-    assert err.value.excess > 0
+    # axis 6 can only make 15..105 degrees with axis 4: orientations asking for less or more,
+    # at a wrist centre joints 1-3 reach, are out of reach; numerical IK must agree
+    T0 = arm.fk(np.array([0.3, -0.5, 0.4, 0.0, 0.7, 0.0]))
+    centre = T0[:3, 3] - 0.05 * T0[:3, 2]
+    raised = 0
+    for _ in range(40):
+        R = rikin.rpy_to_r(*rng.uniform(-pi, pi, 3))
+        T = rikin.homogeneous(R, centre + 0.05 * R[:, 2])
+        try:
+            res = arm.ik(T)
+        except rikin.UnreachableError as err:
+            raised += 1
+            assert "cannot tilt" in str(err) and err.excess > 0
+            if raised <= 2:
+                num = rikin.ik.ik_numerical_multistart(arm, T, 30, rng=1)
+                assert len(num) == 0
+        else:
+            assert_all_reach(arm, res, T)
+    assert raised > 0
 
 
 # ------------------------------------------------------------------ singular poses
@@ -281,34 +291,16 @@ def test_wrist_singularity_is_flagged_with_its_free_joints():
 
 
 def test_shoulder_singularity_wrist_centre_on_axis_1():
-    """Aula 10 from its table with the wrist centre straight above the base."""
+    """Aula 10 from its table with the wrist centre straight above the base: q1 is free."""
     arm = from_table(robots.aula10_6r())
-    # the lesson solver finds such a pose: wrist centre on the axis of joint 1
-    q = np.array([0.0, 0.0, 0.0, 0.4, 0.8, 0.2])
-    for q3 in np.linspace(-pi, pi, 2001):
-        q[2] = q3
-        F = arm.fk(q, frames=True)
-        centre = F[-1, :3, 3] - 20.0 * F[-1, :3, 2]
-        if abs(centre[0]) < 1e-3 and abs(centre[1]) < 1e-3:
-            break
-    # refine q3 on the horizontal distance
-    lo, hi = q[2] - 0.01, q[2] + 0.01
-
-    def horizontal(q3):
-        qq = q.copy()
-        qq[2] = q3
-        F = arm.fk(qq, frames=True)
-        return (F[-1, :3, 3] - 20.0 * F[-1, :3, 2])[0]
-
-    for _ in range(80):
-        mid = (lo + hi) / 2
-        lo, hi = (mid, hi) if np.sign(horizontal(mid)) == np.sign(horizontal(lo)) else (lo, mid)
-    q[2] = (lo + hi) / 2
-    T = arm.fk(q)
-    res = arm.ik(T, near=q)
-    assert res.singular and 1 in res.free_joints
-    assert_all_reach(arm, res, T)
-    assert distance_to(res, q) < SAME_Q
+    R = rikin.rpy_to_r(0.3, -0.4, 1.1)
+    T = rikin.homogeneous(R, np.array([0.0, 0.0, 25.0]) + 20.0 * R[:, 2])  # centre (0, 0, 25)
+    for hint in (0.0, 0.7):
+        near = np.array([hint, 0, 0, 0, 0, 0])
+        res = arm.ik(T, near=near)
+        assert res.singular and 1 in res.free_joints
+        assert_all_reach(arm, res, T)
+        assert np.allclose(rikin.wrap_angle(res.q[:, 0] - hint), 0.0)  # q1 from near
 
 
 def test_elbow_at_full_reach_gives_the_coinciding_branches_once():

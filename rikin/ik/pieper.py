@@ -765,9 +765,10 @@ class Pieper6RSolver:
         c = np.append(self.wrist.c_flange, 1.0)
         p_w = (T_0_n @ c)[:3]
         p = (self.M0_inv @ np.append(p_w, 1.0))[:3]
-        gap, th = self._nearest_reach(p)
         u = _units(arm)
-        if gap > ACCEPT_TOL * self.model.scale * 10:
+        th, valid, _ = self._position(p[None], 0.0)
+        if not valid[0].any():
+            gap = self._nearest_reach(p)
             return (
                 f"the wrist centre is {gap:.4g}{u} out of reach of joints 1-3 (the nearest "
                 f"point they can put it is {gap:.6g}{u} away)",
@@ -779,19 +780,20 @@ class Pieper6RSolver:
             lo, hi = sorted(
                 float(np.arccos(np.clip(math.cos(x), -1.0, 1.0))) for x in (b1 + b2, b1 - b2)
             )
-            ang = self._tilt_needed(th, T_0_n)
-            ex = max(lo - ang, ang - hi, 0.0)
-            if ex > 0:
+            needed = [self._tilt_needed(th[0, k], T_0_n) for k in np.flatnonzero(valid[0])]
+            excess = [max(lo - a, a - hi, 0.0) for a in needed]
+            k = int(np.argmin(excess))
+            if excess[k] > 0:
                 return (
                     f"the wrist cannot tilt the tool that far: axis 6 must make "
-                    f"{math.degrees(ang):.4g} deg with axis 4, and this wrist only reaches "
-                    f"{math.degrees(lo):.4g}-{math.degrees(hi):.4g} deg",
-                    ex,
+                    f"{math.degrees(needed[k]):.4g} deg with axis 4, and this wrist only "
+                    f"reaches {math.degrees(lo):.4g}-{math.degrees(hi):.4g} deg",
+                    excess[k],
                 )
         return "no joint values reproduce this pose (numerically at the edge of reach)", 0.0
 
     def _tilt_needed(self, th123: FloatArray, T_0_n: FloatArray) -> float:
-        """Angle between axis 4 (after joints 1-3 reach ``p``) and the target's axis 6."""
+        """Angle between axis 4 (after joints 1-3 at ``th123``) and the target's axis 6."""
         M = self.model.M
         R = M[0, :3, :3]
         for i in range(3):
@@ -800,29 +802,28 @@ class Pieper6RSolver:
         z6 = (T_0_n[:3, :3] @ M[6, :3, :3].T)[:, 2]
         return float(np.arccos(np.clip(z4 @ z6, -1.0, 1.0)))
 
-    def _nearest_reach(self, p: FloatArray) -> tuple[float, FloatArray]:
-        """Distance from ``p'`` to what joints 1-3 reach, and the joints of the nearest point."""
-        rng = np.random.default_rng(0)
-        th = rng.uniform(-np.pi, np.pi, size=(64, 3))
-        v = np.append(self.wrist.v, 1.0)
-        M = self.model.M
+    def _nearest_reach(self, p: FloatArray) -> float:
+        """Distance from ``p'`` to the nearest point joints 1-3 can put the wrist centre.
 
-        def point(t: FloatArray) -> FloatArray:
-            return (
-                _rz4(t[..., 0]) @ M[1] @ _rz4(t[..., 1]) @ M[2] @ _rz4(t[..., 2]) @ v
-            )[..., :3]
+        Joint 1 turns the point ``r(th2, th3)`` about axis 1, so the distance is that
+        of ``(|r_xy|, r_z)`` to ``(|p_xy|, p_z)``: minimised over ``th2, th3`` on a grid,
+        then on finer grids around the best point.
+        """
+        rho_p = math.hypot(p[0], p[1])
 
-        for _ in range(60):
-            x = point(th)
-            e = p - x
-            eps = 1e-7
-            J = np.stack(
-                [(point(th + eps * np.eye(3)[k]) - x) / eps for k in range(3)], axis=-1
-            )
-            JT = np.swapaxes(J, -1, -2)
-            lam = 1e-6 * self.model.scale**2
-            step = np.linalg.solve(JT @ J + lam * np.eye(3), JT @ e[..., None])[..., 0]
-            th = th + step
-        d = np.linalg.norm(p - point(th), axis=-1)
-        best = int(np.argmin(d))
-        return float(d[best]), th[best]
+        def gap(t2: FloatArray, t3: FloatArray) -> FloatArray:
+            r = self._arm_point(t2, t3)
+            return np.hypot(np.hypot(r[..., 0], r[..., 1]) - rho_p, r[..., 2] - p[2])
+
+        span = np.pi
+        c2 = c3 = 0.0
+        n = 121
+        for _ in range(6):
+            g2, g3 = np.meshgrid(np.linspace(c2 - span, c2 + span, n),
+                                 np.linspace(c3 - span, c3 + span, n))
+            d = gap(g2, g3)
+            i = np.unravel_index(int(np.argmin(d)), d.shape)
+            c2, c3 = float(g2[i]), float(g3[i])
+            span *= 4.0 / n
+            n = 41
+        return float(gap(np.array(c2), np.array(c3)))
