@@ -143,6 +143,16 @@ class InteractiveFigure:
             "})();</script>"
         )
 
+    def as_html(self) -> Any:
+        """The figure as an ``IPython.display.HTML`` (only ``text/html``), for ``myst_nb.glue``.
+
+        A glued figure gets the book's numbered caption (``{glue:figure}``);
+        glue renders every mime type it is given, so give it this one alone.
+        """
+        from IPython.display import HTML
+
+        return HTML(self.to_html())
+
     def _repr_mimebundle_(self, include: Any = None, exclude: Any = None) -> dict[str, Any]:
         if "google.colab" in sys.modules:
             # Colab renders plotly's own output (its renderer loads plotly.js itself)
@@ -204,7 +214,7 @@ def _arm_geometry(arm: SerialArm, q: FloatArray | None, fs: float, dims: int,
         return [_empty(dims) for _ in range(TRACES_PER_ARM)]
     F = arm._fk(q, frames=True)
     geo = [_xyz(link_path(arm, F), dims), _xyz(joint_points(arm, F), dims),
-           _xyz(gripper_path(F[-1], 0.9 * fs, planar=dims == 2), dims),
+           _xyz(gripper_path(F[-1], (0.9 if dims == 3 else 0.55) * fs, planar=dims == 2), dims),
            _xyz(F[-1:, :3, 3], dims)]
     for k in range(3):
         if frames and k < dims:
@@ -243,25 +253,31 @@ def _arm_traces(go: Any, dims: int, colour: str, name: str, group: str,
 def _layout(go: Any, arm: SerialArm, lim: FloatArray, dims: int, title: str,
             height: int) -> dict[str, Any]:
     u = f" ({arm.units})" if arm.units else ""
+    key = MARKER_KEY.replace("  ·  ★", "<br>◆")
+    if dims == 2:
+        key = key.replace("approach along z", "approach along x").replace(", z blue", "")
     layout: dict[str, Any] = {
-        "title": {"text": title, "font": {"size": 14}, "x": 0.0, "xanchor": "left"},
+        "title": {"text": title, "font": {"size": 14}, "x": 0.01, "xanchor": "left",
+                  "y": 0.985, "yanchor": "top", "yref": "container", "pad": {"t": 6}},
         "height": height,
-        "margin": {"l": 10, "r": 10, "t": 80, "b": 40},
-        "legend": {"orientation": "h", "y": -0.02, "font": {"size": 11}},
+        "margin": {"l": 10, "r": 10, "t": 100, "b": 40},
+        # the legend sits on top of the plot, the controls under it, the key at the bottom
+        "legend": {"orientation": "h", "x": 0.0, "y": 1.0, "yanchor": "bottom",
+                   "font": {"size": 11}},
         "autosize": True,
         "uirevision": "keep",     # keep the user's rotation when the data change
-        "annotations": [{"text": MARKER_KEY.replace("★", "◆"), "showarrow": False,
-                         "xref": "paper", "yref": "paper", "x": 0.0, "y": 1.0,
-                         "xanchor": "left", "yanchor": "bottom", "font": {"size": 10,
-                                                                          "color": "#555"}}],
+        "annotations": [{"text": key, "showarrow": False, "align": "left",
+                         "xref": "paper", "yref": "paper", "x": 0.0, "y": 0.0,
+                         "xanchor": "left", "yanchor": "bottom", "yshift": -36,
+                         "font": {"size": 10, "color": "#555"}}],
     }
     if dims == 3:
         axes = {f"{'xyz'[k]}axis": {"range": [float(lim[k, 0]), float(lim[k, 1])],
                                    "title": {"text": f"{'xyz'[k]}{u}"}, "nticks": 5}
                 for k in range(3)}
         layout["scene"] = {**axes, "aspectmode": "cube",
-                           "domain": {"x": [0.0, 1.0], "y": [0.0, 1.0]},
-                           "camera": {"eye": {"x": 1.55, "y": -1.55, "z": 0.9}}}
+                           "domain": {"x": [0.0, 1.0], "y": [0.04, 1.0]},
+                           "camera": {"eye": {"x": 1.7, "y": -1.7, "z": 1.0}}}
     else:
         layout["xaxis"] = {"range": [float(lim[0, 0]), float(lim[0, 1])], "title": f"x{u}",
                            "zeroline": False}
@@ -384,8 +400,8 @@ def solutions_figure(arm: SerialArm, result: Any, *, frames: bool = True, height
                               "active": selected - 1, "showactive": True, "x": 0.0, "y": -0.06,
                               "xanchor": "left", "yanchor": "top", "pad": {"t": 4},
                               "font": {"size": 12}}]
-    layout["legend"]["y"] = -0.16
     layout["margin"]["b"] = 110
+    layout["annotations"][0]["yshift"] = -106
     fig = go.Figure(data=traces, layout=layout)
     return InteractiveFigure(fig, _div_id("solutions", arm, Q))
 
@@ -546,8 +562,8 @@ def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: i
                                                                      "redraw": True},
                                                            "fromcurrent": True,
                                                            "transition": {"duration": 0}}]}]}]
-    layout["legend"]["y"] = -0.22
-    layout["margin"]["b"] = 140
+    layout["margin"]["b"] = 150
+    layout["annotations"][0]["yshift"] = -146
     fig = go.Figure(data=traces, layout=layout, frames=frames_out)
     return InteractiveFigure(fig, _div_id("path", arm, tpos))
 

@@ -314,7 +314,8 @@ def _draw_arm(ax: Axes, arm: SerialArm, q: FloatArray, *, frames: bool, frame_sc
             ax.plot(*origins[mask, :dims].T, marker, ms=8, mfc="white", mec=col, mew=2.0,
                     ls="none", gid="joints", zorder=4)
     if gripper:
-        ax.plot(*gripper_path(F[-1], 0.9 * frame_scale, planar=not three_d)[:, :dims].T, "-",
+        size = (0.9 if three_d else 0.55) * frame_scale
+        ax.plot(*gripper_path(F[-1], size, planar=not three_d)[:, :dims].T, "-",
                 color="tab:orange", lw=2.2, solid_capstyle="round", gid="gripper", zorder=5)
     ax.plot(*P[-1, :dims], "*", ms=14, color="tab:orange", mec="k", mew=0.6, ls="none",
             gid="tcp", zorder=5)
@@ -431,6 +432,8 @@ def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True
     _draw_arm(ax, arm, qv, frames=frames, frame_scale=fs, color=color, label_joints=label_joints,
               gripper=gripper)
     _apply_limits(ax, lim, arm, azim, elev)
+    if three_d:
+        _few_ticks(ax, 5, labelsize=None)
     ax.set_title(f"{arm.name} at q = {_q_text(arm, qv)}" if title is None else title, fontsize=10)
     return ax
 
@@ -477,12 +480,13 @@ def same_joint_points(arm: SerialArm, Q: Any) -> list[list[int]]:
     return [[int(j) + 1 for j in np.flatnonzero(row <= tol) if j != i] for i, row in enumerate(gap)]
 
 
-def _few_ticks(ax: Axes, n: int = 3) -> None:
-    """At most ``n`` ticks per axis, small labels: small 3D panels stay readable."""
+def _few_ticks(ax: Axes, n: int = 3, labelsize: float | None = 6) -> None:
+    """At most ``n`` ticks per axis (small labels): tick labels never run together."""
     axes = (ax.xaxis, ax.yaxis, ax.zaxis) if ax.name == "3d" else (ax.xaxis, ax.yaxis)
     for axis in axes:
         axis.set_major_locator(MaxNLocator(n))
-    ax.tick_params(labelsize=6, pad=0)
+    if labelsize is not None:
+        ax.tick_params(labelsize=labelsize, pad=0)
 
 
 def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,

@@ -85,7 +85,8 @@ class Table:
 
     def _repr_html_(self) -> str:
         def td(c: str, j: int, tag: str = "td") -> str:
-            style = ' style="text-align:right"' if self._numeric[j] else ""
+            align = "right" if self._numeric[j] else "left"
+            style = f' style="text-align:{align};padding:0.15em 0.7em;white-space:nowrap"'
             return f"<{tag}{style}>{html.escape(c)}</{tag}>"
 
         head = "".join(td(h, j, "th") for j, h in enumerate(self.header))
@@ -93,7 +94,8 @@ class Table:
                        for r in self.cells)
         cap = f"<caption>{html.escape(self.caption)}</caption>" if self.caption else ""
         return (f'<div class="{CSS_CLASS}-wrap" style="max-width:100%;overflow-x:auto">'
-                f'<table class="{CSS_CLASS}">{cap}<thead><tr>{head}</tr></thead>'
+                f'<table class="{CSS_CLASS}" style="margin:0.4em 0;border-collapse:collapse">'
+                f"{cap}<thead><tr>{head}</tr></thead>"
                 f"<tbody>{body}</tbody></table></div>")
 
 
