@@ -85,8 +85,11 @@ class Table:
 
     def _repr_html_(self) -> str:
         def td(c: str, j: int, tag: str = "td") -> str:
-            align = "right" if self._numeric[j] else "left"
-            style = f' style="text-align:{align};padding:0.15em 0.7em;white-space:nowrap"'
+            # numbers stay on one line; text and headings may wrap to fit the page
+            align, wrap = ("right", "nowrap") if self._numeric[j] else ("left", "normal")
+            if tag == "th":
+                wrap = "normal"
+            style = f' style="text-align:{align};padding:0.1em 0.45em;white-space:{wrap}"'
             return f"<{tag}{style}>{html.escape(c)}</{tag}>"
 
         head = "".join(td(h, j, "th") for j, h in enumerate(self.header))
@@ -94,7 +97,8 @@ class Table:
                        for r in self.cells)
         cap = f"<caption>{html.escape(self.caption)}</caption>" if self.caption else ""
         return (f'<div class="{CSS_CLASS}-wrap" style="max-width:100%;overflow-x:auto">'
-                f'<table class="{CSS_CLASS}" style="margin:0.4em 0;border-collapse:collapse">'
+                f'<table class="{CSS_CLASS}" style="margin:0.4em 0;'
+                f'border-collapse:collapse;font-size:0.92em">'
                 f"{cap}<thead><tr>{head}</tr></thead>"
                 f"<tbody>{body}</tbody></table></div>")
 

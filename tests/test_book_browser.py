@@ -11,6 +11,10 @@ fails on:
   ``#anchor`` that is not an id of the target page);
 * a SEVERE message in the browser console (a script error, a resource that failed to load).
 
+And one interactive figure is operated: on the first chapter with an all-solutions
+figure, clicking a solution's button must change the traces shown, the title (to that
+solution's branch) and the pixels drawn, with plotly.js served by the book itself.
+
 The book is built once per module into a temporary directory with the same strict command
 as ``test_book_build.py``; set ``RIKIN_BOOK_HTML`` to an existing ``_build/html`` folder to
 test that build instead. Chromium and chromedriver come from the Debian packages
@@ -318,3 +322,151 @@ def test_chapters_have_math_and_figures(book_html: Path, server: str, driver: ob
     images = driver.execute_script(_IMAGES)
     assert math["n_typeset"] >= 10, math
     assert len(images) >= 2 and all(w > 0 for _, _, w in images), images
+
+
+# ------------------------------------------------------------------ layout: fits the column
+#: The widths the layout is checked at: a laptop window and a phone.
+DESKTOP_PX = 1280
+PHONE_PX = 390
+
+_OVERFLOW = r"""
+// open every folded cell and dropdown: what a reader unfolds must fit too
+document.querySelectorAll('details').forEach(d => { d.open = true; });
+document.querySelectorAll('.toggle-hidden, .toggle-details').forEach(
+  el => el.classList.remove('toggle-hidden'));
+const column = document.querySelector('article.bd-article') || document.querySelector('main');
+const col = column.getBoundingClientRect();
+// inline math measures wider than its box by its glyphs' overhang; display math is checked
+const internal = el => el.closest('mjx-assistive-mml, .headerlink, script, style, '
+                                  + '.modebar-container, .plotly .main-svg defs, '
+                                  + 'mjx-container:not([display="true"]), span.math');
+const scrolls = el => ['auto', 'scroll', 'hidden', 'clip'].includes(
+  getComputedStyle(el).overflowX);
+const kind = el => {
+  if (el.matches('.math, mjx-container') || el.querySelector('mjx-container[display]'))
+    return 'equation';
+  if (el.matches('table') || el.querySelector(':scope > table')) return 'table';
+  if (el.closest('.cell_input')) return 'input cell';
+  if (el.closest('.cell_output, .output')) return 'output';
+  if (el.matches('pre, div.highlight')) return 'code block';
+  if (el.matches('img, svg, canvas, .rikin-interactive')) return 'figure';
+  return el.tagName.toLowerCase();
+};
+const describe = (el, why) => ({kind: kind(el), why: why,
+  text: (el.textContent || el.getAttribute('src') || '').trim().replace(/\s+/g, ' ')
+          .slice(0, 70)});
+const insideScroller = el => {
+  for (let p = el.parentElement; p && p !== column; p = p.parentElement) {
+    if (scrolls(p)) return true;
+  }
+  return false;
+};
+const found = [];
+const flagged = [];
+const under = el => flagged.some(f => f.contains(el));
+// (a) a box that scrolls (or clips) sideways because its content is wider than it
+for (const el of column.querySelectorAll('*')) {
+  if (internal(el) || !scrolls(el) || el.clientWidth === 0) continue;
+  if (el.scrollWidth > el.clientWidth + 1 && !under(el)) {
+    flagged.push(el);
+    found.push(describe(el, `content ${el.scrollWidth}px in a ${el.clientWidth}px box`));
+  }
+}
+// (b) a block that sticks out of the column (not inside a box that scrolls)
+const blocks = column.querySelectorAll(
+  'pre, div.highlight, table, img, svg, canvas, div.math, mjx-container[display="true"], '
+  + '.rikin-interactive, .cell, .cell_output, figure, p, li, dl, blockquote, .admonition');
+for (const el of blocks) {
+  if (internal(el) || under(el) || insideScroller(el)) continue;
+  const r = el.getBoundingClientRect();
+  if (r.width === 0 || r.height === 0) continue;
+  if (r.right > col.right + 1 || r.left < col.left - 1) {
+    flagged.push(el);
+    found.push(describe(el, `${Math.round(r.width)}px wide, sticks out of the `
+                            + `${Math.round(col.width)}px column`));
+  }
+}
+return {column: Math.round(col.width), page: document.documentElement.scrollWidth,
+        viewport: window.innerWidth, found: found};
+"""
+
+
+def _open(driver: object, url: str) -> None:
+    driver.get(url)
+    deadline = time.monotonic() + PAGE_TIMEOUT_S
+    while driver.execute_script("return document.readyState") != "complete":
+        assert time.monotonic() < deadline, f"{url} did not finish loading"
+        time.sleep(0.05)
+    if driver.execute_script("return !!window.MathJax"):
+        driver.execute_async_script(_WAIT_MATHJAX)
+    driver.execute_script(_IMAGES)
+
+
+def _set_width(driver: object, px: int) -> None:
+    driver.set_window_size(px, 900)
+    # the window's outer size includes no chrome in headless mode; make sure
+    inner = driver.execute_script("return window.innerWidth")
+    if inner != px:
+        driver.set_window_size(px + (px - inner), 900)
+
+
+CHAPTER_PAGES = [p for p in PAGES if p.startswith("book/")]
+
+
+# ------------------------------------------------------------------ an interactive figure, operated
+_FIGURE_STATE = r"""
+const el = document.querySelector('.rikin-interactive');
+if (!el || !el._fullLayout) return null;
+const title = el._fullLayout.title ? el._fullLayout.title.text : '';
+return {title: title, visible: el.data.map(t => t.visible === true),
+        buttons: Array.from(el.querySelectorAll('g.updatemenu-button')).map(
+            b => b.textContent.trim())};
+"""
+
+
+@pytest.mark.book
+@pytest.mark.slow
+def test_interactive_figure_steps_through_the_solutions(book_html: Path, server: str,
+                                                        driver: object) -> None:
+    """Click a solution button of the all-solutions figure: a different arm is drawn."""
+    from selenium.webdriver.common.by import By
+
+    pages = [p for p in CHAPTER_PAGES
+             if "rikin-interactive-solutions" in (book_html / p).read_text(encoding="utf-8")]
+    assert pages, "no chapter has an interactive all-solutions figure"
+    assert (book_html / "_static" / "plotly" / "plotly.min.js").is_file()
+    page = pages[0]
+    _set_width(driver, DESKTOP_PX)
+    driver.get_log("browser")
+    _open(driver, f"{server}/{page}")
+    scripts = driver.execute_script("return Array.from(document.scripts).map(s => s.src)")
+    assert any("/_static/plotly/plotly.min.js" in s for s in scripts), scripts
+    deadline = time.monotonic() + 30
+    state = None
+    while state is None and time.monotonic() < deadline:
+        state = driver.execute_script(_FIGURE_STATE)
+        time.sleep(0.1)
+    assert state is not None, f"{page}: the interactive figure was never drawn (plotly.js?)"
+    fig = driver.find_element(By.CSS_SELECTOR, ".rikin-interactive")
+    driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", fig)
+    time.sleep(0.5)
+    before_png = fig.screenshot_as_png
+    before = driver.execute_script(_FIGURE_STATE)
+    assert before["buttons"][:2] == ["1", "2"], before["buttons"]
+    target = "3" if "3" in before["buttons"] else "2"
+    (button,) = [b for b in fig.find_elements(By.CSS_SELECTOR, "g.updatemenu-button")
+                 if b.text.strip() == target]
+    button.click()
+    deadline = time.monotonic() + 10
+    after = driver.execute_script(_FIGURE_STATE)
+    while after["visible"] == before["visible"] and time.monotonic() < deadline:
+        time.sleep(0.1)
+        after = driver.execute_script(_FIGURE_STATE)
+    time.sleep(0.5)
+    after_png = fig.screenshot_as_png
+    assert after["visible"] != before["visible"], "clicking the button changed no trace"
+    assert after["title"] != before["title"] and after["title"].split("<br>")[1].startswith(
+        f"{target}:"), after["title"]
+    assert after_png != before_png, "the drawing did not change"
+    severe = [e["message"] for e in driver.get_log("browser") if e.get("level") == "SEVERE"]
+    assert not severe, severe

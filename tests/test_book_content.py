@@ -40,8 +40,9 @@ CHAPTERS = [p for p in NOTEBOOK_PAGES[1:] if p != "book/what_is_ik"]  # the less
 #: Chapters with the full teaching apparatus (item 5 of issue 16).
 TAUGHT = ["book/what_is_ik", "book/planar", "book/angular", "book/dh_product",
           "book/decoupling", "book/epson_c4"]
-#: Chapters whose asserting cells are all folded away (planar and angular: their owner's).
-FOLDED = ["book/what_is_ik", "book/dh_product", "book/decoupling", "book/epson_c4"]
+#: Chapters whose asserting cells are all folded away.
+FOLDED = ["book/what_is_ik", "book/planar", "book/angular", "book/dh_product",
+          "book/decoupling", "book/epson_c4"]
 CODE_CELL = re.compile(r"^```\{code-cell\}[^\n]*\n(.*?)^```", re.S | re.M)
 
 
@@ -220,9 +221,16 @@ def test_chapter_has_the_teaching_apparatus(page: str) -> None:
 def test_checks_are_folded(page: str) -> None:
     """Cells that assert are folded away (hide-input / hide-cell / remove-input)."""
     blocks = re.findall(r"^```\{code-cell\}[^\n]*\n(.*?)^```", _source(page), re.S | re.M)
+    folded = re.compile(r"(?:^:tags: |^tags: )\[[^\]]*(hide-input|hide-cell|remove-input)", re.M)
+
+    def options(block: str) -> str:
+        """A cell's options: ``:key: value`` lines, or the YAML between ``---`` lines."""
+        if block.startswith("---\n"):
+            return block.split("\n---\n", 1)[0]
+        return "\n".join(line for line in block.splitlines() if line.startswith(":"))
+
     unfolded = [b.splitlines()[0] if b.strip() else "" for b in blocks
-                if re.search(r"^\s*assert ", b, re.M)
-                and not re.match(r":tags: \[[^\]]*(hide-input|hide-cell|remove-input)", b)]
+                if re.search(r"^\s*assert ", b, re.M) and not folded.search(options(b))]
     assert not unfolded, f"{page}: {len(unfolded)} asserting cells are shown unfolded: {unfolded[:3]}"
 
 
@@ -238,3 +246,47 @@ def test_exercises_chapter_states_the_problems() -> None:
     assert "How your notebook is graded" not in text, "exercises: grader weights copied in"
     for page in TAUGHT:
         assert f"{{doc}}`{Path(page).name}`" in text, f"exercises: no pointer to {page}'s exercises"
+
+
+# ------------------------------------------------------------------ figures (issue 16, item 6)
+def _cell_options(block: str) -> dict:
+    """The YAML options of a code cell (between ``---`` lines), or {}."""
+    if not block.startswith("---\n"):
+        return {}
+    return yaml.safe_load(block.split("\n---\n", 1)[0][4:]) or {}
+
+
+def _draws(block: str) -> bool:
+    code = block.split("\n---\n", 1)[-1] if block.startswith("---\n") else block
+    return bool(re.search(r"plt\.show\(\)|\.savefig\(", code))
+
+
+@pytest.mark.parametrize("page", NOTEBOOK_PAGES)
+def test_every_figure_is_numbered_captioned_and_referenced(page: str) -> None:
+    """A cell that draws is a numbered figure (mystnb figure: caption and name) with real
+    alt text, and the text refers to it with {numref}; so is every glued figure."""
+    text = _source(page)
+    names = []
+    for block in _code_cells(text):
+        opts = _cell_options(block)   # raises on bad YAML, which the build would too
+        if not _draws(block):
+            continue
+        nb = opts.get("mystnb", {})
+        fig, image = nb.get("figure", {}), nb.get("image", {})
+        first = block.split("\n---\n", 1)[-1].strip().splitlines()[0]
+        assert fig.get("caption") and fig.get("name"), f"{page}: figure without caption: {first}"
+        alt = str(image.get("alt", ""))
+        assert len(alt.split()) >= 8, f"{page}: figure {fig['name']} has no real alt text"
+        code = block.split("\n---\n", 1)[-1]
+        # myst-nb gives every output of the cell the figure's name: draw nothing else
+        assert not re.search(r"^\s*(ok|display|print|say)\(", code, re.M), (
+            f"{page}: figure {fig['name']} shares its cell with other output")
+        names.append(fig["name"])
+    for m in re.finditer(r"^```\{glue:figure\} \S+\n((?::\w+:.*\n)+)", text, re.M):
+        opts = dict(re.findall(r"^:(\w+): (.*)$", m.group(1), re.M))
+        assert opts.get("name") and len(opts.get("alt", "").split()) >= 8, (
+            f"{page}: glued figure without name or alt text: {m.group(0)[:80]}")
+        names.append(opts["name"])
+    for name in names:
+        assert f"{{numref}}`{name}`" in text, f"{page}: figure {name} is never referred to"
+    assert len(set(names)) == len(names), f"{page}: two figures share a name"

@@ -10,6 +10,8 @@ Loaded from ``_config.yml`` (``sphinx.local_extensions``). It does two things:
 * **Interactive figures without a network.** Pages with a ``rikin.interactive``
   figure load ``_static/plotly/plotly.min.js``, copied into the build from the
   installed plotly package; other pages load nothing extra.
+* **The book's stylesheet.** ``book/_static/rikin.css`` (code and output wrap inside
+  the text column) is served and loaded on every page.
 * **No other network access.** sphinx-thebe's scripts (unused: the book has no live-code
   button) are dropped from every page.
 * **Chapters as notebooks.** Each chapter is a MyST markdown notebook, executed during
@@ -120,6 +122,15 @@ def copy_plotly(app: Sphinx, exc: Exception | None) -> None:
     shutil.copy2(interactive.plotly_js(), dest)
 
 
+#: The book's own static folder (its stylesheet) and the stylesheet's name.
+BOOK_STATIC = Path(__file__).resolve().parent.parent / "_static"
+BOOK_CSS = "rikin.css"
+
+
+def add_book_static(app: Sphinx, config: Any) -> None:
+    config.html_static_path = [*config.html_static_path, str(BOOK_STATIC)]
+
+
 def install_cell(spec: str) -> nbformat.NotebookNode:
     cell = nbformat.v4.new_code_cell(INSTALL_CELL.format(spec=spec))
     cell.metadata["tags"] = [INSTALL_TAG, "remove-cell"]
@@ -174,6 +185,8 @@ def drop_thebe_scripts(
 def setup(app: Sphinx) -> dict[str, Any]:
     app.add_config_value("rikin_pip_spec", "rikin @ git+https://example.invalid/rikin.git", "env")
     app.connect("config-inited", set_mathjax_path)
+    app.connect("config-inited", add_book_static)
+    app.add_css_file(BOOK_CSS)
     app.connect("build-finished", copy_mathjax)
     app.connect("build-finished", copy_plotly)
     app.connect("html-page-context", add_plotly)  # before drop_thebe_scripts (900)
