@@ -282,20 +282,73 @@ def test_a_failure_writing_one_result_costs_that_submission_only(tmp_path, monke
     assert len(rows) == 6
 
 
-def test_a_95_mib_cell_is_sent_in_time(tmp_path):
-    """The child reads a message in linear time (a 95 MiB cell took 17-31 s, quadratic)."""
-    require_bwrap()
-    nb = json.loads(_nb_with("x = 1  # " + "z" * (95 * 2**20)))
-    (tmp_path / "big.ipynb").write_text(json.dumps(nb))
-    report = grade(
-        ASSIGNMENT,
-        [tmp_path / "big.ipynb"],
-        tmp_path / "out",
-        workers=1,
-        **{**FAST, "cell_timeout": 6.0},
-    )
-    res = report.results[0]
-    assert (res.score, res.status) == (5, "ok"), res.problems
+def _recv_seconds(lines: list[bytes]) -> float:
+    """Seconds the child's Channel takes to read ``lines`` written to its socket."""
+    import socket
+    import threading
+    import time
+
+    from rikingrade.sandbox import child
+
+    a, b = socket.socketpair()
+    chan = child.Channel(b.fileno())
+    writer = threading.Thread(target=lambda: [a.sendall(x) for x in lines], daemon=True)
+    t0 = time.perf_counter()
+    writer.start()
+    for _ in lines:
+        assert chan.recv() is not None
+    dt = time.perf_counter() - t0
+    writer.join()
+    a.close()
+    b.close()
+    return dt
+
+
+def test_the_child_reads_a_long_message_in_linear_time():
+    """One 40 MiB message costs about what 40 messages of 1 MiB cost (it was quadratic:
+    a 95 MiB code cell took 17-31 s to arrive and once timed out a correct notebook)."""
+    mib = b'"' + b"z" * (2**20 - 3) + b'"\n'
+    small = _recv_seconds([mib] * 40)
+    big = _recv_seconds([b'"' + b"z" * (40 * 2**20 - 3) + b'"\n'])
+    assert big < 4 * small + 0.5, (big, small)
+
+
+HOG = (
+    "import json, os, time\n"
+    "r, w = os.pipe()\n"
+    "kids, forks_failed = [], 0\n"
+    "for _ in range(4):\n"
+    "    try:\n"
+    "        pid = os.fork()\n"
+    "    except OSError:\n"
+    "        forks_failed += 1\n"
+    "        continue\n"
+    "    if pid == 0:\n"
+    "        try:\n"
+    "            junk = b'x' * (350 * 2**20)  # written, so really held\n"
+    "            os.write(w, b'%d\\n' % os.getpid())\n"
+    "            time.sleep(30)\n"
+    "        finally:\n"
+    "            os._exit(0)\n"
+    "    kids.append(pid)\n"
+    "os.set_blocking(r, False)\n"
+    "got, dead = b'', set()\n"
+    "end = time.time() + 25  # writing 350 MiB takes 1-3 s on a loaded machine\n"
+    "while time.time() < end and len(got.split()) + len(dead) < len(kids):\n"
+    "    try:\n"
+    "        got += os.read(r, 100)\n"
+    "    except BlockingIOError:\n"
+    "        time.sleep(0.05)\n"
+    "    dead |= {p for p in kids if p not in dead and os.waitpid(p, os.WNOHANG)[0]}\n"
+    "time.sleep(0.5)  # an OOM kill may follow the last write\n"
+    "alive = {p for p in kids if p not in dead and os.waitpid(p, os.WNOHANG) == (0, 0)}\n"
+    "held = len({int(x) for x in got.split()} & alive)\n"
+    "lim = {l[:26].strip(): l[26:].split()[0] for l in open('/proc/self/limits') if l[:3] == 'Max'}\n"  # noqa: E501
+    "print(json.dumps({'held': held, 'forks_failed': forks_failed,\n"
+    "                  'nproc': lim['Max processes'], 'as': lim['Max address space']}))\n"
+    "for p in alive:\n"
+    "    os.kill(p, 9)\n"
+)
 
 
 def test_a_private_tmpdir_does_not_stop_the_sandbox(tmp_path, monkeypatch):
@@ -375,3 +428,50 @@ def test_a_checkout_under_home_shows_nothing_around_what_python_needs(tmp_path):
         shutil.rmtree(home, ignore_errors=True)
     assert seen["/home"] == seen[str(home)] == seen[str(home / "checkout")] == "PermissionError"
     assert seen[str(pkg)] == ["ok.txt"] and seen[str(pkg / "ok.txt")] == "bound"
+
+
+def _hog(tmp_path, **kw):
+    (tmp_path / "hog.ipynb").write_text(_nb_with(HOG))
+    report = grade(
+        ASSIGNMENT,
+        [tmp_path / "hog.ipynb"],
+        tmp_path / "out",
+        workers=1,
+        **{**FAST, "cell_timeout": 40.0, **kw},
+    )
+    res = report.results[0]
+    out = [c.output for c in res.cells if '"held"' in c.output]
+    assert res.score == 5 and out, res.problems
+    return json.loads(out[0].strip().splitlines()[-1])
+
+
+def test_memory_is_limited_per_sandbox_not_per_process(tmp_path):
+    """Four forks of 350 MiB each under memory_mb=512: the sandbox never holds two (with a
+    cgroup), or the process limit keeps them within the machine's share (without one)."""
+    require_bwrap()
+    from rikingrade.sandbox.cgroup import MemoryGroup, machine_memory_mb
+
+    probe = MemoryGroup.create(f"rikingrade-test-{os.getpid()}")
+    if probe is not None:
+        probe.close()
+    found = _hog(tmp_path)
+    if probe is not None:
+        assert found["held"] <= 1, found  # 2 x 350 MiB > 512 MiB + /scratch + slack
+    else:  # no cgroup here (not root, or a read-only cgroupfs): the fallback must hold
+        share = machine_memory_mb() * 0.9
+        assert int(found["nproc"]) * int(found["as"]) <= share * 2**20, found
+
+
+def test_without_a_cgroup_processes_times_memory_fit_the_machine(tmp_path, monkeypatch):
+    """No cgroup: the process limit keeps nproc x per-process memory within the share."""
+    require_bwrap()
+    import rikingrade.api as api
+    import rikingrade.sandbox.zygote as zygote
+
+    monkeypatch.setattr(zygote.MemoryGroup, "create", classmethod(lambda cls, name: None))
+    monkeypatch.setattr(api, "machine_memory_mb", lambda: 6000)  # a small machine
+    share = int(6000 * 0.9)  # one worker
+    found = _hog(tmp_path)
+    per_process = int(found["as"])
+    assert int(found["nproc"]) * per_process <= share * 2**20, found
+    assert found["held"] * 350 <= share, found

@@ -37,6 +37,7 @@ from .sandbox import (
     SandboxUnavailable,
     prepare_workdir,
 )
+from .sandbox.cgroup import machine_memory_mb
 from .sandbox.config import (
     DESCRIBE,
     NONE,
@@ -207,15 +208,15 @@ def grade(
             log.warning("%s", n)
             if not quiet:
                 print(f"rikin-grade: note: {n}", file=sys.stderr)
-        rules = Rules(
-            parse_time(due) if due else None, late_per_day, late_cap, grace_minutes
-        )
+        rules = Rules(parse_time(due) if due else None, late_per_day, late_cap, grace_minutes)
         ext_rows = _read_extensions(extensions, subs) if extensions else []
         limits = Limits(
             memory_mb=int(memory_mb),
             cpu_seconds=int(cpu_seconds),
             max_processes=int(max_processes),
             max_file_mb=int(max_file_mb),
+            # without a memory cgroup, both workers' sandboxes together fit in 90% of it
+            share_mb=int(machine_memory_mb() * 0.9 / max(1, int(workers))),
         )
         options = RunOptions(
             limits=limits,
@@ -239,8 +240,12 @@ def grade(
             __version__,
             seed,
             key,
-            {"submissions": [shown(p) for p in submissions], "regrade": regrade,
-             "workers": workers, "reveal": reveal},
+            {
+                "submissions": [shown(p) for p in submissions],
+                "regrade": regrade,
+                "workers": workers,
+                "reveal": reveal,
+            },
         )
         log.info(
             "rikin-grade %s: %s (%d tests, max %.4g), %d submissions, seed %d, key %s, "
@@ -269,8 +274,7 @@ def grade(
             prev = None if regrade else gb.cached(sub_ids[s.student], key)
             if prev is not None:
                 prev.student = s.student
-                gb.record(run_id, sub_ids[s.student], prev, a.exercise, seed,
-                          reuse=prev.result_id)  # type: ignore[attr-defined]
+                gb.record(run_id, sub_ids[s.student], prev, a.exercise, seed, reuse=prev.result_id)  # type: ignore[attr-defined]
                 results[s.student] = prev
             else:
                 todo.append(s)
@@ -308,7 +312,15 @@ def grade(
                         return True
 
                 _run_pool(
-                    a, calls, options, key, config, todo, max(1, int(workers)), done, bar,
+                    a,
+                    calls,
+                    options,
+                    key,
+                    config,
+                    todo,
+                    max(1, int(workers)),
+                    done,
+                    bar,
                     results,
                 )
             state = "finished"
@@ -318,8 +330,14 @@ def grade(
             ordered = [results[s.student] for s in subs if s.student in results]
             summary = summarize(ordered, time.monotonic() - t0, resumed)
             summary.update(
-                {"assignment": a.exercise, "grader_version": __version__, "key": key,
-                 "seed": int(seed), "run": run_id, "state": state}
+                {
+                    "assignment": a.exercise,
+                    "grader_version": __version__,
+                    "key": key,
+                    "seed": int(seed),
+                    "run": run_id,
+                    "state": state,
+                }
             )
             gb.end_run(run_id, state, summary)
             # The views are rewritten even after Ctrl-C: every committed grade is in them.
@@ -337,8 +355,12 @@ def grade(
                     left = files[f"{lms_name}_skipped"]
                     print(
                         f"{lms_name.capitalize()} import: {files[lms_name]}"
-                        + (f" (left out, no {lms_name} id: {', '.join(left[:5])}"
-                           f"{' ...' if len(left) > 5 else ''})" if left else "")
+                        + (
+                            f" (left out, no {lms_name} id: {', '.join(left[:5])}"
+                            f"{' ...' if len(left) > 5 else ''})"
+                            if left
+                            else ""
+                        )
                     )
         return GradeReport(out=out, results=ordered, summary=summary, notes=notes)
     finally:
@@ -389,7 +411,12 @@ def _record_submissions(gb: Gradebook, subs: list[Submission], exercise: str) ->
         )
         for e in s.earlier:
             gb.add_submission(
-                s.student, exercise, e.hash(), e.shown_path, e.submitted_at, e.time_source,
+                s.student,
+                exercise,
+                e.hash(),
+                e.shown_path,
+                e.submitted_at,
+                e.time_source,
                 e.late,
             )
         ids[s.student] = gb.add_submission(

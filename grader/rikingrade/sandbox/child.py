@@ -626,11 +626,15 @@ def set_limits(limits):
                 resource.setrlimit(which, (value, hard))
 
     lim(resource.RLIMIT_CORE, 0)
+    nproc = limits.get("max_processes")
     if limits.get("memory_mb") is not None:
-        base = _vm_size()
-        lim(resource.RLIMIT_AS, base + int(limits["memory_mb"]) * MIB)
+        per_process = _vm_size() + int(limits["memory_mb"]) * MIB
+        lim(resource.RLIMIT_AS, per_process)
+        share = limits.get("share_mb")
+        if share is not None and nproc is not None:  # no memory cgroup: bound the product
+            nproc = max(1, min(int(nproc), int(share) * MIB // per_process))
     lim(resource.RLIMIT_CPU, limits.get("cpu_seconds"))
-    lim(resource.RLIMIT_NPROC, limits.get("max_processes"))
+    lim(resource.RLIMIT_NPROC, nproc)
     if limits.get("max_file_mb") is not None:
         lim(resource.RLIMIT_FSIZE, int(limits["max_file_mb"]) * MIB)
     lim(resource.RLIMIT_NOFILE, limits.get("max_open_files"))

@@ -79,6 +79,9 @@ class Limits:
     max_processes: int = 32
     max_file_mb: int = 16
     max_open_files: int = 128
+    #: the sandbox's share of the machine's memory (MiB; the machine's divided among the
+    #: workers): without a memory cgroup, processes x per-process limit stays within it
+    share_mb: int | None = None
 
     def as_dict(self) -> dict[str, int]:
         return {

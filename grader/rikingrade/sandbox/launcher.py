@@ -222,6 +222,9 @@ def main(argv):
                 ),
                 f"read-only {src}",
             )
+    if cfg.get("cgroup"):  # join the sandbox's memory cgroup while still root
+        with open(cfg["cgroup"], "w") as f:
+            f.write(str(os.getpid()))
     os.setgroups([])
     os.setgid(int(cfg["gid"]))
     os.setuid(int(cfg["uid"]))

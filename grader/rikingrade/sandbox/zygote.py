@@ -26,6 +26,7 @@ from typing import Any
 
 from ..wire import WireError, decode_message, encode_message
 from . import uidmode
+from .cgroup import MIB, MemoryGroup
 from .config import (
     CHILD_PATH,
     MPL_DIR,
@@ -185,6 +186,8 @@ class Sandbox:
         self.lease: uidmode.UidLease | None = None  # uid mode: this zygote's own uid
         self.scratch: Path | None = None
         self.launcher_notes: dict[str, Any] = {}
+        self.group: MemoryGroup | None = None  # the sandbox's memory cgroup (root only)
+        self.base = 0  # bytes the group holds once the zygote is ready
 
     # ------------------------------------------------------------------ lifecycle
     def start(self) -> None:
@@ -226,6 +229,8 @@ class Sandbox:
         if not msg.get("ready"):
             self.close()
             raise SandboxUnavailable(f"the sandbox did not start: {msg}")
+        if self.group is not None:
+            self.base = self.group.usage()
         for e in msg.get("preload_errors", []):
             log.warning("sandbox could not preload %s", e)
         self.preload_errors = msg.get("preload_errors", [])
@@ -293,12 +298,14 @@ class Sandbox:
         log.debug("sandbox command: %s", argv)
         self.command = argv
         if root:
+            self.group = MemoryGroup.create(f"rikingrade-{os.getpid()}-{id(self):x}-{self.starts}")
             launcher = {
                 "uid": cfg.uid,
                 "gid": cfg.uid,
                 "staging": str(self.staging),
                 "stage": stage,
                 "argv": argv,
+                "cgroup": self.group.procs if self.group is not None else None,
             }
             lpath = self.workdir / "launcher.py"
             return (
@@ -384,6 +391,9 @@ class Sandbox:
         if self.ctl is not None:
             self.ctl.close()
             self.ctl = None
+        if self.group is not None:
+            self.group.close()
+            self.group = None
         if self.staging is not None:
             try:
                 os.rmdir(self.staging)
@@ -436,7 +446,7 @@ class Sandbox:
                 self.start()
             ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
             try:
-                reply = self._ctl({"op": "fork", "limits": limits.as_dict()}, [theirs.fileno()])
+                reply = self._ctl({"op": "fork", "limits": self._limits(limits)}, [theirs.fileno()])
             except (OSError, ValueError, ChildDied, ProtocolError) as exc:
                 log.warning("zygote did not fork (%s); restarting the sandbox", exc)
                 ours.close()
@@ -450,6 +460,19 @@ class Sandbox:
             log.warning("zygote refused to fork: %s", reply)
             self.close()
         raise SandboxUnavailable("could not start a notebook process in the sandbox")
+
+    def _limits(self, limits: Limits) -> dict[str, Any]:
+        """A child's limits: the whole sandbox's memory in its cgroup, or a process count
+        that keeps processes x per-process memory within its share of the machine."""
+        out: dict[str, Any] = limits.as_dict()
+        if self.group is not None:
+            # the notebook's memory_mb on top of what the zygote holds, /scratch's tmpfs
+            # pages and a little for the kernel's bookkeeping
+            extra = (limits.memory_mb + self.config.tmp_mb + 64) * MIB
+            self.group.set_limit(self.base + extra)
+        elif limits.share_mb is not None:
+            out["share_mb"] = int(limits.share_mb)
+        return out
 
     def reset(self) -> None:
         """Kill every process in the sandbox but the zygote and wipe its scratch space.
