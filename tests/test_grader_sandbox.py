@@ -475,3 +475,30 @@ def test_without_a_cgroup_processes_times_memory_fit_the_machine(tmp_path, monke
     per_process = int(found["as"])
     assert int(found["nproc"]) * per_process <= share * 2**20, found
     assert found["held"] * 350 <= share, found
+
+
+def test_a_hung_call_does_not_run_the_cells_again(tmp_path):
+    """Three slow cells (3 x 1 s) and functions that hang on their first call in every
+    process: the cells run once, each test then costs its own timeout only."""
+    require_bwrap()
+    nb = _nb_with(
+        *["import time\ntime.sleep(1.0)\nRUNS = globals().get('RUNS', 0) + 1"] * 3,
+        "_hung = set()\n_real = (add, fk_2r, fk_2r_batch)\n"
+        "def _once(f):\n"
+        "    def g(*a, **k):\n"
+        "        if f.__name__ not in _hung:\n"
+        "            _hung.add(f.__name__)\n"
+        "            while True:\n"
+        "                pass\n"
+        "        return f(*a, **k)\n"
+        "    return g\n"
+        "add, fk_2r, fk_2r_batch = (_once(f) for f in _real)\n",
+    )
+    (tmp_path / "hang.ipynb").write_text(nb)
+    report = grade(ASSIGNMENT, [tmp_path], tmp_path / "out", workers=1, timeout=0.5, **FAST)
+    res = report.results[0]
+    assert [t.timed_out for t in res.tests] == [True] * 4
+    # cells once (3 s), four timeouts (4 x 0.5 s), forks and the fixture's own cells: the
+    # cells run again after each hang took 4 x 3 s more
+    assert res.elapsed < 3.0 + 4 * 0.5 + 4.0, res.elapsed
+    assert res.status == "timeout"

@@ -24,6 +24,7 @@ from __future__ import annotations
 import difflib
 import logging
 import math
+import socket
 import time
 import traceback
 from dataclasses import dataclass
@@ -52,6 +53,7 @@ from .sandbox import (
     Sandbox,
     SandboxUnavailable,
 )
+from .sandbox.zygote import CONTROL_TIMEOUT
 from .spec import UNREADABLE, UNREADABLE_BASE, Call, Outcome, Score
 from .wire import WireError, encode_input, unreadable_text
 
@@ -65,6 +67,9 @@ GRADER_PROBLEM = (
 MAX_CELL_REPORTS = 50
 #: Notebook problems listed for the student (the rest are counted).
 MAX_PROBLEMS = 40
+#: Cells slower than this (seconds, all together) are not run again after a call hangs:
+#: the process that ran them stays as a template and each test's calls run in a fork of it.
+TEMPLATE_AFTER = 0.25
 
 
 @dataclass(frozen=True)
@@ -193,6 +198,9 @@ class _Run:
         self.quiet_ok = 0  # cells that ran without error or output (not reported)
         self.unlisted: dict[str, int] = {}  # reports beyond MAX_CELL_REPORTS, by status
         self.seen: set[int] = set()  # cells whose end was recorded (a retry re-runs them)
+        self.template: Child | None = None  # the process that ran the cells, when kept
+        self.templates_ok = True  # False once a template failed to fork a worker
+        self.cell_seconds = 0.0
 
     def deadline(self, seconds: float) -> float:
         """``seconds`` from now, but never past the submission's budget."""
@@ -208,19 +216,56 @@ class _Run:
             raise BudgetSpent()
 
     def close(self) -> None:
-        if self.child is not None:
-            try:
-                self.child.send({"op": "bye"}, time.monotonic() + 1.0)
-            except (ChildDied, ChildTimeout):
-                pass
-            self.child.close()
-            self.child = None
+        for c in (self.child, self.template):
+            if c is not None:
+                try:
+                    c.send({"op": "bye"}, time.monotonic() + 1.0)
+                except (ChildDied, ChildTimeout):
+                    pass
+                c.close()
+        self.child = self.template = None
 
     def _drop_child(self) -> None:
+        """End the process that hung or died (and all it started); keep the template."""
         if self.child is not None:
             self.child.close()
             self.child = None
+        if self.template is not None:
+            if self.r.sandbox.kill_except(self.template.pid):
+                return
+            self.template.close()
+            self.template = None
         self.r.sandbox.reset()
+
+    def _worker(self) -> Child | None:
+        """A fork of the template to run calls in, or None (the template is then gone)."""
+        assert self.template is not None
+        ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
+        worker = Child(ours, -1)
+        deadline = self.deadline(CONTROL_TIMEOUT)
+        try:
+            try:
+                self.template.send_fd({"op": "fork"}, theirs.fileno())
+            finally:
+                theirs.close()
+            while True:  # the template's answer (its student threads may write too)
+                msg = self.template.recv(deadline)
+                if msg.get("event") == "forked":
+                    break
+            hello = worker.recv(deadline) if msg.get("ok") is True else {}
+            pid = _int(hello.get("pid"))
+            if hello.get("event") == "worker" and pid is not None and pid > 1:
+                worker.pid = pid
+                return worker
+        except (ChildDied, ChildTimeout, ProtocolError):
+            pass
+        log.info("no worker from the template; running the cells again")
+        self.templates_ok = False
+        worker.close()
+        self.template.close()
+        self.template = None
+        self.r.sandbox.reset()
+        return None
 
     # ------------------------------------------------------------------ cells
     def start_child(self) -> None:
@@ -268,6 +313,9 @@ class _Run:
                             deadline = self.deadline(opt.cell_timeout)
                     elif ev == "cell_end":
                         if n is not None and n == current:
+                            sec = msg.get("seconds")
+                            if isinstance(sec, (int, float)) and math.isfinite(sec):
+                                self.cell_seconds += max(0.0, min(float(sec), opt.cell_timeout))
                             if n not in self.seen:
                                 self.seen.add(n)
                                 self._record(n, msg)
@@ -281,7 +329,12 @@ class _Run:
                             else set()
                         )
                         self.child = child
-                        return
+                        if self.templates_ok and self.cell_seconds > TEMPLATE_AFTER:
+                            self.template = child
+                            self.child = self._worker()
+                        if self.child is not None:
+                            return
+                        break  # the template could not fork: run the cells again
             except ChildTimeout:
                 self.timed_out = True
                 if time.monotonic() >= self.t_end - 1e-3:
@@ -442,6 +495,8 @@ class _Run:
         return self.check(test, calls, outcomes, t_out, crashed)
 
     def _ensure_child(self) -> None:
+        if self.child is None and self.template is not None:
+            self.child = self._worker()
         if self.child is None and not self.exec_error:
             try:
                 self.start_child()

@@ -341,6 +341,23 @@ class Channel:
         self.fd = fd
         self.buf = bytearray()
         self.scanned = 0  # bytes of buf known to hold no newline
+        self.fds = []  # file descriptors the grader sent (a worker's channel)
+        try:  # a socket object, to receive them
+            self.sock = socket.socket(fileno=os.dup(fd))
+        except OSError:
+            self.sock = None
+
+    def _read(self):
+        if self.sock is not None:
+            data, fds, _flags, _addr = socket.recv_fds(self.sock, 1 << 20, 2)
+            self.fds.extend(fds)
+            return data
+        return os.read(self.fd, 1 << 20)
+
+    def close(self):
+        if self.sock is not None:
+            self.sock.close()
+            self.sock = None
 
     def send(self, msg):
         with _CleanBuiltins():
@@ -358,7 +375,7 @@ class Channel:
             if nl >= 0:
                 break
             self.scanned = len(self.buf)
-            chunk = os.read(self.fd, 1 << 20)
+            chunk = self._read()
             if not chunk:
                 return None
             self.buf += chunk
@@ -609,6 +626,48 @@ class Runner:
                 for one in calls if isinstance(calls, list) else []:
                     if isinstance(one, dict):
                         self.call(one)
+            elif op == "fork":
+                self.fork_worker()
+
+    def fork_worker(self):
+        """Fork a worker that serves calls on the socket the grader sent, from this state.
+
+        This process (the cells already run) stays as the template: a worker that hangs
+        or dies is replaced by another fork, not by running every cell again. The worker
+        is forked twice, so it is the zygote's (the PID namespace's init) to reap.
+        """
+        fds, self.chan.fds = self.chan.fds, []
+        for extra in fds[1:]:
+            os.close(extra)
+        if not fds:
+            self.chan.send({"event": "forked", "ok": False, "error": "no socket received"})
+            return
+        fd = fds[0]
+        try:
+            pid = os.fork()
+        except OSError as exc:
+            os.close(fd)
+            self.chan.send({"event": "forked", "ok": False, "error": str(exc)})
+            return
+        if pid == 0:
+            try:
+                if os.fork() != 0:
+                    _exit(0)
+            except OSError:
+                _exit(71)
+            os.dup2(fd, 3)
+            os.close(fd)
+            self.chan.close()
+            self.chan = Channel(3)
+            self.mypid = _getpid()
+            self.chan.send({"event": "worker", "pid": self.mypid})
+            return
+        os.close(fd)
+        try:
+            os.waitpid(pid, 0)
+        except OSError:
+            pass
+        self.chan.send({"event": "forked", "ok": True})
 
 
 def set_limits(limits):
@@ -856,6 +915,35 @@ class Zygote:
         self.children.clear()
         self.reap()
 
+    def kill_except(self, keep):
+        """Kill every process but this one and ``keep`` (a template); True if it lives."""
+        if not self.in_pidns or keep not in self.children:
+            self.kill_all()
+            self.wipe_scratch()
+            return False
+        me = os.getpid()
+        deadline = _monotonic() + 3.0
+        while _monotonic() < deadline:
+            try:
+                pids = [int(p) for p in os.listdir("/proc") if p.isdigit()]
+            except OSError:
+                break
+            victims = [p for p in pids if p not in (1, me, keep)]
+            for sig in (signal.SIGSTOP, signal.SIGKILL):  # stopped, nothing forks again
+                for p in victims:
+                    try:
+                        os.kill(p, sig)
+                    except OSError:
+                        pass
+            self.reap()
+            if not victims:
+                break
+            _sleep(0.0005)
+        if keep in self.statuses:  # the template itself ended
+            self.children.pop(keep, None)
+            return False
+        return True
+
     def _others_exist(self):
         me = os.getpid()
         try:
@@ -978,6 +1066,8 @@ class Zygote:
                 self.kill_all()
                 self.wipe_scratch()
                 self.send({"ok": True})
+            elif op == "kill_except":
+                self.send({"ok": True, "kept": self.kill_except(int(msg.get("keep", -1)))})
             elif op == "wait":
                 self.send(
                     {

@@ -115,6 +115,13 @@ class Child:
             except (BrokenPipeError, ConnectionResetError, OSError) as exc:
                 raise ChildDied(str(exc)) from None
 
+    def send_fd(self, msg: dict[str, Any], fd: int) -> None:
+        """A short message with a file descriptor attached (it fits the socket buffer)."""
+        try:
+            socket.send_fds(self.sock, [encode_message(msg)], [fd])
+        except OSError as exc:
+            raise ChildDied(str(exc)) from None
+
     def recv(self, deadline: float) -> dict[str, Any]:
         while True:
             nl = self.buf.find(b"\n", self.scanned)
@@ -489,6 +496,24 @@ class Sandbox:
         except (OSError, ValueError, ChildDied, ProtocolError) as exc:
             log.info("zygote did not answer kill (%s); restarting the sandbox", exc)
         self.close()
+
+    def kill_except(self, keep: int) -> bool:
+        """Kill every process in the sandbox but the zygote and ``keep`` (a template).
+
+        False when ``keep`` is gone or cannot be kept (no PID namespace): then everything
+        was killed and the scratch wiped, as :meth:`reset` does.
+        """
+        if not self.alive:
+            self.close()
+            return False
+        try:
+            reply = self._ctl({"op": "kill_except", "keep": keep}, timeout=CONTROL_TIMEOUT + 3)
+            if reply.get("ok"):
+                return bool(reply.get("kept"))
+        except (OSError, ValueError, ChildDied, ProtocolError) as exc:
+            log.info("zygote did not answer kill_except (%s); restarting the sandbox", exc)
+        self.close()
+        return False
 
     def status_of(self, pid: int, timeout: float = 1.0) -> str:
         """Why child ``pid`` ended, in words ("killed (SIGKILL)", "exited with code 0")."""
