@@ -97,7 +97,7 @@ class MemoryGroup:
             files = [("memory.max", nbytes), ("memory.swap.max", 0)]
         else:
             # memsw (memory + swap) must stay >= the memory limit: order the writes
-            up = self.limit is None or nbytes > self.limit
+            up = self.limit is not None and nbytes > self.limit
             pair = [("memory.memsw.limit_in_bytes", nbytes), ("memory.limit_in_bytes", nbytes)]
             files = pair if up else pair[::-1]
         for fname, value in files:

@@ -476,7 +476,10 @@ class Sandbox:
             # the notebook's memory_mb on top of what the zygote holds, /scratch's tmpfs
             # pages and a little for the kernel's bookkeeping
             extra = (limits.memory_mb + self.config.tmp_mb + 64) * MIB
-            self.group.set_limit(self.base + extra)
+            try:
+                self.group.set_limit(self.base + extra)
+            except OSError as exc:  # the rlimits still hold; say so rather than stop
+                log.warning("could not set the sandbox's memory cgroup limit: %s", exc)
         elif limits.share_mb is not None:
             out["share_mb"] = int(limits.share_mb)
         return out
