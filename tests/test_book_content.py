@@ -148,11 +148,14 @@ def test_mathjax_is_installed_locally() -> None:
 
 def test_published_notebooks_install_rikin_first() -> None:
     ext = _extension()
-    spec = CONFIG["sphinx"]["config"]["rikin_pip_spec"]
-    cell = ext.install_cell(spec)
-    compile(cell.source, "install-cell", "exec")
-    assert repr(spec) in cell.source and 'find_spec("rikin")' in cell.source
-    assert "remove-cell" in cell.metadata["tags"]
+    site = ext.rikin_site
+    base = site.read_base_url()
+    assert base == CONFIG["html"]["baseurl"].rstrip("/") + "/"
+    wheel = f"{base}_static/dist/rikin-0.0.0-py3-none-any.whl#sha256={'0' * 64}"
+    cell = site.install_cell(base, "0.0.0", wheel, extra_tags=("remove-cell",))
+    compile(cell["source"], "install-cell", "exec")
+    assert repr(wheel) in cell["source"] and repr(base) in cell["source"]
+    assert "remove-cell" in cell["metadata"]["tags"]
 
 
 def _all_sources() -> dict[str, str]:

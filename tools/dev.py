@@ -1,19 +1,25 @@
 #!/usr/bin/env python3
 """One-command developer entry points for rikin (standard library only).
 
-    python3 tools/dev.py book [--cached]   set up .venv, build the book (HTML in _build/html/)
-    python3 tools/dev.py test [-- ARGS]    set up .venv, run every test (pytest + nbval)
+    python3 tools/dev.py book [--cached]   set up .venv for the book, build it (_build/html/)
+    python3 tools/dev.py test [-- ARGS]    set up .venv with everything, run every test
+    python3 tools/dev.py lab [-- ARGS]     set up .venv with everything, start JupyterLab
+                                           at the repository root (book/, exercises/, ...)
 
-Both create ``.venv`` in the repository root with the Python running this script if it
-is missing, and (re)install ``requirements.txt`` into it whenever requirements.txt or
-pyproject.toml changed since the last install (a sha256 stamp is kept inside .venv).
-Works from any current directory. Every command run is printed first.
+Each creates ``.venv`` in the repository root with the Python running this script if it is
+missing, and installs into it what the command needs: ``book`` only requirements-book.txt
+(rikin, Jupyter Book, the kernel, the wheel builder), ``test`` and ``lab``
+requirements.txt (that, plus the grader and the test tools). It reinstalls only when one of
+the requirements files or pyproject.toml changed since the last install (a sha256 stamp per
+set is kept inside .venv). Works from any current directory. Every command run is printed
+first.
 """
 
 from __future__ import annotations
 
 import argparse
 import hashlib
+import json
 import os
 import re
 import shlex
@@ -24,11 +30,40 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 VENV = ROOT / ".venv"
-STAMP = VENV / ".rikin-requirements.sha256"
+STAMP = VENV / ".rikin-requirements.json"
 BIN = VENV / ("Scripts" if os.name == "nt" else "bin")
 PY = BIN / ("python.exe" if os.name == "nt" else "python")
 BUILD = ROOT / "_build"
 NOTEBOOK_DIRS = ("solutions", "exercises")
+#: What each command installs: the book alone, or everything (book + grader + test tools).
+REQUIREMENTS = {"book": "requirements-book.txt", "all": "requirements.txt"}
+#: Files whose change means reinstalling (requirements*.txt include each other).
+DEPENDENCY_FILES = (
+    "requirements.txt",
+    "requirements-book.txt",
+    "requirements-grader.txt",
+    "pyproject.toml",
+    "grader/pyproject.toml",
+)
+#: Kernels started from .venv read this IPython config (sys.prefix/etc/ipython). It drops
+#: one notice of ipykernel >= 7, printed by every kernel the build starts: "Kernel is running
+#: over TCP without encryption". The book's kernels are started by the build itself, listen
+#: on 127.0.0.1 only, and every message to them is signed with a key that only this user can
+#: read (the 0600 connection file); nothing crosses a network. Every other log line stays.
+KERNEL_CONFIG = VENV / "etc" / "ipython" / "ipython_kernel_config.py"
+KERNEL_CONFIG_TEXT = """\
+# Written by tools/dev.py (see KERNEL_CONFIG there): hide ipykernel's notice that a kernel
+# started by the book build or the tests talks to it over TCP on 127.0.0.1 without CurveZMQ.
+import logging
+
+
+class _LocalTcpNotice(logging.Filter):
+    def filter(self, record):
+        return not str(record.msg).startswith("Kernel is running over TCP without encryption")
+
+
+logging.getLogger("IPKernelApp").addFilter(_LocalTcpNotice())
+"""
 
 
 def run(cmd: list[str], env: dict[str, str] | None = None) -> int:
@@ -49,12 +84,22 @@ def check(cmd: list[str], env: dict[str, str] | None = None) -> None:
 
 def deps_hash() -> str:
     h = hashlib.sha256()
-    for name in ("requirements.txt", "pyproject.toml"):
-        h.update(name.encode() + b"\0" + (ROOT / name).read_bytes() + b"\0")
+    for name in DEPENDENCY_FILES:
+        path = ROOT / name
+        h.update(name.encode() + b"\0" + (path.read_bytes() if path.exists() else b"") + b"\0")
     return h.hexdigest()
 
 
-def ensure_venv() -> None:
+def _stamps() -> dict[str, str]:
+    try:
+        data = json.loads(STAMP.read_text())
+    except (OSError, ValueError):
+        return {}
+    return data if isinstance(data, dict) else {}
+
+
+def ensure_venv(what: str = "all") -> None:
+    """Create .venv if needed and install ``REQUIREMENTS[what]`` unless already current."""
     # The script itself may be started by an older python3: say so clearly.
     if sys.version_info < (3, 10):  # noqa: UP036
         sys.exit("dev.py: Python 3.10+ is required (this is " + sys.version.split()[0] + ")")
@@ -63,12 +108,15 @@ def ensure_venv() -> None:
             print(f"dev.py: {VENV} is incomplete (no {PY.name}); recreating it", flush=True)
             shutil.rmtree(VENV)
         check([sys.executable, "-m", "venv", str(VENV)])
+    KERNEL_CONFIG.parent.mkdir(parents=True, exist_ok=True)
+    if not KERNEL_CONFIG.exists() or KERNEL_CONFIG.read_text() != KERNEL_CONFIG_TEXT:
+        KERNEL_CONFIG.write_text(KERNEL_CONFIG_TEXT)
     wanted = deps_hash()
-    have = STAMP.read_text().strip() if STAMP.exists() else ""
-    if have == wanted:
+    stamps = _stamps()
+    # everything ("all") includes the book's requirements
+    if stamps.get(what) == wanted or stamps.get("all") == wanted:
         print(
-            f"dev.py: {VENV.name} is up to date with requirements.txt + pyproject.toml "
-            "(skipping install)",
+            f"dev.py: {VENV.name} is up to date with {REQUIREMENTS[what]} (skipping install)",
             flush=True,
         )
         return
@@ -82,10 +130,12 @@ def ensure_venv() -> None:
             "--progress-bar",
             "off",
             "-r",
-            ROOT / "requirements.txt",
+            ROOT / REQUIREMENTS[what],
         ]
     )
-    STAMP.write_text(wanted + "\n")
+    stamps = {k: v for k, v in stamps.items() if v == wanted}
+    stamps[what] = wanted
+    STAMP.write_text(json.dumps(stamps, indent=1, sort_keys=True) + "\n")
 
 
 def child_env() -> dict[str, str]:
@@ -101,7 +151,7 @@ def child_env() -> dict[str, str]:
 
 
 def cmd_book(args: argparse.Namespace) -> int:
-    ensure_venv()
+    ensure_venv("book")
     jb = [BIN / "jupyter-book", "build", ROOT, "-W", "-n", "--keep-going"]
     if args.cached:
         # Reuse the jupyter-cache and Sphinx's incremental build: only pages whose code
@@ -124,6 +174,7 @@ def cmd_book(args: argparse.Namespace) -> int:
     index = BUILD / "html" / "index.html"
     if rc == 0:
         print(f"\nBook built: {index}\n(open file://{index} in a browser)", flush=True)
+        print(_published_note(), flush=True)
     else:
         print(
             f"\ndev.py: book build FAILED (exit code {rc}); see the warnings/errors above.",
@@ -131,6 +182,31 @@ def cmd_book(args: argparse.Namespace) -> int:
             flush=True,
         )
     return rc
+
+
+def _published_note() -> str:
+    """Where the built book's notebooks install rikin from, and how to try that locally."""
+    manifest = BUILD / "html" / "_static" / "dist" / "rikin-dist.json"
+    try:
+        data = json.loads(manifest.read_text())
+    except (OSError, ValueError):
+        return f"dev.py: WARNING: {manifest} is missing: the notebooks have no wheel to install"
+    sys.path.insert(0, str(ROOT / "book" / "_ext"))
+    import rikin_site
+
+    base = rikin_site.read_base_url()
+    lines = [
+        f"rikin {data['version']} is published in the book: {rikin_site.DIST_PATH}/"
+        f"{data['wheel']['file']} (sha256 {data['wheel']['sha256']}).",
+        f"Its notebooks install it, when missing, from {base} (html.baseurl in _config.yml).",
+    ]
+    if base.startswith(("http://127.0.0.1", "http://localhost")):
+        port = base.split(":")[2].split("/")[0] if base.count(":") > 1 else "80"
+        lines.append(
+            f"That is a local preview: `python3 -m http.server -d _build/html {port}` serves it; "
+            "set html.baseurl to the public URL before hosting the book (README: Hosting)."
+        )
+    return "\n".join(lines)
 
 
 def _names_a_path(arg: str) -> bool:
@@ -194,7 +270,7 @@ def ensure_system_packages() -> None:
 
 
 def cmd_test(args: argparse.Namespace, extra: list[str]) -> int:
-    ensure_venv()
+    ensure_venv("all")
     ensure_system_packages()
     # Paths given relative to the caller's cwd keep working (we run from ROOT).
     passthrough = []
@@ -230,6 +306,15 @@ def cmd_test(args: argparse.Namespace, extra: list[str]) -> int:
     return run(cmd, child_env())
 
 
+def cmd_lab(extra: list[str]) -> int:
+    """JupyterLab at the repository root: book/ (chapters open as notebooks), exercises/, ..."""
+    ensure_venv("all")
+    cmd = [BIN / "jupyter", "lab", f"--ServerApp.root_dir={ROOT}"]
+    if hasattr(os, "geteuid") and os.geteuid() == 0 and "--allow-root" not in extra:
+        cmd.append("--allow-root")  # Jupyter refuses root otherwise (containers)
+    return run([*cmd, *extra], child_env())
+
+
 def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     extra: list[str] = []
@@ -250,11 +335,15 @@ def main(argv: list[str] | None = None) -> int:
         "changed pages (does NOT notice edits to rikin/)",
     )
     sub.add_parser("test", help="set up .venv and run every test; pytest args after --")
+    sub.add_parser("lab", help="set up .venv and start JupyterLab at the repository root; "
+                   "jupyter lab args after --")
     args = p.parse_args(argv)
     if args.command == "book":
         if extra:
             p.error("book takes no arguments after --")
         return cmd_book(args)
+    if args.command == "lab":
+        return cmd_lab(extra)
     return cmd_test(args, extra)
 
 

@@ -19,14 +19,7 @@ what one accepts the other accepts.
 # ruff: noqa: E402  (each section is a notebook cell: imports follow code on purpose)
 
 # %% [setup]
-#@title Setup: install rikin if it is missing (e.g. on Colab), then import it
-import importlib.util
-import subprocess
-import sys
-
-if importlib.util.find_spec("rikin") is None:  # Colab or a fresh environment
-    subprocess.check_call([sys.executable, "-m", "pip", "install", "--quiet", "rikin"])
-
+#@title Setup: import rikin (the notebook's first cell installs it when missing)
 import numpy as np
 
 import rikin

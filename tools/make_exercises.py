@@ -6,6 +6,11 @@
     python3 tools/make_exercises.py --run-solutions  execute solutions/ first, store their
                                                      checked outputs and the arm drawing
 
+Exit codes: 0 done (or, with --check, up to date); 1 only with --check: something is out
+of date (listed); 2 an error (a malformed solution notebook, a bad _config.yml, ...).
+Any ``python3`` works: without nbformat it re-runs itself under the repository's ``.venv``
+(created by ``python3 tools/dev.py book`` if missing).
+
 What it does to each ``solutions/<arm>.ipynb``:
 
 1. The cells tagged ``setup`` and ``checks`` get their source from
@@ -20,7 +25,11 @@ What it does to each ``solutions/<arm>.ipynb``:
    * cells tagged ``solution-only`` removed;
    * every output cleared, ``nbval-check-output`` tags dropped, and cells that
      call a stubbed function at top level tagged ``raises-exception`` (so
-     ``pytest --nbval-lax exercises/`` expects their NotImplementedError).
+     ``pytest --nbval-lax exercises/`` expects their NotImplementedError);
+   * a first cell, tagged ``rikin-install``, that installs rikin when it is missing from
+     the book at ``html.baseurl`` (``_config.yml``; see ``book/_ext/rikin_site.py``). The
+     book build replaces it, in the copies it publishes, by one pinned to the sha256 of
+     the wheel it publishes.
 
 ``--run-solutions`` executes each solution notebook with nbclient
 (PYTHONHASHSEED=0), keeps the outputs of cells tagged ``nbval-check-output``
@@ -37,15 +46,51 @@ import ast
 import copy
 import os
 import re
+import subprocess
 import sys
+import traceback
 from pathlib import Path
 
-import nbformat
-
 ROOT = Path(__file__).resolve().parent.parent
+EXIT_OUT_OF_DATE = 1
+EXIT_ERROR = 2
+
+
+def _reexec_under_venv() -> None:
+    """No nbformat here (e.g. the system python3): run this script with .venv's Python."""
+    venv_py = ROOT / ".venv" / ("Scripts/python.exe" if os.name == "nt" else "bin/python")
+    if os.environ.get("RIKIN_MAKE_EXERCISES_REEXEC") or Path(sys.prefix).resolve() == (
+        ROOT / ".venv"
+    ).resolve():
+        print("make_exercises: nbformat is not installed in .venv: run python3 tools/dev.py book",
+              file=sys.stderr)
+        sys.exit(EXIT_ERROR)
+    if not venv_py.exists():
+        print("make_exercises: no nbformat here and no .venv yet: creating it "
+              "(python3 tools/dev.py book's set-up)", file=sys.stderr, flush=True)
+        sys.path.insert(0, str(ROOT / "tools"))
+        import dev
+
+        dev.ensure_venv("book")
+    env = dict(os.environ, RIKIN_MAKE_EXERCISES_REEXEC="1")
+    sys.exit(subprocess.call([str(venv_py), str(Path(__file__).resolve()), *sys.argv[1:]],
+                             env=env))
+
+
+try:
+    import nbformat
+except ImportError:
+    if __name__ != "__main__":
+        raise
+    _reexec_under_venv()
+
+sys.path.insert(0, str(ROOT / "book" / "_ext"))
+import rikin_site  # noqa: E402  (the book's URL and the install cell; standard library only)
+
 SOLUTIONS = ROOT / "solutions"
 EXERCISES = ROOT / "exercises"
 CHECKS_FILE = ROOT / "tools" / "exercise_checks.py"
+CONFIG_FILE = ROOT / "_config.yml"
 
 BEGIN = re.compile(r"^(?P<indent>[ \t]*)### BEGIN SOLUTION(?: \(task (?P<task>[^)]+)\))?\s*$")
 END = re.compile(r"^[ \t]*### END SOLUTION\s*$")
@@ -156,14 +201,25 @@ def clean_metadata(nb) -> None:
     })
 
 
+def install_cell():
+    """The exercises' first cell: install rikin from the book at html.baseurl when missing.
+
+    Not pinned to a wheel's sha256 (that changes with every edit of rikin/, and exercises/ is
+    in git): it asks the book's manifest. The book build pins the copies it publishes.
+    """
+    cell = rikin_site.install_cell(rikin_site.read_base_url(CONFIG_FILE),
+                                   rikin_site.read_version())
+    return nbformat.from_dict(cell)
+
+
 def make_exercise(solution, name: str):
     """The exercise notebook made from one solution notebook (not written)."""
     nb = copy.deepcopy(solution)
-    cells = []
+    cells = [install_cell()]
     stubbed: list[str] = []
     for k, cell in enumerate(nb.cells):
         t = tags(cell)
-        if "solution-only" in t:
+        if "solution-only" in t or rikin_site.INSTALL_TAG in t:
             continue
         where = f"{name} cell {k}"
         if cell.cell_type == "code":
@@ -277,7 +333,7 @@ def main(argv: list[str] | None = None) -> int:
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--check", action="store_true",
                     help="write nothing; exit 1 listing the files that differ from what "
-                         "would be generated")
+                         "would be generated (exit 2 is an error, never 'out of date')")
     ap.add_argument("--run-solutions", action="store_true",
                     help="execute solutions/ first and store their checked outputs and the drawing")
     args = ap.parse_args(argv)
@@ -293,14 +349,18 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"running {path.relative_to(ROOT)}", flush=True)
                 run_solution(path)
         differ = generate(args.check)
-    except GenerationError as exc:
+    except (GenerationError, rikin_site.SiteError) as exc:
         print(f"make_exercises: {exc}", file=sys.stderr)
-        return 2
+        return EXIT_ERROR
+    except Exception:  # noqa: BLE001 - any other failure is an error, never "out of date"
+        traceback.print_exc()
+        print("make_exercises: failed (see the traceback above)", file=sys.stderr)
+        return EXIT_ERROR
     if args.check:
         if differ:
             print("out of date (run python3 tools/make_exercises.py):")
             print("\n".join(f"  {d}" for d in differ))
-            return 1
+            return EXIT_OUT_OF_DATE
         print("exercises/ and the shared cells are up to date")
         return 0
     for d in differ:

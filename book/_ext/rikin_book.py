@@ -14,17 +14,24 @@ Loaded from ``_config.yml`` (``sphinx.local_extensions``). It does two things:
   the text column) is served and loaded on every page.
 * **No other network access.** sphinx-thebe's scripts (unused: the book has no live-code
   button) are dropped from every page.
+* **rikin's wheel and sdist in the site.** Before any page is written, ``python -m build``
+  makes them (see ``rikin_site.build_distributions``) into ``_static/dist/``, with
+  ``SHA256SUMS`` and ``rikin-dist.json``.
 * **Chapters as notebooks.** Each chapter is a MyST markdown notebook, executed during
   the build; the executed ``.ipynb`` that myst-nb writes (with outputs) is published next
   to the page's source as ``_sources/<page>.ipynb`` and offered by the theme's download
-  button. A first cell is prepended that installs rikin when it is missing (for Colab
-  or a fresh Jupyter), from the pip spec in the config value ``rikin_pip_spec``.
+  button. A first cell is prepended that, when rikin is missing or too old (Colab, a fresh
+  Jupyter), installs exactly that wheel from ``html.baseurl`` (``_config.yml``), pinned to
+  its sha256. The exercise notebooks the book offers for download (``_downloads/``) get
+  the same pinned cell in place of the one ``tools/make_exercises.py`` wrote.
 """
 
 from __future__ import annotations
 
 import importlib.util
+import json
 import shutil
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -32,6 +39,9 @@ import nbformat
 from sphinx.application import Sphinx
 from sphinx.errors import ExtensionError
 from sphinx.util import logging
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import rikin_site  # noqa: E402  (next to this file; standard library only)
 
 LOGGER = logging.getLogger(__name__)
 
@@ -49,20 +59,6 @@ MATHJAX_PARTS = (
     "sre",
     "adaptors",
 )
-
-#: Tag of the prepended install cell (hidden should the notebook ever be rendered again).
-INSTALL_TAG = "rikin-install"
-INSTALL_CELL = """\
-# Colab or a fresh Jupyter: install rikin if it is missing (a no-op where it is installed).
-RIKIN_PIP = {spec!r}  # the pip spec of rikin; set in the book's _config.yml
-import importlib.util
-import subprocess
-import sys
-
-if importlib.util.find_spec("rikin") is None:
-    subprocess.check_call([sys.executable, "-m", "pip", "install", "--quiet", RIKIN_PIP])
-"""
-
 
 def mathjax_source() -> Path:
     """The ``static/mathjax`` folder of the installed ``sphinx-mathjax-offline``."""
@@ -131,10 +127,26 @@ def add_book_static(app: Sphinx, config: Any) -> None:
     config.html_static_path = [*config.html_static_path, str(BOOK_STATIC)]
 
 
-def install_cell(spec: str) -> nbformat.NotebookNode:
-    cell = nbformat.v4.new_code_cell(INSTALL_CELL.format(spec=spec))
-    cell.metadata["tags"] = [INSTALL_TAG, "remove-cell"]
-    return cell
+def build_rikin_dists(app: Sphinx) -> None:
+    """Build rikin's sdist and wheel into ``<outdir>/_static/dist`` (before pages are written)."""
+    if app.builder.format != "html":
+        return
+    try:
+        base = rikin_site.read_base_url_value(app.config.html_baseurl, "_config.yml html.baseurl")
+        manifest = rikin_site.build_distributions(Path(app.outdir) / rikin_site.DIST_PATH)
+    except rikin_site.SiteError as exc:
+        raise ExtensionError(str(exc)) from None
+    app.env.rikin_install = {"book": base, "version": manifest["version"],
+                             "wheel": rikin_site.wheel_url(base, manifest)}
+    LOGGER.info("rikin %s: published %s (sha256 %s) for %s", manifest["version"],
+                manifest["wheel"]["file"], manifest["wheel"]["sha256"], base)
+
+
+def _install_cell(app: Sphinx) -> nbformat.NotebookNode:
+    info = app.env.rikin_install
+    cell = rikin_site.install_cell(info["book"], info["version"], info["wheel"],
+                                   extra_tags=("remove-cell",))
+    return nbformat.from_dict(cell)
 
 
 def publish_notebook(
@@ -149,11 +161,42 @@ def publish_notebook(
     nb = nbformat.read(executed, as_version=4)
     for key in ("jupytext", "source_map"):  # build-time metadata, noise for a reader
         nb.metadata.pop(key, None)
-    nb.cells.insert(0, install_cell(app.config.rikin_pip_spec))
+    nb.cells.insert(0, _install_cell(app))
     out = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"
     out.parent.mkdir(parents=True, exist_ok=True)
     nbformat.write(_with_ids(nb), out)
     context["ipynb_source"] = f"{pagename}.ipynb"
+
+
+def pin_downloaded_notebooks(app: Sphinx, exc: Exception | None) -> None:
+    """Give every notebook offered for download (the exercises) the book's pinned install cell.
+
+    Its cell tagged ``rikin-install`` (written by tools/make_exercises.py, which cannot know
+    the wheel's hash) is replaced; a notebook without one gets it as its first cell. Each is
+    also published at a stable address, ``_static/exercises/<name>.ipynb`` (the download
+    links carry a hash in their path), where a downloaded copy of the exercises chapter
+    reads them.
+    """
+    if exc is not None or app.builder.format != "html":
+        return
+    stable = Path(app.outdir) / rikin_site.EXERCISES_PATH
+    for path in sorted((Path(app.outdir) / "_downloads").rglob("*.ipynb")):
+        data = json.loads(path.read_text(encoding="utf-8"))
+        cell = json.loads(json.dumps(_install_cell(app)))
+        cells = data.get("cells", [])
+        at = [i for i, c in enumerate(cells)
+              if rikin_site.INSTALL_TAG in c.get("metadata", {}).get("tags", [])]
+        if at:
+            cell["metadata"] = cells[at[0]]["metadata"]
+            cell["id"] = cells[at[0]].get("id", cell["id"])
+            cells[at[0]] = cell
+        else:
+            cell["metadata"]["tags"].remove("remove-cell")
+            cells.insert(0, cell)
+        text = json.dumps(data, indent=1, sort_keys=True, ensure_ascii=False) + "\n"
+        path.write_text(text, encoding="utf-8")
+        stable.mkdir(parents=True, exist_ok=True)
+        (stable / path.name).write_text(text, encoding="utf-8")
 
 
 def _with_ids(nb: nbformat.NotebookNode) -> nbformat.NotebookNode:
@@ -183,12 +226,13 @@ def drop_thebe_scripts(
 
 
 def setup(app: Sphinx) -> dict[str, Any]:
-    app.add_config_value("rikin_pip_spec", "rikin @ git+https://example.invalid/rikin.git", "env")
     app.connect("config-inited", set_mathjax_path)
     app.connect("config-inited", add_book_static)
     app.add_css_file(BOOK_CSS)
+    app.connect("builder-inited", build_rikin_dists)
     app.connect("build-finished", copy_mathjax)
     app.connect("build-finished", copy_plotly)
+    app.connect("build-finished", pin_downloaded_notebooks)
     app.connect("html-page-context", add_plotly)  # before drop_thebe_scripts (900)
     # before sphinx-book-theme's header buttons (priority 501), which read ipynb_source
     app.connect("html-page-context", publish_notebook, priority=500)
