@@ -142,9 +142,9 @@ def build_rikin_dists(app: Sphinx) -> None:
                 manifest["wheel"]["file"], manifest["wheel"]["sha256"], base)
 
 
-def _install_cell(app: Sphinx) -> nbformat.NotebookNode:
+def _install_cell(app: Sphinx, extras: tuple[str, ...] = ()) -> nbformat.NotebookNode:
     info = app.env.rikin_install
-    cell = rikin_site.install_cell(info["book"], info["version"], info["wheel"],
+    cell = rikin_site.install_cell(info["book"], info["version"], info["wheel"], extras=extras,
                                    extra_tags=("remove-cell",))
     return nbformat.from_dict(cell)
 
@@ -161,7 +161,7 @@ def publish_notebook(
     nb = nbformat.read(executed, as_version=4)
     for key in ("jupytext", "source_map"):  # build-time metadata, noise for a reader
         nb.metadata.pop(key, None)
-    nb.cells.insert(0, _install_cell(app))
+    nb.cells.insert(0, _install_cell(app, rikin_site.CHAPTER_EXTRAS))
     out = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"
     out.parent.mkdir(parents=True, exist_ok=True)
     nbformat.write(_with_ids(nb), out)

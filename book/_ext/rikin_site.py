@@ -39,6 +39,9 @@ EXERCISES_PATH = "_static/exercises"
 MANIFEST = "rikin-dist.json"
 #: The tag of the install cell in every published notebook.
 INSTALL_TAG = "rikin-install"
+#: rikin's extras the chapters may use (the book's rotatable figures, the live IK panel):
+#: their published notebooks install them with rikin. The exercises need none.
+CHAPTER_EXTRAS = ("interactive", "widgets")
 #: Timestamps written into the wheel and sdist (zip's earliest date, 1980-01-01): the same
 #: sources give the same bytes, so the same sha256, on every build and machine.
 SOURCE_DATE_EPOCH = "315532800"
@@ -150,6 +153,7 @@ INSTALL_CELL = '''\
 # package of that name from a public index. A no-op where rikin is already installed.
 RIKIN_BOOK = {book!r}
 RIKIN_NEEDED = {version!r}
+RIKIN_EXTRAS = {extras!r}
 RIKIN_WHEEL = {wheel!r}
 
 
@@ -166,12 +170,25 @@ def _rikin_setup():
     def key(v):
         return tuple(int(x) for x in re.findall(r"\\d+", v.split("+")[0])[:3])
 
-    try:
-        have = importlib.metadata.version("rikin")
-    except importlib.metadata.PackageNotFoundError:
-        have = None
-    if have is not None and key(have) >= key(RIKIN_NEEDED):
-        return f"rikin {{have}} is installed"
+    def missing():  # why rikin must be installed, or None
+        try:
+            have = importlib.metadata.version("rikin")
+        except importlib.metadata.PackageNotFoundError:
+            return "rikin is not installed"
+        if key(have) < key(RIKIN_NEEDED):
+            return f"rikin {{have}} is older than this notebook needs ({{RIKIN_NEEDED}})"
+        for req in importlib.metadata.requires("rikin") or []:
+            m = re.match(r"([A-Za-z0-9._-]+).*extra *== *.(\\w+)", req)
+            if m and m.group(2) in RIKIN_EXTRAS:
+                try:
+                    importlib.metadata.version(m.group(1))
+                except importlib.metadata.PackageNotFoundError:
+                    return f"{{m.group(1)}} (rikin[{{m.group(2)}}]) is not installed"
+        return None
+
+    why = missing()
+    if why is None:
+        return f"rikin {{importlib.metadata.version('rikin')}} is installed"
     here = pathlib.Path.cwd().resolve()
     for folder in (here, *here.parents):  # inside a checkout of the course: use it
         if (folder / "rikin" / "__init__.py").is_file() and (folder / "pyproject.toml").is_file():
@@ -187,9 +204,10 @@ def _rikin_setup():
                                f"could not tell which rikin to install ({{exc}}). Are you "
                                "online? Or download this notebook again from the book.") from None
         wheel = f"{{RIKIN_BOOK}}{dist}/{{w['file']}}#sha256={{w['sha256']}}"
-    print(f"installing rikin from {{wheel.split('#')[0]}} ...", flush=True)
+    print(f"{{why}}: installing it from {{wheel.split('#')[0]}} ...", flush=True)
+    extras = f"[{{','.join(RIKIN_EXTRAS)}}]" if RIKIN_EXTRAS else ""
     pip = subprocess.run([sys.executable, "-m", "pip", "install", "--quiet",
-                          "--disable-pip-version-check", "rikin @ " + wheel],
+                          "--disable-pip-version-check", f"rikin{{extras}} @ {{wheel}}"],
                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     if pip.returncode != 0:
         raise RuntimeError(f"could not install rikin (pip exit code {{pip.returncode}}):\\n"
@@ -207,20 +225,25 @@ del _rikin_setup
 '''
 
 
-def install_cell_source(book: str, version: str, wheel: str | None = None) -> str:
+def install_cell_source(
+    book: str, version: str, wheel: str | None = None, extras: tuple[str, ...] = ()
+) -> str:
     """The install cell's code: needs rikin >= ``version``, published by the book at ``book``.
+
+    ``extras`` are rikin's optional dependencies the notebook uses (``CHAPTER_EXTRAS`` for
+    the chapters); the cell installs them too when one is missing.
 
     ``wheel`` is the pinned URL of the wheel (:func:`wheel_url`), which every notebook the
     book publishes carries. A notebook made outside a book build (``exercises/`` in git,
     which must not change whenever rikin's code does) has ``wheel=None``: it then reads the
     wheel's name and sha256 from the book's manifest, ``<book>_static/dist/rikin-dist.json``.
     """
-    return INSTALL_CELL.format(book=book, version=version, wheel=wheel, dist=DIST_PATH,
-                               manifest=MANIFEST)
+    return INSTALL_CELL.format(book=book, version=version, wheel=wheel, extras=tuple(extras),
+                               dist=DIST_PATH, manifest=MANIFEST)
 
 
 def install_cell(book: str, version: str, wheel: str | None = None,
-                 extra_tags: tuple[str, ...] = ()) -> dict[str, Any]:
+                 extras: tuple[str, ...] = (), extra_tags: tuple[str, ...] = ()) -> dict[str, Any]:
     """The install cell as an nbformat 4 code cell (a plain dict), its code folded away.
 
     Colab shows it as a form titled by its ``#@title`` line; Jupyter folds its source.
@@ -235,5 +258,5 @@ def install_cell(book: str, version: str, wheel: str | None = None,
             "tags": [INSTALL_TAG, *extra_tags],
         },
         "outputs": [],
-        "source": install_cell_source(book, version, wheel),
+        "source": install_cell_source(book, version, wheel, extras),
     }
