@@ -9,7 +9,8 @@ is not installed in it: the notebooks' first cell must install it from the serve
 on Colab. Any other address is unreachable, so a notebook that tried to fetch anything else
 (a package index, a CDN, a git host) fails its cell and the test.
 
-rikin's own dependencies (numpy, sympy, matplotlib) come from the package index, fetched
+rikin's own dependencies (numpy, sympy, matplotlib; plotly and ipywidgets, the extras the
+chapters install) come from the package index, fetched
 before the sandbox into a local wheelhouse that the notebook's pip is pointed at
 (``PIP_NO_INDEX``, ``PIP_FIND_LINKS``); rikin's wheel is removed from that wheelhouse, so
 the only rikin pip can install is the one the notebook names by URL.
@@ -182,7 +183,9 @@ def test_downloaded_chapter_and_exercise_run_in_a_fresh_environment(tmp_path: Pa
     assert probe.returncode != 0, "the fresh venv must not have rikin"
     # rikin's dependencies, as the package index has them (fetched now, used offline below)
     wheelhouse = tmp_path / "wheelhouse"
-    _run([py, "-m", "pip", "download", "--quiet", "--dest", wheelhouse, wheel], timeout=900)
+    extras = ",".join(rikin_site.CHAPTER_EXTRAS)
+    _run([py, "-m", "pip", "download", "--quiet", "--dest", wheelhouse,
+          f"rikin[{extras}] @ {wheel.as_uri()}"], timeout=900)
     for w in wheelhouse.glob("rikin-*"):
         w.unlink()
 
@@ -221,15 +224,18 @@ def test_downloaded_chapter_and_exercise_run_in_a_fresh_environment(tmp_path: Pa
     import nbformat
 
     # The chapters: the first cell installed rikin from the book; then every cell ran, and
-    # the results they print are the ones the book shows.
-    def printed(nb) -> list[str]:
-        return [
-            o.get("text", "") or o.get("data", {}).get("text/plain", "")
-            for c in nb.cells[1:]
-            if c.cell_type == "code"
-            for o in c.outputs
-            if o.output_type in ("stream", "execute_result")
-        ]
+    # what they show is what the book shows.
+    def shown(nb) -> list[tuple]:
+        """What each output shows: its kind, mime types, and any text (images: the type)."""
+        out = []
+        for c in nb.cells[1:]:
+            if c.cell_type != "code":
+                continue
+            for o in c.outputs:
+                data = o.get("data", {})
+                text = o.get("text", "") or data.get("text/plain", "") + data.get("text/markdown", "")
+                out.append((o.output_type, tuple(sorted(data)), text))
+        return out
 
     for chapter in CHAPTERS:
         name = f"{Path(chapter).name}.ipynb"
@@ -238,10 +244,11 @@ def test_downloaded_chapter_and_exercise_run_in_a_fresh_environment(tmp_path: Pa
         first = ran.cells[0]
         assert rikin_site.INSTALL_TAG in first.metadata["tags"]
         said = "".join(o.get("text", "") for o in first.outputs)
-        assert f"installing rikin from {base}{rikin_site.DIST_PATH}/" in said, (name, said)
+        assert f"installing it from {base}{rikin_site.DIST_PATH}/" in said, (name, said)
         assert f"rikin {manifest['version']} installed" in said, (name, said)
-        assert printed(ran) == printed(published), name
-        assert printed(ran), f"{name} printed nothing"
+        assert shown(ran) == shown(published), name
+        assert shown(ran), f"{name} showed nothing"
+        assert "is not next to this copy" not in str(shown(ran)), name
     ran = nbformat.read(student / "executed-planar.ipynb", as_version=4)
     assert any(o.output_type == "display_data" and "image/png" in o.data
                for c in ran.cells if c.cell_type == "code" for o in c.outputs), \
