@@ -233,7 +233,9 @@ def test_downloaded_chapter_and_exercise_run_in_a_fresh_environment(tmp_path: Pa
                 continue
             for o in c.outputs:
                 data = o.get("data", {})
-                text = o.get("text", "") or data.get("text/plain", "") + data.get("text/markdown", "")
+                text = o.get("text", "") or (
+                    data.get("text/plain", "") + data.get("text/markdown", "")
+                )
                 out.append((o.output_type, tuple(sorted(data)), text))
         return out
 
