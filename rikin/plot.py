@@ -591,7 +591,8 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
         title = f"{head}\n{_q_text(arm, Q[i])}"
         if twins[i]:
             title += "\njoints where #" + ", #".join(map(str, twins[i])) + " has them"
-        ax.set_title(title, fontsize=8)
+        # six joint values in a quarter of a page: a smaller title keeps panels apart
+        ax.set_title(title, fontsize=7 if arm.n >= 6 and cols >= 4 else 8)
         _few_ticks(ax)
         if three_d:
             for label in (ax.xaxis.label, ax.yaxis.label, ax.zaxis.label):
