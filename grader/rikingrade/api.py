@@ -265,7 +265,12 @@ def grade(
         todo: list[Submission] = []
         for s in subs:
             if s.refused:  # a link: never opened, graded 0 with the reason
-                res = _refused_result(s, a, key)
+                why = (
+                    f"not graded: {s.shown_path} is {s.refused}; the grader reads only "
+                    "notebook files handed in as they are (upload the .ipynb file itself)"
+                )
+                res = _failed(a, s, key, why, INVALID, "not run: the submission was not read")
+                res.problems = [why]
                 gb.record(run_id, sub_ids[s.student], res, a.exercise, seed)
                 write_student(out, res, a.exercise, None)
                 _log_result(res)
@@ -368,29 +373,6 @@ def grade(
             gb.close()
         logging.getLogger("rikingrade").removeHandler(handler)
         handler.close()
-
-
-def _refused_result(sub: Submission, a: Assignment, key: str) -> SubmissionResult:
-    """The result of a submission that was not read (a link), for the student and the
-    instructor alike."""
-    why = (
-        f"not graded: {sub.shown_path} is {sub.refused}; the grader reads only notebook "
-        "files handed in as they are (upload the .ipynb file itself)"
-    )
-    return SubmissionResult(
-        student=sub.student,
-        path=sub.shown_path,
-        sha256=sub.hash(),
-        status=INVALID,
-        reason=why,
-        max_score=a.max_score,
-        key=key,
-        problems=[why],
-        tests=[
-            TestResult(t.name, float(t.weight), 0.0, "not run: the submission was not read")
-            for t in a.tests
-        ],
-    )
 
 
 def _record_submissions(gb: Gradebook, subs: list[Submission], exercise: str) -> dict[str, int]:
@@ -666,8 +648,16 @@ def _run_pool(
             bar.update(results[s.student])
 
 
-def _failed(a: Assignment, sub: Submission, key: str, why: str = "") -> SubmissionResult:
-    """The result of a submission the grader failed on (status grader-error, score 0)."""
+def _failed(
+    a: Assignment,
+    sub: Submission,
+    key: str,
+    why: str = "",
+    status: str = GRADER_ERROR,
+    test_note: str = "not run: internal grader error",
+) -> SubmissionResult:
+    """The result of a submission the grader failed on (status grader-error, score 0), or
+    did not read (``status`` invalid: a link)."""
     try:
         sha = sub.hash()
     except OSError:
@@ -676,13 +666,13 @@ def _failed(a: Assignment, sub: Submission, key: str, why: str = "") -> Submissi
         student=sub.student,
         path=sub.shown_path,
         sha256=sha,
-        status=GRADER_ERROR,
+        status=status,
         reason=why or "internal grader error (see the log)",
         max_score=a.max_score,
         key=key,
         tests=[
             TestResult(
-                t.name, float(t.weight), 0.0, "not run: internal grader error", grader_error=True
+                t.name, float(t.weight), 0.0, test_note, grader_error=status == GRADER_ERROR
             )
             for t in a.tests
         ],
