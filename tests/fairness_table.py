@@ -13,8 +13,11 @@ too much), and how many had visible checks that disagree with the hidden tests.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import json
 import os
+import re
 import subprocess
 import sys
 import tarfile
@@ -61,13 +64,15 @@ def _grade(arm: str, folder: Path, out: Path, pythonpath: str | None) -> dict:
 def _old_checks(commit: str) -> str:
     text = subprocess.run(["git", "-C", str(ROOT), "show", f"{commit}:tools/exercise_checks.py"],
                           capture_output=True, text=True, check=True).stdout
-    return text.split("# %% [checks]", 1)[1].strip("\n")
+    return re.split(r"(?m)^# %% \[checks\]\s*$", text, maxsplit=1)[1].strip("\n")
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--before", default="09b17a1", help="the commit before the fix")
     ap.add_argument("--arms", default=",".join(F.ARMS))
+    ap.add_argument("--visible-only", action="store_true",
+                    help="only the visible checks (in-process), no grading")
     args = ap.parse_args()
     arms = args.arms.split(",")
     tmp = Path(tempfile.mkdtemp(prefix="fairness-", dir="/tmp"))
@@ -91,20 +96,25 @@ def main() -> int:
         folder.mkdir()
         for f in variants:
             nbformat.write(_notebook(f, new_sol), str(folder / f"{f.name}.ipynb"))
-        after = _grade(arm, folder, tmp / f"out-{arm}-after", None)
-        before = _grade(arm, folder, tmp / f"out-{arm}-before", old_path)
+        if args.visible_only:
+            after = before = {f.name: [0.0, "not graded"] for f in variants}
+        else:
+            after = _grade(arm, folder, tmp / f"out-{arm}-after", None)
+            before = _grade(arm, folder, tmp / f"out-{arm}-before", old_path)
         for f in variants:
             want = sum(W.expected_points(f.variant(), mod.TESTS).values())
             nb_new = _notebook(f, new_sol)
             ns, _ = H.run_notebook(nb_new)
-            vis_after = bool(_visible_failures(nb_new, ns))
+            with contextlib.redirect_stdout(io.StringIO()):
+                vis_after = bool(_visible_failures(nb_new, ns))
             nb_old = _notebook(f, old_sol)
             for c in nb_old.cells:
                 if "checks" in c.get("metadata", {}).get("tags", []):
                     c.source = old_checks
             try:
                 ns_old, _ = H.run_notebook(nb_old)
-                vis_before = bool(_visible_failures(nb_old, ns_old))
+                with contextlib.redirect_stdout(io.StringIO()):
+                    vis_before = bool(_visible_failures(nb_old, ns_old))
             except Exception:  # noqa: BLE001
                 vis_before = None
             rows.append((f, want, before[f.name], after[f.name], vis_before, vis_after))
