@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -13,19 +14,54 @@ from .tolerances import (
     DEGREES_ROUND,
     DEGREES_SUSPECT,
     MAX_ANGLE,
+    MAX_LENGTH,
+    MIN_LENGTH,
     ORTHONORMAL_TOL,
+    ROTATION_CLEAN_TOL,
 )
 
 FloatArray = NDArray[np.float64]
 
 
-def as_float_array(x: Any, name: str) -> FloatArray:
-    """Return ``x`` as a float64 array, or raise InputError for non-numbers and NaN."""
+def _describe(x: Any) -> str:
+    """A short ``repr`` of a rejected argument, for messages."""
+    text = repr(x)
+    return text if len(text) <= 80 else text[:77] + "..."
+
+
+def _real(v: Any, name: str) -> float:
+    """One element of an object array (or one scalar) as a float, or InputError."""
+    if v is None:
+        raise InputError(f"{name} contains None where a number is expected")
+    if isinstance(v, (bool, np.bool_)):
+        raise InputError(f"{name} contains the boolean {v!r} where a number is expected")
+    if isinstance(v, (str, bytes)):
+        raise InputError(f"{name} contains the text {v!r}; give numbers, not strings")
+    if isinstance(v, (complex, np.complexfloating)):
+        raise InputError(f"{name} contains the complex number {v!r}; rikin takes real values")
     try:
-        arr = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name} must be numbers, got {x!r}") from exc
-    if not np.all(np.isfinite(arr)):
+        return float(v)
+    except (TypeError, ValueError, OverflowError) as exc:
+        kind = "a symbolic expression" if type(v).__module__.startswith("sympy") else "not a number"
+        raise InputError(
+            f"{name} contains {_describe(v)}, {kind}; give real numbers"
+            + (" (substitute the symbols first, or use rikin.symbolic)" if "symbolic" in kind else "")
+        ) from exc
+
+
+def as_float_array(x: Any, name: str) -> FloatArray:
+    """Return ``x`` as a float64 array, or raise InputError.
+
+    Accepted: real numbers (Python, numpy of any real dtype, sympy numbers) and
+    nested lists or tuples of them. Refused, naming ``name``: None, text,
+    booleans, complex numbers (never silently cut to their real part),
+    symbols, ragged lists, NaN and infinity.
+    """
+    if type(x) is np.ndarray and x.dtype == np.float64:
+        arr = x
+    else:
+        arr = _to_float64(x, name)
+    if not np.isfinite(arr).all():
         bad = np.argwhere(~np.isfinite(arr))
         where = tuple(int(i) for i in bad[0])
         raise InputError(
@@ -33,6 +69,70 @@ def as_float_array(x: Any, name: str) -> FloatArray:
             "check the computation that produced it"
         )
     return arr
+
+
+def _to_float64(x: Any, name: str) -> FloatArray:
+    if x is None:
+        raise InputError(f"{name} is None; expected numbers")
+    if isinstance(x, (str, bytes)):
+        raise InputError(f"{name} must be numbers, got the text {_describe(x)}")
+    try:
+        raw = np.asarray(x)
+    except (TypeError, ValueError) as exc:  # ragged nesting
+        raise InputError(
+            f"{name} must be a number or a rectangular array of numbers, got {_describe(x)}"
+        ) from exc
+    kind = raw.dtype.kind
+    if kind in "fiu":
+        with np.errstate(over="ignore"):  # float128 beyond double: caught as infinity
+            return raw.astype(np.float64)
+    if kind == "b":
+        raise InputError(f"{name} must be numbers, got booleans ({_describe(x)})")
+    if kind == "c":
+        raise InputError(
+            f"{name} must be real numbers, got complex values ({_describe(x)}); rikin does "
+            "not drop an imaginary part silently"
+        )
+    if kind in "US":
+        raise InputError(f"{name} must be numbers, got text ({_describe(x)})")
+    if kind == "O":
+        flat = [_real(v, name) for v in raw.ravel().tolist()]
+        return np.array(flat, dtype=np.float64).reshape(raw.shape)
+    raise InputError(f"{name} must be numbers, got {raw.dtype} values ({_describe(x)})")
+
+
+def as_real(x: Any, name: str) -> float:
+    """One finite real number (Python, numpy or sympy number), or InputError."""
+    if isinstance(x, float) and math.isfinite(x):
+        return x
+    arr = as_float_array(x, name)
+    if arr.shape != ():
+        raise InputError(f"{name} must be one number, got shape {arr.shape}")
+    return float(arr)
+
+
+def as_length(x: Any, name: str, *, positive: bool = False, nonzero: bool = False) -> float:
+    """One length of an arm: a finite real number within ``MAX_LENGTH`` and, unless
+    zero, at least ``MIN_LENGTH`` in absolute value (see the conventions page); or InputError."""
+    v = as_real(x, name)
+    if positive and not v > 0:
+        raise InputError(f"{name} must be a positive length, got {v!r}")
+    if nonzero and v == 0:
+        raise InputError(f"{name} must be a nonzero length, got 0")
+    check_length_range(abs(v), name, lower=True)
+    return v
+
+
+def check_length_range(a: float, name: str, *, lower: bool = False) -> None:
+    """Raise InputError if the absolute length ``a`` exceeds ``MAX_LENGTH`` (or, with
+    ``lower``, is nonzero and below ``MIN_LENGTH``: an arm that small)."""
+    if a > MAX_LENGTH or (lower and 0 < a < MIN_LENGTH):
+        raise InputError(
+            f"{name} = {a:g} is outside the lengths rikin handles, {MIN_LENGTH:g} to "
+            f"{MAX_LENGTH:g} in the arm's units: its formulas square and multiply lengths, "
+            "which overflows or underflows double precision beyond that; change the unit "
+            "(e.g. mm to m)"
+        )
 
 
 def check_shape_tail(arr: FloatArray, tail: tuple[int, ...], name: str, what: str) -> None:
@@ -77,6 +177,12 @@ def check_rotation_values(arr: FloatArray, name: str) -> None:
         err1, det1 = _rotation_errors(arr.tolist())
         if err1 <= ORTHONORMAL_TOL and det1 >= 0:
             return
+    biggest = float(np.abs(arr).max(initial=0.0))
+    if biggest > 2.0:  # a rotation's entries are at most 1: no R^T R (it could overflow)
+        raise InputError(
+            f"{name} is not a rotation matrix: it has an entry of {biggest:.3g} "
+            "(a rotation's entries are between -1 and 1)"
+        )
     gram = np.swapaxes(arr, -1, -2) @ arr
     err = np.abs(gram - np.eye(3)).max(axis=(-1, -2))
     if np.any(err > ORTHONORMAL_TOL):
@@ -94,19 +200,90 @@ def check_rotation_values(arr: FloatArray, name: str) -> None:
 
 
 def as_pose(T: Any, name: str = "T") -> FloatArray:
-    """Validate one or many homogeneous transforms ``(..., 4, 4)``."""
+    """Validate one or many homogeneous transforms ``(..., 4, 4)``.
+
+    Raises InputError for a wrong shape, NaN, a last row other than
+    ``[0, 0, 0, 1]``, a rotation block that is not a rotation within
+    ``ORTHONORMAL_TOL``, or a translation beyond ``MAX_LENGTH``.
+    """
     arr = as_float_array(T, name)
     check_shape_tail(arr, (4, 4), name, "a homogeneous transform")
     bottom = arr[..., 3, :]
     if arr.shape == (4, 4):
-        b = bottom.tolist()
+        rows = arr.tolist()
+        b = rows[3]
         if max(abs(b[0]), abs(b[1]), abs(b[2]), abs(b[3] - 1.0)) <= 1e-9:
-            check_rotation_values(arr[:3, :3], f"the rotation part of {name}")
+            err, det = _rotation_errors([r[:3] for r in rows[:3]])
+            if not (err <= ORTHONORMAL_TOL and det >= 0):
+                check_rotation_values(arr[:3, :3], f"the rotation part of {name}")
+            big = max(abs(rows[0][3]), abs(rows[1][3]), abs(rows[2][3]))
+            if big > MAX_LENGTH:
+                check_length_range(big, f"the position in {name}")
             return arr
     if np.any(np.abs(bottom - np.array([0.0, 0.0, 0.0, 1.0])) > 1e-9):
         raise InputError(f"{name} must have last row [0, 0, 0, 1], got {bottom.reshape(-1, 4)[0]}")
     check_rotation_values(arr[..., :3, :3], f"the rotation part of {name}")
+    big = float(np.abs(arr[..., :3, 3]).max(initial=0.0))
+    if big > MAX_LENGTH:
+        check_length_range(big, f"the position in {name}")
     return arr
+
+
+def nearest_rotation(R: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """The rotation nearest to each ``(3, 3)`` block of ``R`` (polar decomposition, by SVD).
+
+    Parameters
+    ----------
+    R : ndarray, shape (..., 3, 3)
+        Matrices close to rotations (validated, ``det > 0``).
+
+    Returns
+    -------
+    R_near : ndarray, shape (..., 3, 3)
+        ``U V^T`` from ``R = U S V^T``: the rotation closest to ``R`` in the
+        Frobenius norm.
+    distance : ndarray, shape (...)
+        ``||R - R_near||_F``, unitless.
+    """
+    U, _, Vt = np.linalg.svd(R)
+    R_near = U @ Vt
+    flip = np.linalg.det(R_near) < 0  # cannot happen within ORTHONORMAL_TOL; kept exact anyway
+    if np.any(flip):
+        U = U.copy()
+        U[flip, :, 2] *= -1
+        R_near = U @ Vt
+    return R_near, np.sqrt(((R - R_near) ** 2).sum(axis=(-1, -2)))
+
+
+def clean_pose(T: FloatArray) -> tuple[FloatArray, float]:
+    """A validated pose ``(4, 4)`` with its rotation block made exactly a rotation.
+
+    Returns ``(T, 0.0)`` when the block is a rotation to ``ROTATION_CLEAN_TOL``,
+    else a copy with the nearest rotation and the Frobenius distance to it.
+    """
+    rows = T.tolist()
+    err, _ = _rotation_errors([r[:3] for r in rows[:3]])
+    if err <= ROTATION_CLEAN_TOL:
+        return T, 0.0
+    R_near, dist = nearest_rotation(T[:3, :3])
+    out = T.copy()
+    out[:3, :3] = R_near
+    return out, float(dist)
+
+
+def clean_poses(T: FloatArray, defect: FloatArray) -> FloatArray:
+    """:func:`clean_pose` in place on the poses ``T (N, 4, 4)`` whose orthonormality
+    ``defect (N,)`` (max abs entry of ``R^T R - I``) is above ``ROTATION_CLEAN_TOL``.
+
+    Returns the distances ``(N,)`` (0 where nothing changed).
+    """
+    dist = np.zeros(len(T))
+    fix = np.flatnonzero(defect > ROTATION_CLEAN_TOL)
+    if fix.size:
+        R_near, d = nearest_rotation(T[fix, :3, :3])
+        T[fix, :3, :3] = R_near
+        dist[fix] = d
+    return dist
 
 
 def as_vector(x: Any, n: int, name: str) -> FloatArray:

@@ -22,13 +22,28 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
-from ._validate import FloatArray, as_float_array, as_pose, check_radians
+from ._validate import (
+    FloatArray,
+    as_float_array,
+    as_pose,
+    as_real,
+    check_length_range,
+    check_radians,
+    clean_pose,
+)
 from .errors import InputError
-from .tolerances import DEGREES_SUSPECT
+from .tolerances import DEGREES_SUSPECT, MAX_ANGLE, MAX_LENGTH
 from .transforms import _inv_transform
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .ik.result import IKResult
+    from .ik.result import BatchIKResult, IKResult
+
+
+def _one_pose(T: Any, name: str) -> FloatArray:
+    arr = as_pose(T, name)
+    if arr.shape != (4, 4):
+        raise InputError(f"{name} must be one 4x4 homogeneous transform, got shape {arr.shape}")
+    return arr
 
 Convention = Literal["standard", "modified"]
 JointType = Literal["R", "P"]
@@ -68,19 +83,62 @@ class Link:
     qlim: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
-        if self.joint not in ("R", "P"):
+        if not isinstance(self.joint, str) or self.joint not in ("R", "P"):
             raise InputError(f"joint must be 'R' or 'P', got {self.joint!r}")
+        for fname in ("d", "a", "alpha", "offset", "theta"):
+            value = getattr(self, fname)
+            if type(value).__module__.startswith("sympy"):
+                continue  # a symbolic table (rikin.symbolic); numeric arms check again
+            number = as_real(value, fname)
+            object.__setattr__(self, fname, number)
+            if fname in ("d", "a") or (fname == "offset" and self.joint == "P"):
+                check_length_range(abs(number), fname)
+            elif abs(number) > MAX_ANGLE:
+                check_radians(np.array(number), fname, degrees_hint=False)
         if self.qlim is not None:
-            lo, hi = self.qlim
-            if not lo <= hi:
+            try:
+                lo, hi = self.qlim
+            except (TypeError, ValueError):
+                raise InputError(
+                    f"qlim must be a pair (lower, upper) or None, got {self.qlim!r}"
+                ) from None
+            lo_f, hi_f = _limit(lo, "qlim lower"), _limit(hi, "qlim upper")
+            if not lo_f <= hi_f:
                 raise InputError(
                     f"qlim must be (lower, upper) with lower <= upper, got {self.qlim}"
                 )
+            object.__setattr__(self, "qlim", (lo_f, hi_f))
 
     @property
     def is_revolute(self) -> bool:
         """True for a revolute joint."""
         return self.joint == "R"
+
+
+def _limit(value: Any, name: str) -> float:
+    """One joint limit: a real number, possibly infinite, never NaN."""
+    if isinstance(value, float) and value == value:
+        return value
+    v = _number(value, name)
+    if v != v:
+        raise InputError(f"{name} is NaN")
+    return v
+
+
+def _number(value: Any, name: str) -> float:
+    """A real scalar (infinity allowed) without the finiteness check of ``as_real``."""
+    if value is None or isinstance(value, (bool, np.bool_, str, bytes, complex, np.complexfloating)):
+        raise InputError(f"{name} must be a number, got {value!r}")
+    try:
+        raw = np.asarray(value)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
+    if raw.shape != () or raw.dtype.kind not in "fiuO":
+        raise InputError(f"{name} must be one number, got {value!r}")
+    try:
+        return float(raw)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name} must be a number, got {value!r}") from None
 
 
 def link_transform(link: Link, q: FloatArray, convention: Convention) -> FloatArray:
@@ -188,16 +246,26 @@ class SerialArm:
     solver: Any = None
 
     def __post_init__(self) -> None:
-        if self.convention not in ("standard", "modified"):
+        if not isinstance(self.convention, str) or self.convention not in ("standard", "modified"):
             raise InputError(
                 f"convention must be 'standard' or 'modified', got {self.convention!r}"
             )
-        links = tuple(self.links)
+        for fname in ("units", "name"):
+            if not isinstance(getattr(self, fname), str):
+                raise InputError(f"{fname} must be a string, got {getattr(self, fname)!r}")
+        if isinstance(self.links, Link):
+            raise InputError("links must be a sequence of rikin.Link, got one Link: wrap it, (link,)")
+        try:
+            links = tuple(self.links)
+        except TypeError:
+            raise InputError(
+                f"links must be a sequence of rikin.Link, got {type(self.links).__name__}"
+            ) from None
         if not links:
-            raise InputError("an arm needs at least one link")
+            raise InputError("links is empty: an arm needs at least one link")
         for i, lk in enumerate(links, 1):
             if not isinstance(lk, Link):
-                raise InputError(f"link {i} must be a rikin.Link, got {type(lk).__name__}")
+                raise InputError(f"links: link {i} must be a rikin.Link, got {type(lk).__name__}")
             for fname in ("d", "a", "alpha", "offset", "theta"):
                 val = getattr(lk, fname)
                 try:
@@ -213,10 +281,14 @@ class SerialArm:
         revolute = np.array([lk.is_revolute for lk in links])
         revolute.setflags(write=False)
         object.__setattr__(self, "_revolute", revolute)
-        object.__setattr__(self, "base", as_pose(self.base, "base").copy())
-        object.__setattr__(self, "tool", as_pose(self.tool, "tool").copy())
-        self.base.setflags(write=False)
-        self.tool.setflags(write=False)
+        for fname in ("base", "tool"):
+            T, dist = clean_pose(_one_pose(getattr(self, fname), fname))
+            T = T.copy()
+            T.setflags(write=False)
+            object.__setattr__(self, fname, T)
+        size = sum(abs(float(lk.a)) + abs(float(lk.d)) for lk in links)
+        check_length_range(size, "the arm's size (sum of |a| and |d|)", lower=True)
+        object.__setattr__(self, "_scale", size if size > 0 else 1.0)
 
     # ------------------------------------------------------------------ info
     @property
@@ -244,13 +316,16 @@ class SerialArm:
 
     @property
     def scale(self) -> float:
-        """A characteristic length of the arm (sum of |a| and |d|), for relative tolerances."""
-        s = sum(abs(float(lk.a)) + abs(float(lk.d)) for lk in self.links)
-        return max(s, 1.0)
+        """A characteristic length of the arm, for relative tolerances: the sum of |a| and
+        |d| over its links (1 when they are all zero), in the arm's units."""
+        return self._scale  # type: ignore[attr-defined,no-any-return]
 
     def replace(self, **changes: Any) -> SerialArm:
         """A copy with some fields changed, e.g. ``arm.replace(tool=T)``."""
-        return replace(self, **changes)
+        try:
+            return replace(self, **changes)
+        except TypeError as exc:
+            raise InputError(f"replace: {exc}; the fields are {', '.join(self.__dataclass_fields__)}") from None
 
     def __repr__(self) -> str:
         return (
@@ -295,10 +370,15 @@ class SerialArm:
                 f"{name} must have shape ({self.n},) or (N, {self.n}) for this {self.n}-joint arm "
                 f"({self.joint_types}), got shape {arr.shape}"
             )
-        angles = np.where(self.revolute, arr, 0.0)
-        if np.abs(angles).max(initial=0.0) > DEGREES_SUSPECT:  # say which joint, in words
+        a = np.abs(arr)
+        if a.max(initial=0.0) > DEGREES_SUSPECT:  # say which joint, in words
             names = [f"{name}[{i}] (joint {i + 1})" for i in range(self.n)]
+            angles = np.where(self.revolute, arr, 0.0)
             check_radians(angles, name, names, joint_vectors=True, degrees_hint=check_degrees)
+            lengths = np.where(self.revolute, 0.0, a)
+            if lengths.max(initial=0.0) > MAX_LENGTH:
+                j = int(np.argmax(lengths.max(axis=0) if lengths.ndim == 2 else lengths))
+                check_length_range(float(lengths.max()), names[j])
         return arr
 
     def fk(self, q: Any, *, frames: bool = False, check_degrees: bool = True) -> FloatArray:
@@ -386,16 +466,25 @@ class SerialArm:
     # ------------------------------------------------------------------ IK
     def ik(self, target: Any, **options: Any) -> IKResult:
         """Every closed-form IK solution of ``target``; see :func:`rikin.ik.solve`."""
-        from .ik.api import solve
+        return self._closed_form().ik(self, target, **options)  # type: ignore[no-any-return]
 
-        return solve(self, target, **options)
-
-    def ik_batch(self, T: Any, **options: Any) -> Any:
+    def ik_batch(self, T: Any, **options: Any) -> BatchIKResult:
         """All solutions for many poses at once; see :func:`rikin.ik.solve_batch`."""
-        from .ik.api import solve_batch
+        return self._closed_form().ik_batch(self, T, **options)  # type: ignore[no-any-return]
 
-        return solve_batch(self, T, **options)
+    def _closed_form(self) -> Any:
+        """The arm family's solver (it carries the IK entry points: data flows dh -> ik)."""
+        if self.solver is None:
+            raise InputError(
+                f"{self.name!r} has no closed-form IK in rikin; build it with a constructor from "
+                "rikin.robots, or use rikin.ik.ik_numerical for a single numerical solution"
+            )
+        return self.solver
 
-    def world_to_base(self, T_world: FloatArray) -> FloatArray:
-        """``T_0_n = base^-1 @ T_world_tcp @ tool^-1`` for trusted ``(..., 4, 4)`` input."""
+    def world_to_base(self, T_world: Any) -> FloatArray:
+        """``T_0_n = base^-1 @ T_world_tcp @ tool^-1`` for poses ``(..., 4, 4)``."""
+        return self._world_to_base(as_pose(T_world, "T_world"))
+
+    def _world_to_base(self, T_world: FloatArray) -> FloatArray:
+        """:meth:`world_to_base` for trusted input."""
         return _inv_transform(self.base) @ T_world @ _inv_transform(self.tool)

@@ -26,7 +26,9 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import as_length, as_real
 from .dh import Link, SerialArm
+from .errors import InputError
 from .ik.anthropomorphic import Angular3RSolver, RRRGeometry
 from .ik.decoupled import Decoupled6RSolver
 from .ik.planar import Planar2RSolver, Planar3RSolver
@@ -87,12 +89,13 @@ def _arm(
     return arm
 
 
-def _positive(**lengths: float) -> None:
-    from .errors import InputError
+def _lengths(**lengths: Any) -> list[float]:
+    """The lengths as floats, each a positive real number rikin handles, or InputError.
 
-    for k, v in lengths.items():
-        if not np.isfinite(v) or v <= 0:
-            raise InputError(f"{k} must be a positive length, got {v!r}")
+    Sympy numbers count as numbers; a symbol raises (symbolic tables come
+    from the ``*_links`` functions and :mod:`rikin.symbolic`).
+    """
+    return [as_length(v, k, positive=True) for k, v in lengths.items()]
 
 
 # ---------------------------------------------------------------- planar (Aula 23)
@@ -112,7 +115,7 @@ def planar_2r(
     >>> len(arm.ik([15.0, 5.0]))
     2
     """
-    _positive(l1=l1, l2=l2)
+    l1, l2 = _lengths(l1=l1, l2=l2)
     return _arm(planar_2r_links(l1, l2), Planar2RSolver(), name="planar 2R", base=base, tool=tool)
 
 
@@ -132,7 +135,7 @@ def planar_3r(
     >>> len(sols)
     2
     """
-    _positive(l1=l1, l2=l2, l3=l3)
+    l1, l2, l3 = _lengths(l1=l1, l2=l2, l3=l3)
     return _arm(
         planar_3r_links(l1, l2, l3), Planar3RSolver(), name="planar 3R", base=base, tool=tool
     )
@@ -149,7 +152,7 @@ def angular_3r(
     l1: float = 10.0, l2: float = 10.0, l3: float = 10.0, *, base: Any = None, tool: Any = None
 ) -> SerialArm:
     """The angular 3R arm of Aula 23; IK of a position: up to 4 solutions."""
-    _positive(l1=l1, l2=l2, l3=l3)
+    l1, l2, l3 = _lengths(l1=l1, l2=l2, l3=l3)
     g = RRRGeometry(z0=l1, r0=0.0, L2=l2, L3=l3)
     return _arm(
         angular_3r_links(l1, l2, l3), Angular3RSolver(g), name="angular 3R", base=base, tool=tool
@@ -187,7 +190,7 @@ def aula10_6r(
 
     Its wrist centre is ``TCP - (l5 + l6) z_6``.
     """
-    _positive(l1=l1, l2=l2, l3=l3, l4=l4, l5=l5, l6=l6)
+    l1, l2, l3, l4, l5, l6 = _lengths(l1=l1, l2=l2, l3=l3, l4=l4, l5=l5, l6=l6)
     g = RRRGeometry(z0=l1, r0=0.0, L2=l2, L3=l3 + l4)
     return _arm(
         aula10_6r_links(l1, l2, l3, l4, l5, l6),
@@ -225,7 +228,7 @@ def barrientos_6r(
     The slides give no lengths: the defaults 8, 10, 12, 5 are rikin's choice
     (the same synthetic values ERRATA.md uses).
     """
-    _positive(l1=l1, l2=l2, l3=l3, l4=l4)
+    l1, l2, l3, l4 = _lengths(l1=l1, l2=l2, l3=l3, l4=l4)
     g = RRRGeometry(z0=l1, r0=0.0, L2=l2, L3=l3, phi3=-np.pi / 2)
     return _arm(
         barrientos_6r_links(l1, l2, l3, l4),
@@ -292,7 +295,10 @@ def epson_c4(
     >>> epson_c4().fk(np.zeros(6))[:3, 3].round(6)
     array([415.,   0., 570.])
     """
-    _positive(d1=d1, a1=a1, a2=a2, tool_length=tool_length)
+    d1, a1, a2, tool_length = _lengths(d1=d1, a1=a1, a2=a2, tool_length=tool_length)
+    d4 = as_length(d4, "d4", nonzero=True)  # negative in the lab's table
+    if not isinstance(units, str):
+        raise InputError(f"units must be a string such as 'mm', got {units!r}")
     if tool is None:
         tool = homogeneous(rotx(np.pi), np.array([0.0, 0.0, -tool_length]))
     g = RRRGeometry(z0=d1, r0=a1, L2=a2, L3=abs(d4), phi2=np.pi / 2, phi3=np.sign(d4) * np.pi / 2)
@@ -336,7 +342,8 @@ def pprrr(
     The notes are symbolic; the default lengths (10, 5, 8) are the synthetic
     ones of ERRATA.md.
     """
-    _positive(a1=a1, a2=a2, a3=a3)
+    a1, a2, a3 = _lengths(a1=a1, a2=a2, a3=a3)
+    theta1 = as_real(theta1, "theta1")
     return _arm(pprrr_links(a1, a2, a3, theta1), PPRRRSolver(), name="PPRRR", base=base, tool=tool)
 
 
@@ -365,7 +372,7 @@ def rprrr(
 
     Default lengths (4, 3, 6, 8) are the synthetic ones of ERRATA.md.
     """
-    _positive(a1=a1, a2=a2, a3=a3, a4=a4)
+    a1, a2, a3, a4 = _lengths(a1=a1, a2=a2, a3=a3, a4=a4)
     return _arm(rprrr_links(a1, a2, a3, a4), RPRRRSolver(), name="RPRRR", base=base, tool=tool)
 
 

@@ -11,6 +11,25 @@ from __future__ import annotations
 #: tighter one would reject the lessons' own numbers.
 ORTHONORMAL_TOL = 1e-3
 
+#: A rotation block whose columns are orthonormal to within this (max abs entry
+#: of ``R^T R - I``) is used as it is; between this and ``ORTHONORMAL_TOL`` (a
+#: rounded or float32 matrix) IK replaces it by the nearest rotation and reports
+#: the distance.
+ROTATION_CLEAN_TOL = 1e-12
+
+#: Lengths rikin handles (absolute value, the arm's units): link lengths and
+#: offsets, base, tool and target positions, prismatic joint values. Beyond
+#: them the formulas' squares and products overflow or underflow double
+#: precision (which spans about 1e-308 to 1e308).
+MAX_LENGTH = 1e100
+MIN_LENGTH = 1e-100
+
+#: A point closer than this (times the arm's size) to a joint axis is on it,
+#: and an elbow this close (relative) to stretched or folded is exactly so:
+#: the singular families start where the target's own rounding (~1e-16 of its
+#: size) could put it on either side. Further away every branch is solved.
+AXIS_TOL = 1e-13
+
 #: A sine below this (in absolute value) counts as zero: the wrist (sin q5),
 #: the elbow (sin of the elbow angle) or the shoulder (distance of the wrist
 #: centre from axis 1, relative to the arm's size) is singular there.
@@ -21,10 +40,12 @@ SINGULAR_TOL = 1e-9
 #: FK of a stretched arm is solved and not refused for rounding.
 REACH_TOL = 1e-9
 
-#: When 1 - |cos(elbow)| is below this, the elbow is taken as exactly stretched or
-#: folded. acos turns the ~1e-16 rounding of a stretched arm's cosine into an
-#: angle error of ~1e-8 rad, enough to hide a wrist singularity behind it;
-#: snapping moves the TCP by at most ~1e-13 of the arm's size.
+#: When the distance from the shoulder to the target of a two-link chain is
+#: within this (times L2 + L3) of the longest or shortest it reaches, the elbow
+#: is taken as exactly stretched or folded. The rounding of a stretched arm's
+#: target would otherwise come out as an elbow angle of ~1e-8 rad, enough to
+#: hide a wrist singularity behind it; snapping moves the TCP by at most this
+#: times the arm's size.
 STRETCH_TOL = 1e-13
 
 #: Two solutions closer than this (max abs difference of wrapped joint

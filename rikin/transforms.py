@@ -15,7 +15,14 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import FloatArray, as_float_array, as_pose, as_rotation, check_radians
+from ._validate import (
+    FloatArray,
+    as_float_array,
+    as_pose,
+    as_rotation,
+    check_length_range,
+    check_radians,
+)
 from .errors import InputError
 from .tolerances import SINGULAR_TOL
 
@@ -37,6 +44,22 @@ __all__ = [
     "deg",
     "rad",
 ]
+
+
+def _flag(value: Any, name: str) -> bool:
+    """A keyword that must be True or False."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise InputError(f"{name} must be True or False, got {value!r}")
+
+
+def _broadcast(name: str, *shapes: tuple[int, ...]) -> tuple[int, ...]:
+    try:
+        return np.broadcast_shapes(*shapes)
+    except ValueError as exc:
+        raise InputError(
+            f"{name}: the shapes {', '.join(map(str, shapes))} do not broadcast together"
+        ) from exc
 
 
 def _angles(theta: Any, name: str) -> FloatArray:
@@ -108,7 +131,8 @@ def homogeneous(R: Any = None, p: Any = None) -> FloatArray:
     pv = np.zeros(3) if p is None else as_float_array(p, "p")
     if pv.shape[-1:] != (3,):
         raise InputError(f"p must have shape (..., 3), got shape {pv.shape}")
-    shape = np.broadcast_shapes(Rm.shape[:-2], pv.shape[:-1])
+    check_length_range(float(np.abs(pv).max(initial=0.0)), "p")
+    shape = _broadcast("homogeneous(R, p)", Rm.shape[:-2], pv.shape[:-1])
     T = np.zeros(shape + (4, 4))
     T[..., :3, :3] = Rm
     T[..., :3, 3] = pv
@@ -118,19 +142,16 @@ def homogeneous(R: Any = None, p: Any = None) -> FloatArray:
 
 def transl(x: Any, y: Any = None, z: Any = None) -> FloatArray:
     """Pure translation ``(..., 4, 4)``: ``transl([x, y, z])`` or ``transl(x, y, z)``."""
-    p = (
-        as_float_array(x, "x")
-        if y is None
-        else np.stack(
-            np.broadcast_arrays(
-                as_float_array(x, "x"),
-                as_float_array(y, "y"),
-                as_float_array(0.0 if z is None else z, "z"),
-            ),
-            axis=-1,
-        )
-    )
-    return homogeneous(None, p)
+    if y is None:
+        if z is not None:
+            raise InputError("transl takes transl([x, y, z]) or transl(x, y, z), not x and z alone")
+        p = as_float_array(x, "x")
+        if p.shape[-1:] != (3,):
+            raise InputError(f"x must be [x, y, z], shape (..., 3), got shape {p.shape}")
+        return homogeneous(None, p)
+    xs = [as_float_array(v, n) for v, n in ((x, "x"), (y, "y"), (0.0 if z is None else z, "z"))]
+    shape = _broadcast("transl(x, y, z)", *(v.shape for v in xs))
+    return homogeneous(None, np.stack([np.broadcast_to(v, shape) for v in xs], axis=-1))
 
 
 def trotx(theta: Any) -> FloatArray:
@@ -187,9 +208,10 @@ def rpy_to_r(roll: Any, pitch: Any, yaw: Any, *, degrees: bool = False) -> Float
     R : ndarray, shape (..., 3, 3)
     """
     r, p, y = (as_float_array(a, n) for a, n in ((roll, "roll"), (pitch, "pitch"), (yaw, "yaw")))
-    if degrees:
+    _broadcast("rpy_to_r(roll, pitch, yaw)", r.shape, p.shape, y.shape)
+    if _flag(degrees, "degrees"):
         r, p, y = np.radians(r), np.radians(p), np.radians(y)
-    return rotz(y) @ roty(p) @ rotx(r)
+    return _rot(y, 2, "yaw") @ _rot(p, 1, "pitch") @ _rot(r, 0, "roll")
 
 
 def r_to_rpy(R: Any, *, degrees: bool = False) -> FloatArray:
@@ -208,6 +230,7 @@ def r_to_rpy(R: Any, *, degrees: bool = False) -> FloatArray:
     rpy : ndarray, shape (..., 3)
         ``[roll, pitch, yaw]`` in radians (degrees with ``degrees=True``).
     """
+    degrees = _flag(degrees, "degrees")
     Rm = as_rotation(R, "R")
     cp = np.hypot(Rm[..., 0, 0], Rm[..., 1, 0])
     pitch = np.arctan2(-Rm[..., 2, 0], cp)
@@ -223,9 +246,10 @@ def r_to_rpy(R: Any, *, degrees: bool = False) -> FloatArray:
 def zyz_to_r(phi: Any, theta: Any, psi: Any, *, degrees: bool = False) -> FloatArray:
     """Rotation from ZYZ Euler angles: ``Rz(phi) @ Ry(theta) @ Rz(psi)``, shape ``(..., 3, 3)``."""
     a, b, c = (as_float_array(v, n) for v, n in ((phi, "phi"), (theta, "theta"), (psi, "psi")))
-    if degrees:
+    _broadcast("zyz_to_r(phi, theta, psi)", a.shape, b.shape, c.shape)
+    if _flag(degrees, "degrees"):
         a, b, c = np.radians(a), np.radians(b), np.radians(c)
-    return rotz(a) @ roty(b) @ rotz(c)
+    return _rot(a, 2, "phi") @ _rot(b, 1, "theta") @ _rot(c, 2, "psi")
 
 
 def r_to_zyz(R: Any, *, branch: int = 1, degrees: bool = False) -> FloatArray:
@@ -244,22 +268,86 @@ def r_to_zyz(R: Any, *, branch: int = 1, degrees: bool = False) -> FloatArray:
         ``[phi, theta, psi]``, radians wrapped to (-pi, pi]. When theta is 0
         or pi (singular), phi is 0 and psi carries the rotation.
     """
-    if branch not in (1, -1):
+    if isinstance(branch, (bool, np.bool_)) or not isinstance(branch, (int, np.integer)) or (
+        branch not in (1, -1)
+    ):
         raise InputError(f"branch must be 1 or -1, got {branch!r}")
-    from .ik.kernels import spherical_wrist  # the one ZYZ decomposition (imported late: cycle)
-
+    degrees = _flag(degrees, "degrees")
     Rm = as_rotation(R, "R")
-    phi, theta, psi, _ = spherical_wrist(Rm)
+    phi, theta, psi, _ = zyz_branches(Rm)
     slot = 0 if branch == 1 else 1
-    out = wrap_angle(np.stack([phi[..., slot], theta[..., slot], psi[..., slot]], axis=-1))
+    out = _wrap_angle(np.stack([phi[..., slot], theta[..., slot], psi[..., slot]], axis=-1))
     return np.degrees(out) if degrees else out
 
 
 def wrap_angle(theta: Any) -> FloatArray:
-    """Wrap angles (radians) to the interval (-pi, pi]; shape preserved."""
-    t = np.asarray(theta, dtype=np.float64)
+    """Wrap angles (radians) to the interval (-pi, pi]; shape preserved.
+
+    Raises
+    ------
+    InputError
+        ``theta`` is not real numbers, or holds NaN or infinity.
+    """
+    return _wrap_angle(as_float_array(theta, "theta"))
+
+
+def _wrap_angle(t: FloatArray) -> FloatArray:
+    """:func:`wrap_angle` for trusted float arrays."""
     w = np.remainder(t + np.pi, 2 * np.pi) - np.pi
     return np.where(w <= -np.pi, w + 2 * np.pi, w)
+
+
+def zyz_branches(
+    M: FloatArray, hint_phi: FloatArray | float = 0.0
+) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray]:
+    """ZYZ angles of ``M = Rz(phi) Ry(theta) Rz(psi)``, both branches (trusted input).
+
+    The spherical wrist of every IK family uses this decomposition.
+
+    Parameters
+    ----------
+    M : ndarray, shape (..., 3, 3)
+    hint_phi : float or ndarray broadcastable to (...)
+        At the singularity (theta = 0 or pi) only phi + psi (or phi - psi) is
+        fixed; phi takes this value.
+
+    Returns
+    -------
+    phi, theta, psi : ndarray, shape (..., 2)
+        Slot 0 has ``theta in [0, pi]``; slot 1 is ``(phi + pi, -theta, psi + pi)``
+        (at the singularity, slot 1 repeats slot 0).
+    singular : ndarray of bool, shape (...)
+    """
+    m02, m12, m22 = M[..., 0, 2], M[..., 1, 2], M[..., 2, 2]
+    s = np.hypot(m02, m12)
+    singular = s < SINGULAR_TOL
+    theta = np.arctan2(s, m22)
+    phi = np.arctan2(m12, m02)
+    # psi from the rotation left after Rz(phi) Ry(theta), not from m31/m32 directly: near
+    # the singularity phi carries a rounding error of ~eps/s, and this psi absorbs it, so
+    # Rz(phi) Ry(theta) Rz(psi) reproduces M to ~eps instead of ~eps/s.
+    safe = np.where(singular, 1.0, s)
+    cp, sp = m02 / safe, m12 / safe
+    a00 = cp * M[..., 0, 0] + sp * M[..., 1, 0]
+    a10 = -sp * M[..., 0, 0] + cp * M[..., 1, 0]
+    psi = np.arctan2(a10, m22 * a00 - s * M[..., 2, 0])
+    if np.any(singular):
+        hp = np.broadcast_to(np.asarray(hint_phi, dtype=np.float64), s.shape)
+        up = m22 > 0  # theta = 0: M = Rz(phi + psi); theta = pi: M = Rz(phi - psi) Ry(pi)
+        # Rz(a) Ry(pi) = [[-cos a, -sin a, 0], [-sin a, cos a, 0], [0, 0, -1]]
+        total = np.where(
+            up, np.arctan2(M[..., 1, 0], M[..., 0, 0]), np.arctan2(-M[..., 1, 0], -M[..., 0, 0])
+        )
+        phi = np.where(singular, hp, phi)
+        psi = np.where(singular, np.where(up, total - hp, hp - total), psi)
+        theta = np.where(singular, np.where(up, 0.0, np.pi), theta)
+    # at the singularity both slots hold the same representative (phi = hint_phi)
+    flip = np.where(singular, 0.0, np.pi)
+    phis = np.stack([phi, phi + flip], axis=-1)
+    thetas = np.stack([theta, np.where(singular, theta, -theta)], axis=-1)
+    psis = np.stack([psi, psi + flip], axis=-1)
+    return phis, thetas, psis, singular
+
 
 
 def deg(theta: Any) -> FloatArray:

@@ -21,9 +21,10 @@ import numpy as np
 
 from .._validate import FloatArray
 from ..errors import InputError
-from ..tolerances import SINGULAR_TOL
+from ..tolerances import AXIS_TOL
+from .api import ClosedForm
 from .base import RawSolutions, Singularity
-from .kernels import elbow_above, reach_excess, two_link
+from .kernels import elbow_above, reach_excess, two_link_parts, two_link_slots
 from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -66,13 +67,23 @@ class RRRPosition:
     elbow_up: np.ndarray     # (N, 4)
     shoulder_singular: np.ndarray  # (N, 4)
     elbow_singular: np.ndarray     # (N, 4)
+    fold_singular: np.ndarray      # (N, 4): L2 = L3 folded onto axis 2, q2 free
 
 
-def position_rrr(p: FloatArray, g: RRRGeometry, hint_q1: FloatArray | float = 0.0) -> RRRPosition:
-    """All joint triples putting the RRR end point at ``p`` of shape ``(N, 3)``."""
+def position_rrr(
+    p: FloatArray,
+    g: RRRGeometry,
+    hint_q1: FloatArray | float = 0.0,
+    hint_q2: FloatArray | float = 0.0,
+) -> RRRPosition:
+    """All joint triples putting the RRR end point at ``p`` of shape ``(N, 3)``.
+
+    On axis 1 (within ``AXIS_TOL`` of the arm's size) q1 takes ``hint_q1``; with
+    equal links folded onto axis 2, q2 takes ``hint_q2``.
+    """
     x, y, z = p[:, 0], p[:, 1], p[:, 2]
     rho = np.hypot(x, y)
-    on_axis = rho < SINGULAR_TOL * g.size
+    on_axis = rho <= AXIS_TOL * g.size
     q1 = np.where(on_axis, hint_q1, np.arctan2(y, x))
     w = z - g.z0
     N = p.shape[0]
@@ -80,16 +91,21 @@ def position_rrr(p: FloatArray, g: RRRGeometry, hint_q1: FloatArray | float = 0.
     valid = np.empty((N, 4), dtype=bool)
     up = np.empty((N, 4), dtype=bool)
     stretched = np.empty((N, 4), dtype=bool)
+    fold = np.empty((N, 4), dtype=bool)
     for k, (side, u) in enumerate(((0, rho - g.r0), (1, -rho - g.r0))):
-        A, B, ok, st = two_link(u, w, g.L2, g.L3)
-        q[:, 2 * k:2 * k + 2, 0] = (q1 + side * np.pi)[:, None]
-        q[:, 2 * k:2 * k + 2, 1] = A - g.phi2
-        q[:, 2 * k:2 * k + 2, 2] = B - g.phi3
-        valid[:, 2 * k:2 * k + 2] = ok[:, None]
-        stretched[:, 2 * k:2 * k + 2] = st[:, None]
-        up[:, 2 * k:2 * k + 2] = elbow_above(u, w, A, g.L2)
+        t = two_link_parts(u, w, g.L2, g.L3)
+        A, B = two_link_slots(t)
+        A = np.where(t.fold[:, None], np.asarray(hint_q2) + g.phi2, A)
+        sl = slice(2 * k, 2 * k + 2)
+        q[:, sl, 0] = (q1 + side * np.pi)[:, None]
+        q[:, sl, 1] = A - g.phi2
+        q[:, sl, 2] = B - g.phi3
+        valid[:, sl] = t.reachable[:, None]
+        stretched[:, sl] = t.stretched[:, None]
+        fold[:, sl] = t.fold[:, None]
+        up[:, sl] = elbow_above(u, w, A, g.L2)
     shoulder = np.broadcast_to(on_axis[:, None], (N, 4))
-    return RRRPosition(q, valid, up, shoulder, stretched)
+    return RRRPosition(q, valid, up, shoulder, stretched, fold)
 
 
 def explain_rrr(p: FloatArray, g: RRRGeometry, units: str, what: str) -> tuple[str, float]:
@@ -115,6 +131,8 @@ SHOULDER = Singularity("the wrist centre is on the axis of joint 1, so q1 is fre
                        drop_back=True)
 ELBOW = Singularity("the arm is fully stretched or folded (elbow at 0 or pi): the two elbow "
                     "branches coincide", ())
+FOLD = Singularity("links 2 and 3 are equal and folded, so the end of link 3 is on the axis of "
+                   "joint 2 and q2 is free", (2,))
 
 
 def check_rrr_geometry(arm: SerialArm, g: RRRGeometry, point_of: Callable[[FloatArray], FloatArray], family: str) -> None:
@@ -129,14 +147,14 @@ def check_rrr_geometry(arm: SerialArm, g: RRRGeometry, point_of: Callable[[Float
                          "handles (its FK does not match the family's geometry)")
 
 
-class Angular3RSolver:
+class Angular3RSolver(ClosedForm):
     """Position IK of the angular 3R arm of Aula 23: up to 4 solutions."""
 
     target_kind = "position"
     wrist_middle = None
     singularities = {"shoulder": Singularity("the target is on the axis of joint 1, so q1 is free",
                                              (1,), drop_back=True),
-                     "elbow": ELBOW}
+                     "elbow": ELBOW, "fold": FOLD}
 
     def __init__(self, geometry: RRRGeometry) -> None:
         self.geometry = geometry
@@ -147,10 +165,12 @@ class Angular3RSolver:
         check_rrr_geometry(arm, self.geometry, lambda F: F[:, :3, 3], "angular 3R")
 
     def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
-        pos = position_rrr(T_0_n[:, :3, 3], self.geometry, 0.0 if hint is None else hint[0])
+        h1, h2 = (0.0, 0.0) if hint is None else (hint[0], hint[1])
+        pos = position_rrr(T_0_n[:, :3, 3], self.geometry, h1, h2)
         slots = tuple(Branch(side, None, None) for side, _ in ARM_SLOTS)
         return RawSolutions(q=pos.q, valid=pos.valid, slots=slots, elbow_up=pos.elbow_up,
-                            singular={"shoulder": pos.shoulder_singular, "elbow": pos.elbow_singular})
+                            singular={"shoulder": pos.shoulder_singular, "elbow": pos.elbow_singular,
+                                      "fold": pos.fold_singular & pos.valid})
 
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         return explain_rrr(T_0_n[:3, 3], self.geometry, arm.units, "the target")

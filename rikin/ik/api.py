@@ -13,18 +13,58 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validate import FloatArray, as_float_array, as_pose, check_radians
+from .._validate import (
+    FloatArray,
+    as_float_array,
+    as_pose,
+    check_length_range,
+    check_radians,
+    clean_pose,
+    clean_poses,
+)
+from ..dh import SerialArm
 from ..errors import InputError, UnreachableError
-from ..tolerances import FK_CHECK_TOL, SAME_SOLUTION_TOL
-from ..transforms import homogeneous, rotz, wrap_angle
+from ..tolerances import FK_CHECK_TOL, MAX_LENGTH, ROTATION_CLEAN_TOL, SAME_SOLUTION_TOL
+from ..transforms import _wrap_angle, homogeneous, rotz
 from .base import RawSolutions, Solver
-from .kernels import poses_look_valid
+from .kernels import pose_defects
 from .result import BatchIKResult, Branch, IKResult
 
-if TYPE_CHECKING:  # pragma: no cover
-    from ..dh import SerialArm
+__all__ = ["solve", "solve_batch", "ClosedForm"]
 
-__all__ = ["solve", "solve_batch"]
+
+def _register() -> None:
+    """Give rikin.dh its IK entry points without dh importing ik (data flows dh -> ik)."""
+    from .. import dh
+
+    dh._IK_ENTRY.update(solve=solve, solve_batch=solve_batch)
+
+
+class ClosedForm:
+    """The IK entry points every closed-form solver offers (``arm.ik`` calls them)."""
+
+    def ik(self, arm: SerialArm, target: Any, **options: Any) -> IKResult:
+        """:func:`solve` for ``arm``."""
+        return solve(arm, target, **options)
+
+    def ik_batch(self, arm: SerialArm, T: Any, **options: Any) -> BatchIKResult:
+        """:func:`solve_batch` for ``arm``."""
+        return solve_batch(arm, T, **options)
+
+
+def _flag(value: Any, name: str) -> bool:
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise InputError(f"{name} must be True or False, got {value!r}")
+
+
+def _count(value: Any, name: str) -> int:
+    """A positive whole number (not a bool, not a float)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{name} must be a positive whole number, got {value!r}")
+    if value < 1:
+        raise InputError(f"{name} must be a positive whole number, got {value}")
+    return int(value)
 
 _KIND_HELP = {
     "pose": "a 4x4 homogeneous transform (the TCP pose in the world frame)",
@@ -34,44 +74,62 @@ _KIND_HELP = {
 }
 
 
-def _solver(arm: SerialArm) -> Solver:
+def _solver(arm: Any) -> Solver:
     """The arm's own solver (lesson robots), else the general 6R one (raises if none applies)."""
+    if not isinstance(arm, SerialArm):
+        raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
     if arm.solver is None:
         from .pieper import general_solver
 
         return general_solver(arm)
-    return arm.solver
+    return arm.solver  # type: ignore[no-any-return]
 
 
-def _target_pose(arm: SerialArm, target: Any, kind: str) -> FloatArray:
-    """The target as a world pose ``(4, 4)``, validated."""
+def _target_pose(arm: SerialArm, target: Any, kind: str) -> tuple[FloatArray, float]:
+    """The target as a world pose ``(4, 4)``, validated, and how far its rotation block was
+    from a rotation (Frobenius norm; 0 when it was one to rounding, or when no 4x4 was given).
+
+    A block within ``ORTHONORMAL_TOL`` of a rotation (rounded, float32) is replaced by the
+    nearest rotation, which IK then solves for.
+    """
     arr = as_float_array(target, "target")
-    if kind in ("position", "planar_position") and np.abs(arm.tool[:3, 3]).max() > 0:
+    if kind in ("position", "planar_position") and arm.tool[:3, 3].any():
         raise InputError(
             f"{arm.name!r} solves for a position only, so its tool may rotate but not offset the "
             "TCP (the offset would depend on an orientation the arm does not choose); use a tool "
             "without translation"
         )
     if arr.shape == (4, 4):
-        return as_pose(arr, "target")
+        return clean_pose(as_pose(arr, "target"))
     if kind == "position" and arr.shape == (3,):
-        return homogeneous(None, arr)
+        _check_position(arr)
+        return homogeneous(None, arr), 0.0
     if kind == "planar_pose" and arr.shape == (3,):
+        _check_position(arr[:2])
         check_radians(arr[2:], "phi", ["phi (the tool angle, target[2])"])
-        return homogeneous(rotz(arr[2]), np.array([arr[0], arr[1], 0.0]))
+        return homogeneous(rotz(arr[2]), np.array([arr[0], arr[1], 0.0])), 0.0
     if kind == "planar_position" and arr.shape == (2,):
-        return homogeneous(None, np.array([arr[0], arr[1], 0.0]))
+        _check_position(arr)
+        return homogeneous(None, np.array([arr[0], arr[1], 0.0])), 0.0
     raise InputError(f"{arm.name!r} takes as target {_KIND_HELP[kind]}; got shape {arr.shape}")
 
 
+def _check_position(p: FloatArray) -> None:
+    big = float(np.abs(p).max(initial=0.0))
+    if big > MAX_LENGTH:
+        check_length_range(big, "target")
+
+
 def _wrap(q: FloatArray, revolute: FloatArray) -> FloatArray:
-    return np.where(revolute, wrap_angle(q), q)
+    return np.where(revolute, _wrap_angle(q), q)
 
 
 def _fk_error(arm: SerialArm, q: FloatArray, T: FloatArray, kind: str) -> FloatArray:
-    """Per-solution error of FK(q) against T: max of position error / scale and rotation error."""
+    """Per-solution error of FK(q) against T: max of the position error (relative to the arm's
+    size, or to the target's distance when that is larger) and the rotation error."""
     F = arm._fk(q)
-    pos = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1) / arm.scale
+    size = max(arm.scale, float(np.abs(T[:3, 3]).max()))
+    pos = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1) / size
     if kind in ("position", "planar_position"):
         return pos
     rot = np.abs(F[:, :3, :3] - T[:3, :3]).max(axis=(-1, -2))
@@ -148,13 +206,14 @@ def solve(
     """
     solver = _solver(arm)
     kind = solver.target_kind
-    T_world = _target_pose(arm, target, kind)
+    within_limits = _flag(within_limits, "within_limits")
+    T_world, rot_dist = _target_pose(arm, target, kind)
     hint = None if near is None else arm.check_q(near, "near")
     if hint is not None and hint.ndim != 1:
         raise InputError(f"near must have shape ({arm.n},), got shape {hint.shape}")
     if kind in ("position", "planar_position"):  # the target's rotation plays no part
         T_world = homogeneous(None, T_world[:3, 3])
-    T_0_n = arm.world_to_base(T_world)
+    T_0_n = arm._world_to_base(T_world)
     raw = solver.solve(arm, T_0_n[None], hint)
     valid = raw.valid[0]
     if not valid.any():
@@ -163,7 +222,7 @@ def solve(
         raise UnreachableError(
             f"{arm.name}: target is unreachable: {message}", excess=excess, units=units
         )
-    return _finish(arm, solver, raw, T_world, kind, hint, within_limits)
+    return _finish(arm, solver, raw, T_world, kind, hint, within_limits, rot_dist)
 
 
 def _finish(
@@ -174,6 +233,7 @@ def _finish(
     kind: str,
     hint: FloatArray | None,
     within_limits: bool,
+    rot_dist: float,
 ) -> IKResult:
     rev = arm.revolute
     slots = np.flatnonzero(raw.valid[0])
@@ -245,6 +305,7 @@ def _finish(
         discarded=discarded,
         arm_name=arm.name,
         revolute=rev,
+        rotation_distance=rot_dist,
     )
 
 
@@ -272,34 +333,38 @@ def solve_batch(
     -------
     BatchIKResult
         ``q (N, k, n)`` with NaN in invalid slots, ``valid (N, k)``,
-        ``singular (N,)``. No de-duplication, no FK check, no labels beyond
-        the slot's branch.
+        ``singular (N,)``, ``rotation_distance (N,)``. No de-duplication, no
+        FK check, no labels beyond the slot's branch. A pose whose rotation
+        block is not a rotation to rounding (but within ``ORTHONORMAL_TOL``) is
+        solved for the nearest rotation, as :func:`solve` does.
 
     Raises
     ------
     InputError
         ``T`` is not an ``(N, 4, 4)`` array of homogeneous transforms (the same
-        checks and messages as a single pose).
+        checks and messages as a single pose), or bad ``chunk_size``/``workers``.
     """
     solver = _solver(arm)
+    chunk_size = _count(chunk_size, "chunk_size")
+    if workers is not None:
+        workers = _count(workers, "workers")
     Tw = _batch_poses(T)
-    if chunk_size < 1:
-        raise InputError(f"chunk_size must be positive, got {chunk_size}")
     N = Tw.shape[0]
     make_kernel = getattr(solver, "batch_kernel", None)
     kernel = make_kernel(arm) if make_kernel is not None else None
     if kernel is not None:
         slots = kernel.slots
     else:  # the slots of this family: solve one pose
-        slots = solver.solve(arm, arm.world_to_base(np.eye(4))[None], None).slots
+        slots = solver.solve(arm, arm._world_to_base(np.eye(4))[None], None).slots
     k = len(slots)
     q_out = np.empty((N, k, arm.n))
     valid_out = np.empty((N, k), dtype=bool)
     sing_out = np.zeros(N, dtype=bool)
+    dist_out = np.zeros(N)
 
     def general(rows: slice | np.ndarray, T_chunk: FloatArray) -> None:
         """The general solver (every family; exact singular handling) for some poses."""
-        raw = solver.solve(arm, arm.world_to_base(T_chunk), None)
+        raw = solver.solve(arm, arm._world_to_base(T_chunk), None)
         qq = _wrap(raw.q, arm.revolute)
         qq[~raw.valid] = np.nan
         q_out[rows] = qq
@@ -314,18 +379,25 @@ def solve_batch(
 
     def run(start: int) -> None:
         stop = min(start + size, N)
-        X = np.ascontiguousarray(Tw[start:stop].transpose(1, 2, 0))  # (4, 4, n)
-        if not poses_look_valid(X):
+        T_chunk = Tw[start:stop]
+        X = np.ascontiguousarray(T_chunk.transpose(1, 2, 0))  # (4, 4, n)
+        valid_poses, defect = pose_defects(X)
+        if not valid_poses:
             as_pose(Tw, "T")  # raises with the detailed message
+            raise AssertionError("rikin bug: pose_defects and as_pose disagree")
+        if defect.max(initial=0.0) > ROTATION_CLEAN_TOL:  # rounded poses: nearest rotations
+            T_chunk = T_chunk.copy()
+            dist_out[start:stop] = clean_poses(T_chunk, defect)
+            X = np.ascontiguousarray(T_chunk.transpose(1, 2, 0))
         if kernel is None:
-            general(slice(start, stop), Tw[start:stop])
+            general(slice(start, stop), T_chunk)
             return
         q, valid, suspect = kernel.solve(X)
         q_out[start:stop] = q.transpose(2, 0, 1)
         valid_out[start:stop] = valid.T
         redo = np.flatnonzero(suspect)
         if redo.size:
-            general(start + redo, Tw[start + redo])
+            general(start + redo, T_chunk[redo])
 
     starts = range(0, N, size)
     if n_workers <= 1 or len(starts) <= 1:
@@ -334,7 +406,9 @@ def solve_batch(
     else:
         with ThreadPoolExecutor(n_workers) as pool:
             list(pool.map(run, starts))
-    return BatchIKResult(q=q_out, valid=valid_out, singular=sing_out, branches=slots)
+    return BatchIKResult(
+        q=q_out, valid=valid_out, singular=sing_out, branches=slots, rotation_distance=dist_out
+    )
 
 
 #: Below this many poses per chunk, splitting a batch across threads costs more than it saves.
@@ -351,13 +425,15 @@ def _chunk_length(N: int, chunk_size: int, n_workers: int) -> int:
 
 
 def _batch_poses(T: Any) -> FloatArray:
-    """``T`` as a float array of shape (N, 4, 4), checked for shape only (values per chunk)."""
-    try:
-        Tw = np.asarray(T, dtype=np.float64)
-    except (TypeError, ValueError):
-        as_float_array(T, "T")  # raises InputError with the usual message
-        raise
+    """``T`` as a float array of shape (N, 4, 4), checked for shape (values per chunk)."""
+    if type(T) is np.ndarray and T.dtype == np.float64:
+        Tw = T  # a float64 array: its values are checked chunk by chunk
+    else:
+        Tw = as_float_array(T, "T")  # anything else: converted and checked here
     if Tw.ndim != 3 or Tw.shape[1:] != (4, 4):
         as_pose(Tw, "T")  # NaN, wrong tail shape or bad values: the single-pose message first
         raise InputError(f"T must have shape (N, 4, 4), got shape {Tw.shape}")
     return Tw
+
+
+_register()

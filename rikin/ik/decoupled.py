@@ -24,19 +24,21 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._validate import FloatArray
+from .._validate import FloatArray, as_pose, clean_pose
 from ..errors import InputError
-from ..tolerances import REACH_TOL, SINGULAR_TOL
+from ..tolerances import SINGULAR_TOL
 from ..transforms import _rot
 from .anthropomorphic import (
     ARM_SLOTS,
     ELBOW,
+    FOLD,
     SHOULDER,
     RRRGeometry,
     check_rrr_geometry,
     explain_rrr,
     position_rrr,
 )
+from .api import ClosedForm
 from .base import RawSolutions, Singularity
 from .kernels import (
     Mat3,
@@ -166,13 +168,13 @@ class DecouplingSteps:
     formulas: str
 
 
-class Decoupled6RSolver:
+class Decoupled6RSolver(ClosedForm):
     """Closed-form IK of a 6R arm whose first three joints are anthropomorphic
     and whose last three form a spherical wrist: up to 8 solutions."""
 
     target_kind = "pose"
     wrist_middle = 4
-    singularities = {"shoulder": SHOULDER, "elbow": ELBOW, "wrist": WRIST}
+    singularities = {"shoulder": SHOULDER, "elbow": ELBOW, "fold": FOLD, "wrist": WRIST}
 
     def __init__(self, geometry: RRRGeometry) -> None:
         self.geometry = geometry
@@ -209,7 +211,8 @@ class Decoupled6RSolver:
         W = self.wrist(arm)
         R_0_6 = T_0_n[:, :3, :3]
         pw = R_0_6 @ W.centre + T_0_n[:, :3, 3]
-        pos = position_rrr(pw, self.geometry, 0.0 if hint is None else hint[0])
+        h1, h2 = (0.0, 0.0) if hint is None else (hint[0], hint[1])
+        pos = position_rrr(pw, self.geometry, h1, h2)
         R_0_3 = rotation_0_3(arm, pos.q)  # (N, 4, 3, 3)
         R_3_6 = np.swapaxes(R_0_3, -1, -2) @ R_0_6[:, None]  # (N, 4, 3, 3)
         q456, wsing = wrist_angles(W, R_3_6, 0.0 if hint is None else hint[3])  # (N,4,2,3)
@@ -230,6 +233,7 @@ class Decoupled6RSolver:
             singular={
                 "shoulder": per_slot(pos.shoulder_singular),
                 "elbow": per_slot(pos.elbow_singular),
+                "fold": per_slot(pos.fold_singular & pos.valid),
                 "wrist": per_slot(wsing & pos.valid),
             },
         )
@@ -240,7 +244,34 @@ class Decoupled6RSolver:
         return explain_rrr(pw, self.geometry, arm.units, "the wrist centre")
 
     def steps(self, arm: SerialArm, T_0_6: FloatArray, arm_slot: int = 0) -> DecouplingSteps:
-        """The decoupling's intermediate values for one pose ``T_0_6`` and one arm slot (0-3)."""
+        """The decoupling's intermediate values for one pose ``T_0_6`` and one arm slot (0-3).
+
+        ``T_0_6`` is the flange pose in frame 0 (``arm.world_to_base(T)`` of a world
+        TCP pose); a rotation block that is not a rotation to rounding is replaced by
+        the nearest one, as ``arm.ik`` does.
+
+        Raises
+        ------
+        InputError
+            ``arm`` is not of this solver's family, ``T_0_6`` is not one 4x4 pose, or
+            ``arm_slot`` is not 0, 1, 2 or 3.
+        UnreachableError
+            That arm branch cannot put the wrist centre where ``T_0_6`` needs it.
+        """
+        from ..dh import SerialArm
+
+        if not isinstance(arm, SerialArm) or arm.solver is not self:
+            raise InputError("arm must be the rikin.SerialArm this solver belongs to (arm.solver)")
+        if (
+            isinstance(arm_slot, (bool, np.bool_))
+            or not isinstance(arm_slot, (int, np.integer))
+            or not 0 <= arm_slot <= 3
+        ):
+            raise InputError(f"arm_slot must be 0, 1, 2 or 3 (see ARM_SLOTS), got {arm_slot!r}")
+        T_0_6 = as_pose(T_0_6, "T_0_6")
+        if T_0_6.shape != (4, 4):
+            raise InputError(f"T_0_6 must be one 4x4 pose, got shape {T_0_6.shape}")
+        T_0_6 = clean_pose(T_0_6)[0]
         W = self.wrist(arm)
         R_0_6 = T_0_6[:3, :3]
         pw = R_0_6 @ W.centre + T_0_6[:3, 3]
@@ -323,7 +354,7 @@ class BatchKernel:
     #: Margins that send a pose back to the general solver (relative to the
     #: singularity tests of ``position_rrr`` and ``spherical_wrist``).
     SUSPECT_SIN = 1e-6
-    SUSPECT_COS = 1e-10
+    SUSPECT_EDGE = 1e-10  # relative distance of the wrist centre from the reach boundary
 
     def __init__(self, arm: SerialArm, solver: Decoupled6RSolver) -> None:
         from ..transforms import _inv_transform
@@ -351,8 +382,6 @@ class BatchKernel:
         self.offsets = tuple(float(lk.offset) for lk in arm.links)
         self.wrist_s = W.s
         self.slots = branch_slots(W)
-        g = self.geometry
-        self.reach_slack = REACH_TOL * (g.L2 + g.L3) / min(g.L2, g.L3)
 
     # --------------------------------------------------------- steps
     def _wrist_centre(self, R: Mat3, p: FloatArray) -> FloatArray:
@@ -382,7 +411,7 @@ class BatchKernel:
             A += [t.base - t.beta, t.base + t.beta]
             B += [t.B0, -t.B0]
             valid += [t.reachable, t.reachable]
-            suspect |= np.abs(np.abs(t.cos_raw) - 1.0) < self.SUSPECT_COS + 2 * self.reach_slack
+            suspect |= t.edge < self.SUSPECT_EDGE
         q2 = np.stack(A) - g.phi2
         q3 = np.stack(B) - g.phi3
         return q1, q2, q3, np.stack(valid), suspect

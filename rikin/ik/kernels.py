@@ -9,7 +9,7 @@ on a *structure of arrays*: a batch of 3x3 matrices held as a nested list
 ``X[i][j]`` of arrays of shape ``(n,)`` (or ``(k, n)``), so that every entry
 is one contiguous array and small matrix products become a handful of
 whole-array multiply-adds (:func:`const_matmul`, :func:`matmul_const`,
-:func:`rz_inverse_times`), plus :func:`poses_look_valid` and
+:func:`rz_inverse_times`), plus :func:`pose_defects` and
 :func:`wrap_in_place`.
 
 Inputs are trusted arrays; shapes are given per function.
@@ -23,7 +23,8 @@ from typing import NamedTuple
 import numpy as np
 
 from .._validate import FloatArray
-from ..tolerances import ORTHONORMAL_TOL, REACH_TOL, SINGULAR_TOL, STRETCH_TOL
+from ..tolerances import MAX_LENGTH, ORTHONORMAL_TOL, REACH_TOL, SINGULAR_TOL, STRETCH_TOL
+from ..transforms import zyz_branches as spherical_wrist  # the one ZYZ decomposition
 
 #: A batch of 3x3 matrices as a structure of arrays: ``X[i][j]`` is entry (i, j)
 #: of every matrix, an array of shape ``(n,)`` or ``(k, n)``.
@@ -37,28 +38,48 @@ class TwoLinkParts(NamedTuple):
     """
 
     base: FloatArray  #: atan2(w, u), rad
-    beta: FloatArray  #: atan2(L3 sin B, L2 + L3 cos B), in [0, pi], rad
+    beta: FloatArray  #: angle at the shoulder between the target and link 2, in [0, pi], rad
     B0: FloatArray  #: the elbow angle of slot 0, in [0, pi], rad
-    sin_B0: FloatArray  #: sin B0 >= 0 (exactly 0 when stretched or folded)
+    stretched: np.ndarray  #: bool: B0 is exactly 0 or pi (both slots coincide)
+    fold: np.ndarray  #: bool: equal links folded onto the origin: A is free
     reachable: np.ndarray  #: bool, see :func:`two_link`
-    cos_raw: FloatArray  #: the law-of-cosines value before clipping to [-1, 1]
+    edge: FloatArray  #: distance of the target from the boundary of the reach, / (L2 + L3)
 
 
 def two_link_parts(u: FloatArray, w: FloatArray, L2: float, L3: float) -> TwoLinkParts:
-    """The angles :func:`two_link` combines, without stacking them into slots."""
-    c_raw = (u * u + w * w - L2 * L2 - L3 * L3) / (2.0 * L2 * L3)
-    slack = REACH_TOL * (L2 + L3) / min(L2, L3)
-    reachable = np.abs(c_raw) <= 1.0 + slack
-    c = np.clip(c_raw, -1.0, 1.0)
-    c = np.where(1.0 - np.abs(c) < STRETCH_TOL, np.sign(c), c)
-    s = np.sqrt(1.0 - c * c)
+    """The angles :func:`two_link` combines, without stacking them into slots.
+
+    Half-angle forms of the law of cosines, accurate to rounding up to the
+    stretched and folded boundaries (``cos B`` loses half its digits there):
+    with ``r = |(u, w)|``, ``dp = L2 + L3 - r``, ``dm = r - |L2 - L3|``,
+    ``tan(B/2) = sqrt(dp (L2 + L3 + r) / (dm (r + |L2 - L3|)))`` and the
+    shoulder angle ``beta`` from the same four factors (Heron's half angles).
+    """
+    Lp, Lm = L2 + L3, abs(L2 - L3)
+    r = np.hypot(u, w)
+    tol = REACH_TOL * Lp
+    reachable = (r <= Lp + tol) & (r >= Lm - tol)
+    snap = STRETCH_TOL * Lp
+    dp = Lp - r
+    dm = r - Lm
+    dp = np.where(dp <= snap, 0.0, dp)
+    dm = np.where(dm <= snap, 0.0, dm)
+    rc = np.where(dp == 0.0, Lp, np.where(dm == 0.0, Lm, r))
+    sp, sm = Lp + rc, rc + Lm
+    B0 = 2.0 * np.arctan2(np.sqrt(dp * sp), np.sqrt(dm * sm))
+    if L2 >= L3:
+        beta = 2.0 * np.arctan2(np.sqrt(dm * dp), np.sqrt(sp * sm))
+    else:
+        beta = 2.0 * np.arctan2(np.sqrt(sm * dp), np.sqrt(sp * dm))
+    fold = (dm == 0.0) & (Lm <= snap)
     return TwoLinkParts(
         base=np.arctan2(w, u),
-        beta=np.arctan2(L3 * s, L2 + L3 * c),
-        B0=np.arctan2(s, c),
-        sin_B0=s,
+        beta=np.where(fold, 0.0, beta),
+        B0=B0,
+        stretched=(dp == 0.0) | (dm == 0.0),
+        fold=fold,
         reachable=reachable,
-        cos_raw=c_raw,
+        edge=np.minimum(np.abs(Lp - r), np.abs(r - Lm)) / Lp,
     )
 
 
@@ -69,7 +90,8 @@ def two_link(
 
     The chain: link 2 of length ``L2`` at angle ``A`` from the u axis, link 3
     of length ``L3`` at angle ``A + B``. ``cos B = (u^2 + w^2 - L2^2 - L3^2) /
-    (2 L2 L3)`` (law of cosines), ``A = atan2(w, u) - atan2(L3 sin B, L2 + L3 cos B)``.
+    (2 L2 L3)`` (law of cosines), ``A = atan2(w, u) - atan2(L3 sin B, L2 + L3 cos B)``
+    (computed in the accurate half-angle form of :func:`two_link_parts`).
 
     Parameters
     ----------
@@ -84,13 +106,21 @@ def two_link(
         ``|L2 - L3| <= sqrt(u^2 + w^2) <= L2 + L3`` (with a relative slack of
         ``REACH_TOL`` that is clamped onto the boundary).
     stretched : ndarray of bool, shape (...)
-        ``sin B = 0`` (within ``STRETCH_TOL`` on the cosine): the chain is fully
-        stretched or folded, and both slots are equal.
+        The target is within ``STRETCH_TOL`` (relative) of the boundary: the
+        chain is exactly stretched or folded, and both slots are equal.
+
+    See :func:`two_link_parts` for the equal-link fold, where ``A`` is free.
     """
     p = two_link_parts(u, w, L2, L3)
+    A, B = two_link_slots(p)
+    return A, B, p.reachable, p.stretched
+
+
+def two_link_slots(p: TwoLinkParts) -> tuple[FloatArray, FloatArray]:
+    """``A, B`` of shape ``(..., 2)`` from the parts (slot 0: ``B >= 0``)."""
     A = np.stack([p.base - p.beta, p.base + p.beta], axis=-1)
     B = np.stack([p.B0, -p.B0], axis=-1)
-    return A, B, p.reachable, p.sin_B0 == 0.0
+    return A, B
 
 
 def reach_excess(dist: FloatArray, L2: float, L3: float) -> FloatArray:
@@ -110,56 +140,6 @@ def elbow_above(u: FloatArray, w: FloatArray, A: FloatArray, L2: float) -> np.nd
     cross = uu * ew - ww * eu
     vertical = np.abs(uu) <= SINGULAR_TOL * L2
     return np.where(vertical, eu > 0, cross * np.sign(uu) > 0)
-
-
-def spherical_wrist(
-    M: FloatArray, hint_phi: FloatArray | float = 0.0
-) -> tuple[FloatArray, FloatArray, FloatArray, np.ndarray]:
-    """ZYZ angles of ``M = Rz(phi) Ry(theta) Rz(psi)``, both branches.
-
-    Parameters
-    ----------
-    M : ndarray, shape (..., 3, 3)
-    hint_phi : float or ndarray broadcastable to (...)
-        At the singularity (theta = 0 or pi) only phi + psi (or phi - psi) is
-        fixed; phi takes this value.
-
-    Returns
-    -------
-    phi, theta, psi : ndarray, shape (..., 2)
-        Slot 0 has ``theta in [0, pi]``; slot 1 is ``(phi + pi, -theta, psi + pi)``
-        (at the singularity, slot 1 repeats slot 0).
-    singular : ndarray of bool, shape (...)
-    """
-    m02, m12, m22 = M[..., 0, 2], M[..., 1, 2], M[..., 2, 2]
-    s = np.hypot(m02, m12)
-    singular = s < SINGULAR_TOL
-    theta = np.arctan2(s, m22)
-    phi = np.arctan2(m12, m02)
-    # psi from the rotation left after Rz(phi) Ry(theta), not from m31/m32 directly: near
-    # the singularity phi carries a rounding error of ~eps/s, and this psi absorbs it, so
-    # Rz(phi) Ry(theta) Rz(psi) reproduces M to ~eps instead of ~eps/s.
-    safe = np.where(singular, 1.0, s)
-    cp, sp = m02 / safe, m12 / safe
-    a00 = cp * M[..., 0, 0] + sp * M[..., 1, 0]
-    a10 = -sp * M[..., 0, 0] + cp * M[..., 1, 0]
-    psi = np.arctan2(a10, m22 * a00 - s * M[..., 2, 0])
-    if np.any(singular):
-        hp = np.broadcast_to(np.asarray(hint_phi, dtype=np.float64), s.shape)
-        up = m22 > 0  # theta = 0: M = Rz(phi + psi); theta = pi: M = Rz(phi - psi) Ry(pi)
-        # Rz(a) Ry(pi) = [[-cos a, -sin a, 0], [-sin a, cos a, 0], [0, 0, -1]]
-        total = np.where(
-            up, np.arctan2(M[..., 1, 0], M[..., 0, 0]), np.arctan2(-M[..., 1, 0], -M[..., 0, 0])
-        )
-        phi = np.where(singular, hp, phi)
-        psi = np.where(singular, np.where(up, total - hp, hp - total), psi)
-        theta = np.where(singular, np.where(up, 0.0, np.pi), theta)
-    # at the singularity both slots hold the same representative (phi = hint_phi)
-    flip = np.where(singular, 0.0, np.pi)
-    phis = np.stack([phi, phi + flip], axis=-1)
-    thetas = np.stack([theta, np.where(singular, theta, -theta)], axis=-1)
-    psis = np.stack([psi, psi + flip], axis=-1)
-    return phis, thetas, psis, singular
 
 
 # ---------------------------------------------------------------- structure-of-arrays helpers
@@ -212,34 +192,44 @@ def rz_inverse_times(c: FloatArray, s: FloatArray, X: Mat3, rows: int = 3) -> Ma
     return [r0, r1, X[2]][:rows]
 
 
-def poses_look_valid(X: FloatArray) -> bool:
-    """True when every pose of the batch ``X`` (structure of arrays, shape ``(4, 4, n)``)
-    passes the checks of :func:`rikin._validate.as_pose`: finite, last row
-    ``[0, 0, 0, 1]``, orthonormal columns (``ORTHONORMAL_TOL``), ``det > 0``.
+def pose_defects(X: FloatArray) -> tuple[bool, FloatArray]:
+    """Check a batch of poses ``X`` (structure of arrays, shape ``(4, 4, n)``) as
+    :func:`rikin._validate.as_pose` does, cheaply enough for every chunk of a batch.
 
-    Cheap enough to run on every chunk of a batch; when it says False, the
-    caller runs ``as_pose`` for the detailed error message.
+    Returns
+    -------
+    ok : bool
+        Every pose is finite, has last row ``[0, 0, 0, 1]``, orthonormal columns
+        within ``ORTHONORMAL_TOL``, ``det > 0`` and a position within
+        ``MAX_LENGTH``. When False, the caller runs ``as_pose`` for the message.
+    defect : ndarray, shape (n,)
+        Max abs entry of ``R^T R - I`` per pose (meaningful when ``ok``).
     """
+    n = X.shape[-1]
     if not np.isfinite(X).all():
-        return False
+        return False, np.zeros(n)
     bottom = np.abs(X[3, :3]).max(initial=0.0), np.abs(X[3, 3] - 1.0).max(initial=0.0)
-    if max(bottom) > 1e-9:
-        return False
+    if max(bottom) > 1e-9 or np.abs(X[:3, 3]).max(initial=0.0) > MAX_LENGTH:
+        return False, np.zeros(n)
+    if np.abs(X[:3, :3]).max(initial=0.0) > 2.0:  # no rotation; its R^T R could overflow
+        return False, np.zeros(n)
     col = [X[:3, j] for j in range(3)]  # the columns, each (3, n)
+    defect = np.zeros(n)
     for j in range(3):
         for k in range(j, 3):
             g = col[j][0] * col[k][0] + col[j][1] * col[k][1] + col[j][2] * col[k][2]
             if j == k:
                 g -= 1.0
-            if np.abs(g).max(initial=0.0) > ORTHONORMAL_TOL:
-                return False
+            np.maximum(defect, np.abs(g), out=defect)
+    if defect.max(initial=0.0) > ORTHONORMAL_TOL:
+        return False, defect
     c1, c2 = col[1], col[2]
     det = (
         col[0][0] * (c1[1] * c2[2] - c1[2] * c2[1])
         + col[0][1] * (c1[2] * c2[0] - c1[0] * c2[2])
         + col[0][2] * (c1[0] * c2[1] - c1[1] * c2[0])
     )
-    return not bool((det < 0).any())
+    return not bool((det < 0).any()), defect
 
 
 def wrap_in_place(q: FloatArray) -> FloatArray:

@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validate import FloatArray, as_float_array, as_pose
+from .._validate import FloatArray, as_float_array, as_pose, as_real, clean_pose
 from ..errors import InputError
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -144,7 +144,29 @@ def pose_error(arm: SerialArm, q: FloatArray, T: FloatArray) -> FloatArray:
     e : ndarray, shape (6,)
         ``[(p_T - p) / arm.scale, rotation vector of R_T R^T]`` (unitless, rad).
     """
-    return _error_from_pose(arm, arm.fk(q), as_pose(T, "T"))
+    _check_arm(arm)
+    qv = arm.check_q(q)
+    if qv.ndim != 1:
+        raise InputError(f"q must have shape ({arm.n},), got shape {qv.shape}")
+    return _error_from_pose(arm, arm._fk(qv), _one_target(T))
+
+
+def _check_arm(arm: Any) -> None:
+    from ..dh import SerialArm
+
+    if not isinstance(arm, SerialArm):
+        raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
+
+
+def _one_target(T: Any) -> FloatArray:
+    """One validated 4x4 target ``T``, its rotation block made exactly a rotation."""
+    T_t = as_pose(T, "T")
+    if T_t.shape != (4, 4):
+        raise InputError(
+            f"T must be one 4x4 pose, got shape {T_t.shape}; for many poses "
+            "call ik_numerical once per pose"
+        )
+    return clean_pose(T_t)[0]
 
 
 def _check_mask(arm: SerialArm, mask: Any) -> FloatArray:
@@ -165,9 +187,14 @@ def _check_mask(arm: SerialArm, mask: Any) -> FloatArray:
 
 
 def _check_settings(method: str, tol: float, max_iter: int) -> None:
-    if method not in _METHODS:
+    if not isinstance(method, str) or method not in _METHODS:
         raise InputError(f"method must be one of {_METHODS}, got {method!r}")
-    if not isinstance(tol, (int, float)) or not np.isfinite(tol) or tol <= 0:
+    if (
+        isinstance(tol, bool)
+        or not isinstance(tol, (int, float, np.integer, np.floating))
+        or not np.isfinite(tol)
+        or tol <= 0
+    ):
         raise InputError(f"tol must be a positive number, got {tol!r}")
     if isinstance(max_iter, bool) or not isinstance(max_iter, (int, np.integer)) or max_iter < 1:
         raise InputError(f"max_iter must be a positive integer, got {max_iter!r}")
@@ -199,9 +226,11 @@ def _as_rng(rng: Any) -> np.random.Generator:
         return np.random.default_rng(0)
     if isinstance(rng, np.random.Generator):
         return rng
-    if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool):
+    if isinstance(rng, (int, np.integer)) and not isinstance(rng, (bool, np.bool_)) and rng >= 0:
         return np.random.default_rng(int(rng))
-    raise InputError(f"rng must be None, an integer seed or a numpy Generator, got {rng!r}")
+    raise InputError(
+        f"rng must be None, a non-negative integer seed or a numpy Generator, got {rng!r}"
+    )
 
 
 def _wrap_revolute(arm: SerialArm, q: FloatArray) -> FloatArray:
@@ -278,13 +307,11 @@ def ik_numerical(
     >>> sol.success, bool(np.allclose(arm.fk(sol.q), T, atol=1e-9))
     (True, True)
     """
+    _check_arm(arm)
     _check_settings(method, tol, max_iter)
-    T_t = as_pose(T, "T")
-    if T_t.shape != (4, 4):
-        raise InputError(
-            f"T must be one 4x4 pose, got shape {T_t.shape}; for many poses "
-            "call ik_numerical once per pose"
-        )
+    if not isinstance(within_limits, (bool, np.bool_)):
+        raise InputError(f"within_limits must be True or False, got {within_limits!r}")
+    T_t = _one_target(T)
     weights = _check_mask(arm, mask)
     if q0 is None:
         q = _random_start(arm, _as_rng(rng), within_limits)
@@ -406,14 +433,17 @@ def ik_numerical_multistart(
         numerical method finds a solution only if some start falls into its
         basin of attraction.
     """
+    _check_arm(arm)
     if isinstance(n_starts, bool) or not isinstance(n_starts, (int, np.integer)) or n_starts < 1:
         raise InputError(f"n_starts must be a positive integer, got {n_starts!r}")
     if "q0" in options:
         raise InputError("ik_numerical_multistart draws its own starts; do not pass q0")
-    if not np.isfinite(distinct_tol) or distinct_tol <= 0:
+    if isinstance(distinct_tol, (bool, np.bool_)) or not as_real(distinct_tol, "distinct_tol") > 0:
         raise InputError(f"distinct_tol must be a positive number, got {distinct_tol!r}")
     gen = _as_rng(rng)
-    within = bool(options.get("within_limits", False))
+    within = options.get("within_limits", False)
+    if not isinstance(within, (bool, np.bool_)):
+        raise InputError(f"within_limits must be True or False, got {within!r}")
     rev = arm.revolute
     found: list[FloatArray] = []
     for _ in range(int(n_starts)):

@@ -13,8 +13,9 @@ import numpy as np
 from .._validate import FloatArray
 from ..errors import InputError
 from ..tolerances import SINGULAR_TOL
+from .api import ClosedForm
 from .base import RawSolutions, Singularity
-from .kernels import elbow_above, reach_excess, two_link
+from .kernels import elbow_above, reach_excess, two_link_parts, two_link_slots
 from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -22,7 +23,9 @@ if TYPE_CHECKING:  # pragma: no cover
 
 _ELBOW = Singularity("the arm is fully stretched or folded: both elbow branches coincide", ())
 _ORIGIN = Singularity(
-    "the wrist point is on the axis of joint 1 with the arm folded, so q1 is free", (1,)
+    "links 1 and 2 are equal and folded, so the wrist point is on the axis of joint 1 and "
+    "q1 is free",
+    (1,),
 )
 
 
@@ -54,7 +57,7 @@ def _explain_plane(T: FloatArray, units: str, size: float, need_rotation: bool) 
     return None
 
 
-class _PlanarBase:
+class _PlanarBase(ClosedForm):
     wrist_middle = None
     singularities = {"elbow": _ELBOW, "origin": _ORIGIN}
     n = 2
@@ -62,11 +65,11 @@ class _PlanarBase:
     def _two(
         self, x: FloatArray, y: FloatArray, L1: float, L2: float, hint1: float
     ) -> tuple[FloatArray, FloatArray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        A, B, ok, st = two_link(x, y, L1, L2)
-        at_origin = np.hypot(x, y) <= SINGULAR_TOL * (L1 + L2)
-        A = np.where(at_origin[:, None], hint1, A)
+        t = two_link_parts(x, y, L1, L2)
+        A, B = two_link_slots(t)
+        A = np.where(t.fold[:, None], hint1, A)
         up = elbow_above(x, y, A, L1)
-        return A, B, ok, st, at_origin, up
+        return A, B, t.reachable, t.stretched, t.fold, up
 
     def _explain_reach(
         self, d: float, L1: float, L2: float, units: str, what: str

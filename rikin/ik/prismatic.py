@@ -20,6 +20,7 @@ import numpy as np
 from .._validate import FloatArray
 from ..errors import InputError
 from ..tolerances import REACH_TOL, SINGULAR_TOL
+from .api import ClosedForm
 from .base import RawSolutions, Singularity
 from .decoupled import wrist_angles, wrist_model, wrist_slot_labels
 from .result import Branch
@@ -46,7 +47,7 @@ def _w(arm: SerialArm) -> float:
     return float(np.linalg.norm(wrist_model(arm, 2).centre))
 
 
-class PPRRRSolver:
+class PPRRRSolver(ClosedForm):
     """Two prismatic joints then a spherical wrist: 2 solutions (wrist no-flip/flip)."""
 
     target_kind = "pose"
@@ -63,10 +64,11 @@ class PPRRRSolver:
     def _affine(self, arm: SerialArm) -> tuple[FloatArray, FloatArray, FloatArray]:
         """``p_w(d1, d2) = c0 + [u1 u2] @ (d1, d2)`` and the constant ``R_0_2``."""
         q = np.zeros((3, 5))
-        q[1, 0] = 1.0
-        q[2, 1] = 1.0
+        step = arm.scale  # a displacement of the arm's own size: no rounding at any scale
+        q[1, 0] = step
+        q[2, 1] = step
         p = _origin_2(arm, q)
-        U = np.stack([p[1] - p[0], p[2] - p[0]], axis=-1)  # (3, 2)
+        U = np.stack([p[1] - p[0], p[2] - p[0]], axis=-1) / step  # (3, 2)
         R_0_2 = arm.replace(base=np.eye(4), tool=np.eye(4))._fk(np.zeros(5), frames=True)[2, :3, :3]
         return p[0], U, R_0_2
 
@@ -80,7 +82,8 @@ class PPRRRSolver:
         d, *_ = np.linalg.lstsq(U, (pw - c0).T, rcond=None)
         d = d.T  # (N, 2)
         resid = np.linalg.norm(pw - c0 - d @ U.T, axis=-1)
-        ok = resid <= REACH_TOL * arm.scale * 10
+        size = np.maximum(arm.scale, np.abs(pw).max(axis=-1))  # far targets: relative rounding
+        ok = resid <= REACH_TOL * size * 10
         W = wrist_model(arm, 2)
         q345, sing = wrist_angles(W, R_0_2.T @ T_0_n[:, :3, :3], 0.0 if hint is None else hint[2])
         N = T_0_n.shape[0]
@@ -109,7 +112,7 @@ class PPRRRSolver:
         )
 
 
-class RPRRRSolver:
+class RPRRRSolver(ClosedForm):
     """Revolute, prismatic, then a spherical wrist: 4 solutions."""
 
     target_kind = "pose"
@@ -140,6 +143,7 @@ class RPRRRSolver:
         wrist_model(arm, 2)
         rng = np.random.default_rng(0)
         q = rng.uniform(-1, 1, size=(5, 5))
+        q[:, 1] *= arm.scale  # the prismatic joint, in the arm's units
         want = _origin_2(arm, q)
         got = self._forward_12(arm, q[:, 0], q[:, 1])
         if np.abs(got - want).max() > 1e-9 * arm.scale:
@@ -166,10 +170,12 @@ class RPRRRSolver:
         W = wrist_model(arm, 2)
         pw = T_0_n[:, :3, :3] @ W.centre + T_0_n[:, :3, 3]
         x, y, z = pw[:, 0], pw[:, 1], pw[:, 2]
-        r2 = x * x + y * y - a2 * a2
+        r = np.hypot(x, y)
         size = arm.scale
-        ok = (np.abs(z - d1) <= REACH_TOL * size * 10) & (r2 >= -REACH_TOL * size * size)
-        rho0 = np.sqrt(np.maximum(r2, 0.0))
+        far = np.maximum(size, np.abs(pw).max(axis=-1))  # far targets: relative rounding
+        ok = (np.abs(z - d1) <= REACH_TOL * far * 10) & (r >= a2 - REACH_TOL * size)
+        # distance along the prismatic axis, sqrt(r^2 - a2^2) in a form exact near r = a2
+        rho0 = np.sqrt(np.maximum(r - a2, 0.0) * (r + a2))
         N = T_0_n.shape[0]
         q = np.empty((N, 2, 2, 5))
         wrist_sing = np.empty((N, 2, 2), dtype=bool)

@@ -9,6 +9,7 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .._validate import FloatArray
+from ..errors import InputError
 
 __all__ = ["Branch", "IKResult", "BatchIKResult"]
 
@@ -64,6 +65,12 @@ class IKResult:
         without moving the TCP; empty at a boundary singularity (arm stretched).
     discarded : int
         How many solutions the joint-limit filter removed.
+    rotation_distance : float
+        How far the rotation block of the given 4x4 target was from a rotation
+        matrix (Frobenius norm of the difference, unitless): a target rounded to
+        4 decimals is ~1e-4 off. IK solved for the nearest rotation, which is
+        ``target``'s; 0 when the block was a rotation to rounding (1e-12), or
+        no 4x4 matrix was given.
     """
 
     q: FloatArray
@@ -75,6 +82,7 @@ class IKResult:
     discarded: int = 0
     arm_name: str = ""
     revolute: FloatArray = field(default_factory=lambda: np.zeros(0, dtype=bool))
+    rotation_distance: float = 0.0
 
     def __len__(self) -> int:
         return int(self.q.shape[0])
@@ -95,7 +103,15 @@ class IKResult:
         return np.where(self.revolute, np.degrees(self.q), self.q)
 
     def table(self, decimals: int = 4) -> str:
-        """The solutions as text, revolute joints in degrees, one row each."""
+        """The solutions as text, revolute joints in degrees, one row each.
+
+        A last line says when the target was singular, and when its rotation
+        block was replaced by the nearest rotation (``rotation_distance``).
+        """
+        if isinstance(decimals, (bool, np.bool_)) or not isinstance(decimals, (int, np.integer)) or (
+            not 0 <= decimals <= 15
+        ):
+            raise InputError(f"decimals must be a whole number from 0 to 15, got {decimals!r}")
         k, n = self.q.shape
         head = f"{'#':>2}  {'branch':<22}" + "".join(f"{'q' + str(j + 1):>11}" for j in range(n))
         rows = [head]
@@ -106,6 +122,11 @@ class IKResult:
             )
         if self.singular:
             rows.append(f"singular: {self.singularity}; free joints {self.free_joints}")
+        if self.rotation_distance > 0:
+            rows.append(
+                f"target rotation block was {self.rotation_distance:.2g} from a rotation "
+                "(rounded?): solved for the nearest rotation"
+            )
         return "\n".join(rows)
 
     def __repr__(self) -> str:
@@ -134,12 +155,16 @@ class BatchIKResult:
         The pose is at a singularity (some slots are then representatives
         of an infinite family, and may repeat).
     branches : tuple of Branch, length k
+    rotation_distance : ndarray, shape (N,)
+        Per pose, as :attr:`IKResult.rotation_distance`: how far its rotation
+        block was from the rotation it was solved for (0 for most poses).
     """
 
     q: FloatArray
     valid: Any
     singular: Any
     branches: tuple[Branch, ...]
+    rotation_distance: Any = None
 
     @property
     def counts(self) -> Any:
