@@ -11,8 +11,11 @@ after importing numpy and rikin).
     python benchmarks/bench_ik.py --quick    # small N, a smoke run
     python benchmarks/bench_ik.py --json results.json
 
-roboticstoolbox-python (``pip install roboticstoolbox-python``) is optional:
-its ``ik_LM`` is timed on the same poses when it is importable.
+roboticstoolbox-python (``pip install "roboticstoolbox-python[ik]"``) is optional:
+when it is importable, its ``ik_LM`` is timed on the same poses, and its all-solution
+closed form ``DHRobot.analytic_ik().solve`` (derived first, 6-30 s) against rikin's
+``arm.ik`` one pose at a time: both in alternating rounds on the same poses, best round
+of each, printed as a ratio.
 """
 
 from __future__ import annotations
@@ -186,6 +189,47 @@ def bench_rtb(
     }
 
 
+def bench_single(arm: rikin.SerialArm, T: np.ndarray, robot: Any, rounds: int = 3) -> dict[str, Any]:
+    """rikin ``arm.ik`` and (if given) rtb ``analytic_ik().solve`` one pose at a time.
+
+    Rounds alternate between the two on the same poses, so a change of the
+    machine's load hits both; the best round of each is kept.
+    """
+    solve = None
+    derive_s = None
+    if robot is not None:
+        t0 = time.perf_counter()
+        solve = robot.analytic_ik().solve
+        derive_s = time.perf_counter() - t0
+        solve(T[0])
+    arm.ik(T[0])
+    best_rikin = best_rtb = np.inf
+    n_sol = n_rtb = 0
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        n_sol = sum(len(arm.ik(t)) for t in T)
+        best_rikin = min(best_rikin, time.perf_counter() - t0)
+        if solve is not None:
+            t0 = time.perf_counter()
+            n_rtb = sum(len(np.atleast_2d(solve(t).q)) for t in T)
+            best_rtb = min(best_rtb, time.perf_counter() - t0)
+    out: dict[str, Any] = {
+        "arm": arm.name,
+        "n": len(T),
+        "rikin_poses_per_s": len(T) / best_rikin,
+        "rikin_solutions_per_pose": n_sol / len(T),
+        "load_average": load_average(),
+    }
+    if solve is not None:
+        out.update(
+            rtb_poses_per_s=len(T) / best_rtb,
+            rtb_solutions_per_pose=n_rtb / len(T),
+            rtb_derivation_s=derive_s,
+            ratio=best_rtb / best_rikin,
+        )
+    return out
+
+
 def _proc_status_kib(field: str) -> int | None:
     """A ``/proc/self/status`` memory field (``VmHWM``, ``VmRSS``) in KiB, None off Linux."""
     try:
@@ -296,6 +340,11 @@ def main(argv: list[str] | None = None) -> int:
         rows.append(bench_rtb(robot, arm, T, n_rtb, None))
         rows.append(bench_rtb(robot, arm, T, n_rtb, 1e-16))
 
+    n_single = 100 if args.quick else 500
+    single = [bench_single(arm, T[:n_single], robot if not args.quick else None)]
+    c4 = rikin.robots.epson_c4()
+    single.append(bench_single(c4, reachable_poses(c4, n_single), None))
+
     ref = rows[len(sizes) - 1]["poses_per_s"]
     print(f"{'method':<62} {'N':>8} {'poses/s':>12} {'x slower':>9}  note")
     for r in rows:
@@ -324,6 +373,27 @@ def main(argv: list[str] | None = None) -> int:
             "processes share the CPUs and the wall-clock figures drop)"
         )
 
+    print(f"\none pose at a time ({n_single} seeded poses, best of 3 alternating rounds):")
+    for r in single:
+        line = (
+            f"  {r['arm']:<12} rikin arm.ik (all solutions, labelled, FK-checked) "
+            f"{r['rikin_poses_per_s']:>9,.0f} poses/s ({r['rikin_solutions_per_pose']:.2f} "
+            "solutions/pose)"
+        )
+        print(line)
+        if "ratio" in r:
+            print(
+                f"  {r['arm']:<12} roboticstoolbox analytic_ik().solve             "
+                f"{r['rtb_poses_per_s']:>9,.0f} poses/s ({r['rtb_solutions_per_pose']:.2f} "
+                f"solutions/pose; derivation {r['rtb_derivation_s']:.1f} s)"
+            )
+            print(f"  {r['arm']:<12} ratio rikin / roboticstoolbox: {r['ratio']:.1f}x")
+    if robot is None:
+        print("  (roboticstoolbox analytic_ik not timed: not installed, or --quick)")
+    load = load_average()
+    if load is not None:
+        print(f"  (1-minute load average now {load:.2f})")
+
     memory = None
     if not args.no_memory:
         memory = bench_memory(n_mem)
@@ -340,7 +410,10 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         with open(args.json, "w") as f:
             json.dump(
-                {"machine": info, "seed": SEED, "results": rows, "memory": memory}, f, indent=2
+                {"machine": info, "seed": SEED, "results": rows, "single_pose": single,
+                 "memory": memory},
+                f,
+                indent=2,
             )
         print(f"\nwrote {args.json}")
     return 0

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING, Any, Literal
+from typing import Any, Literal
 
 import numpy as np
 
@@ -34,9 +34,6 @@ from ._validate import (
 from .errors import InputError
 from .tolerances import DEGREES_SUSPECT, MAX_ANGLE, MAX_LENGTH
 from .transforms import _inv_transform
-
-if TYPE_CHECKING:  # pragma: no cover
-    from .ik.result import BatchIKResult, IKResult
 
 
 def _one_pose(T: Any, name: str) -> FloatArray:
@@ -424,6 +421,41 @@ class SerialArm:
             return np.stack(out, axis=-3)
         return T
 
+    def _fk_revolute(self, q: FloatArray) -> FloatArray:
+        """:meth:`_fk` of ``(k, n)`` joint values of an all-revolute arm, ``(k, 4, 4)``.
+
+        Each link is a constant times a rotation about z: standard
+        ``Rz(theta) [Tz(d) Tx(a) Rx(alpha)]``, modified ``[Rx(alpha) Tx(a) Tz(d)] Rz(theta)``
+        (Rz and Tz commute), so the chain takes a dozen array operations instead of
+        a dozen per link. The IK of one pose checks its solutions with it.
+        """
+        consts = self.__dict__.get("_fk_consts")
+        if consts is None:
+            consts = self._link_constants()
+            object.__setattr__(self, "_fk_consts", consts)
+        C, offsets = consts
+        th = q + offsets
+        k, n = q.shape
+        Z = np.zeros((k, n, 4, 4))
+        c, s = np.cos(th), np.sin(th)
+        Z[..., 0, 0] = c
+        Z[..., 1, 1] = c
+        Z[..., 0, 1] = -s
+        Z[..., 1, 0] = s
+        Z[..., 2, 2] = 1.0
+        Z[..., 3, 3] = 1.0
+        M = Z @ C if self.convention == "standard" else C @ Z
+        T = self.base @ M[:, 0]
+        for i in range(1, n):
+            T = T @ M[:, i]
+        return T @ self.tool
+
+    def _link_constants(self) -> tuple[FloatArray, FloatArray]:
+        C = np.empty((self.n, 4, 4))
+        for i, lk in enumerate(self.links):
+            C[i] = _link_transform_one(replace(lk, offset=0.0), 0.0, self.convention)
+        return C, np.array([float(lk.offset) for lk in self.links])
+
     def fk_flange(self, q: Any) -> FloatArray:
         """``T_0_n(q)``: the last link's frame in frame 0 (no base, no tool)."""
         qv = self.check_q(q)
@@ -464,13 +496,16 @@ class SerialArm:
         return np.swapaxes(np.concatenate([lin, ang], axis=-1), -1, -2)
 
     # ------------------------------------------------------------------ IK
-    def ik(self, target: Any, **options: Any) -> IKResult:
-        """Every closed-form IK solution of ``target``; see :func:`rikin.ik.solve`."""
-        return self._closed_form().ik(self, target, **options)  # type: ignore[no-any-return]
+    def ik(self, target: Any, **options: Any) -> Any:
+        """Every closed-form IK solution of ``target`` (an ``IKResult``); see
+        :func:`rikin.ik.solve`. The arm's solver carries it, so this module never
+        imports :mod:`rikin.ik` (data flows robots -> dh -> ik)."""
+        return self._closed_form().ik(self, target, **options)
 
-    def ik_batch(self, T: Any, **options: Any) -> BatchIKResult:
-        """All solutions for many poses at once; see :func:`rikin.ik.solve_batch`."""
-        return self._closed_form().ik_batch(self, T, **options)  # type: ignore[no-any-return]
+    def ik_batch(self, T: Any, **options: Any) -> Any:
+        """All solutions for many poses at once (a ``BatchIKResult``); see
+        :func:`rikin.ik.solve_batch`."""
+        return self._closed_form().ik_batch(self, T, **options)
 
     def _closed_form(self) -> Any:
         """The arm family's solver (it carries the IK entry points: data flows dh -> ik)."""

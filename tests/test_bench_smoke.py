@@ -34,3 +34,8 @@ def test_bench_ik_quick_runs_and_prints_poses_per_second(tmp_path):
     # FK of random q is always reachable: the Aula 10 arm then has 8 solutions per pose
     assert all(r["solutions_per_pose"] == 8.0 for r in batch)
     assert data["memory"]["peak_rss_mib"] > 0
+    single = {r["arm"]: r for r in data["single_pose"]}
+    assert set(single) == {"Aula 10 6R", "Epson C4"}
+    assert all(r["rikin_poses_per_s"] > 0 for r in single.values())
+    assert single["Aula 10 6R"]["rikin_solutions_per_pose"] == 8.0
+    assert "one pose at a time" in proc.stdout

@@ -166,3 +166,20 @@ def test_one_pose_validation_still_rejects_bad_base_and_tool():
     with pytest.raises(InputError, match="last row"):
         SerialArm(links, tool=bottom)
     assert SerialArm(links).revolute.flags.writeable is False
+
+
+def test_imports_flow_one_way_robots_dh_ik():
+    """dh (and what it builds on) never imports ik, not even lazily: rikin.ik builds on dh."""
+    import ast
+    import pathlib
+
+    root = pathlib.Path(rikin.__file__).parent
+    for module in ("dh.py", "transforms.py", "_validate.py", "errors.py", "tolerances.py"):
+        tree = ast.parse((root / module).read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                target = ("." * node.level) + (node.module or "")
+                assert not target.startswith((".ik", "rikin.ik")), (module, target)
+                assert "robots" not in target, (module, target)
+            elif isinstance(node, ast.Import):
+                assert not any(a.name.startswith("rikin.ik") for a in node.names), module

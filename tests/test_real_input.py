@@ -422,3 +422,33 @@ def test_far_but_representable_targets_of_a_prismatic_arm_are_solved():
         F = arm.fk(res.q)
         assert np.abs(F[:, :3, 3] - far[:3, 3]).max() <= 1e-14 * x
         assert np.isfinite(res.q).all()
+
+
+# ---------------------------------------------------------------- the one-pose fast path
+@pytest.mark.parametrize("name", SIX_DOF)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_one_pose_fast_path_equals_the_general_solver(name, seed):
+    """arm.ik of a float64 4x4 array takes the plain-float kernel; a list takes the general
+    path: same solutions, same order, same labels, same flags."""
+    arm = ARMS[name]
+    rng = np.random.default_rng(seed)
+    q = random_q(arm, rng)
+    if rng.uniform() < 0.3:
+        q[4] = rng.choice([0.0, np.pi, 1e-7])  # at or near the wrist singularity
+    if rng.uniform() < 0.2:
+        q[2] = -arm.solver.geometry.phi3 + rng.choice([0.0, np.pi, 1e-9])  # elbow edges
+    T = arm.fk(q)
+    fast, general = arm.ik(T), arm.ik(T.tolist())
+    assert fast.labels == general.labels
+    assert np.allclose(fast.q, general.q, atol=1e-12, rtol=0)
+    assert (fast.singular, fast.free_joints) == (general.singular, general.free_joints)
+    assert_reaches(arm, fast, T, 1e-8)  # FK_CHECK_TOL: singular and near-singular poses here
+
+
+@pytest.mark.parametrize("name", sorted(ARMS))
+def test_revolute_fk_chain_equals_fk(name):
+    arm = ARMS[name]
+    if not arm.revolute.all():
+        return
+    q = np.random.default_rng(5).uniform(-7, 7, (50, arm.n))
+    assert np.abs(arm._fk_revolute(q) - arm.fk(q)).max() <= 1e-12 * arm.scale

@@ -7,6 +7,7 @@ filter by joint limits and sort by distance to previous joints.
 
 from __future__ import annotations
 
+import math
 import os
 from concurrent.futures import ThreadPoolExecutor
 from typing import TYPE_CHECKING, Any
@@ -15,6 +16,7 @@ import numpy as np
 
 from .._validate import (
     FloatArray,
+    _rotation_errors,
     as_float_array,
     as_pose,
     check_length_range,
@@ -27,7 +29,7 @@ from ..errors import InputError, UnreachableError
 from ..tolerances import FK_CHECK_TOL, MAX_LENGTH, ROTATION_CLEAN_TOL, SAME_SOLUTION_TOL
 from ..transforms import _wrap_angle, homogeneous, rotz
 from .base import RawSolutions, Solver
-from .kernels import pose_defects
+from .kernels import pose_defects, wrap_in_place
 from .result import BatchIKResult, Branch, IKResult
 
 __all__ = ["solve", "solve_batch", "ClosedForm"]
@@ -205,6 +207,13 @@ def solve(
         Malformed target or ``near``.
     """
     solver = _solver(arm)
+    if near is None and within_limits is False and type(target) is np.ndarray:
+        single = getattr(solver, "single_kernel", None)
+        kernel = single(arm) if single is not None else None
+        if kernel is not None:
+            fast = _solve_regular(arm, kernel, target)
+            if fast is not None:
+                return fast
     kind = solver.target_kind
     within_limits = _flag(within_limits, "within_limits")
     T_world, rot_dist = _target_pose(arm, target, kind)
@@ -223,6 +232,60 @@ def solve(
             f"{arm.name}: target is unreachable: {message}", excess=excess, units=units
         )
     return _finish(arm, solver, raw, T_world, kind, hint, within_limits, rot_dist)
+
+
+def _solve_regular(arm: SerialArm, kernel: Any, target: FloatArray) -> IKResult | None:
+    """The whole of :func:`solve` for one regular pose, with the plain-float kernel.
+
+    Returns None (the caller takes the general path, which validates, explains and
+    handles singularities) unless ``target`` is a float64 4x4 pose that passes every
+    check of the general path exactly, lies away from every singularity, and every
+    solution passes the same FK check.
+    """
+    if target.shape != (4, 4) or target.dtype != np.float64:
+        return None
+    rows = target.tolist()
+    if rows[3] != [0.0, 0.0, 0.0, 1.0] or not np.isfinite(target).all():
+        return None
+    err, det = _rotation_errors([r[:3] for r in rows[:3]])
+    if err > ROTATION_CLEAN_TOL or det < 0:
+        return None
+    if max(abs(rows[0][3]), abs(rows[1][3]), abs(rows[2][3])) > MAX_LENGTH:
+        return None
+    out = kernel.solve(rows)
+    if out is None:
+        return None
+    q_rows, slot_ids, up = out
+    q = wrap_in_place(np.array(q_rows))
+    F = arm._fk_revolute(q)
+    size = max(arm.scale, abs(rows[0][3]), abs(rows[1][3]), abs(rows[2][3]))
+    d = F[:, :3, 3] - target[:3, 3]
+    pos = float(np.sqrt((d * d).sum(axis=-1).max())) / size
+    rot = float(np.abs(F[:, :3, :3] - target[:3, :3]).max())
+    if not max(pos, rot) <= FK_CHECK_TOL:
+        return None  # the general path checks again and reports
+    labels = _branch_labels(kernel.slots)
+    branches = tuple(
+        labels[s, u, math.sin(row[4]) >= 0] for s, u, row in zip(slot_ids, up, q_rows, strict=True)
+    )
+    return IKResult(
+        q=q, branches=branches, target=target, arm_name=arm.name, revolute=arm.revolute
+    )
+
+
+_LABELS: dict[tuple[Branch, ...], dict[tuple[int, bool, bool], Branch]] = {}
+
+
+def _branch_labels(slots: tuple[Branch, ...]) -> dict[tuple[int, bool, bool], Branch]:
+    """Every Branch a slot can carry: (slot, elbow up, sin(q_mid) >= 0) -> Branch."""
+    if slots not in _LABELS:
+        _LABELS[slots] = {
+            (i, u, nf): Branch(b.shoulder, "up" if u else "down", "no-flip" if nf else "flip")
+            for i, b in enumerate(slots)
+            for u in (False, True)
+            for nf in (False, True)
+        }
+    return _LABELS[slots]
 
 
 def _finish(

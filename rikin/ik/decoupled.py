@@ -19,6 +19,7 @@ Eight slots: arm slot ``a`` (see ``ARM_SLOTS``) times wrist slot ``b`` -> ``2 a 
 from __future__ import annotations
 
 import weakref
+from math import atan2, cos, hypot, pi, sin, sqrt
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -26,7 +27,7 @@ import numpy as np
 
 from .._validate import FloatArray, as_pose, clean_pose
 from ..errors import InputError
-from ..tolerances import SINGULAR_TOL
+from ..tolerances import REACH_TOL, SINGULAR_TOL
 from ..transforms import _rot
 from .anthropomorphic import (
     ARM_SLOTS,
@@ -205,6 +206,14 @@ class Decoupled6RSolver(ClosedForm):
                 cache[arm] = BatchKernel(arm, self)
             except _NotSupported:
                 cache[arm] = None
+        return cache[arm]
+
+    def single_kernel(self, arm: SerialArm) -> SingleKernel | None:
+        """The plain-float kernel for one regular pose (see :class:`SingleKernel`), or None."""
+        cache = self.__dict__.setdefault("_single", weakref.WeakKeyDictionary())
+        if arm not in cache:
+            batch = self.batch_kernel(arm)
+            cache[arm] = None if batch is None else SingleKernel(batch)
         return cache[arm]
 
     def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
@@ -507,3 +516,144 @@ class BatchKernel:
         valid = np.repeat(valid4, 2, axis=0)
         np.copyto(q, np.nan, where=~valid[:, None, :])
         return q, valid, suspect | wrist_suspect
+
+
+# ---------------------------------------------------------------- one pose, plain floats
+class SingleKernel:
+    """The decoupling of :class:`BatchKernel` for ONE regular pose, in plain ``math``.
+
+    For one pose numpy's per-call overhead dominates (a hundred small array
+    operations); the same formulas on Python floats take a third of the time.
+    :meth:`solve` returns None for a pose near a singularity (the margins of
+    :class:`BatchKernel`), which the caller then solves with the general
+    :meth:`Decoupled6RSolver.solve`; away from them the 8 slots are distinct
+    (front and back differ by pi in q1, the elbows by at least ~1e-5 rad in q3,
+    the wrist flips by pi in q4), so no de-duplication is needed.
+    """
+
+    def __init__(self, batch: BatchKernel) -> None:
+        tl = lambda M: [[float(v) for v in row] for row in M]  # noqa: E731
+        self.G, self.H, self.K, self.E1t = tl(batch.G), tl(batch.H), tl(batch.K), tl(batch.E1t)
+        self.base_R, self.base_p = tl(batch.base_R), [float(v) for v in batch.base_p]
+        self.c = [float(v) for v in batch.centre_tcp]
+        g = batch.geometry
+        self.g = (float(g.z0), float(g.r0), float(g.L2), float(g.L3), float(g.phi2), float(g.phi3))
+        self.size = float(g.size)
+        self.sigma, self.s = batch.sigma, batch.wrist_s
+        self.offsets = batch.offsets
+        self.slots = batch.slots
+        self.sus_sin, self.sus_edge = batch.SUSPECT_SIN, batch.SUSPECT_EDGE
+
+    def solve(self, T: list[list[float]]) -> tuple[list[list[float]], list[int], list[bool]] | None:
+        """Joint values of the valid slots (not wrapped), their slot numbers (0-7) and
+        elbow-up flags.
+
+        ``T`` is the validated world pose as nested lists. None: near a singularity,
+        or nothing reachable (let the general solver decide and explain).
+        """
+        (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz) = T[0], T[1], T[2]
+        (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = self.G
+        a00 = g00 * r00 + g01 * r10 + g02 * r20
+        a01 = g00 * r01 + g01 * r11 + g02 * r21
+        a02 = g00 * r02 + g01 * r12 + g02 * r22
+        a10 = g10 * r00 + g11 * r10 + g12 * r20
+        a11 = g10 * r01 + g11 * r11 + g12 * r21
+        a12 = g10 * r02 + g11 * r12 + g12 * r22
+        a20 = g20 * r00 + g21 * r10 + g22 * r20
+        a21 = g20 * r01 + g21 * r11 + g22 * r21
+        a22 = g20 * r02 + g21 * r12 + g22 * r22
+        (h00, h01, h02), (h10, h11, h12), (h20, h21, h22) = self.H
+        S0 = (a00 * h00 + a01 * h10 + a02 * h20, a00 * h01 + a01 * h11 + a02 * h21,
+              a00 * h02 + a01 * h12 + a02 * h22)
+        S1 = (a10 * h00 + a11 * h10 + a12 * h20, a10 * h01 + a11 * h11 + a12 * h21,
+              a10 * h02 + a11 * h12 + a12 * h22)
+        S2 = (a20 * h00 + a21 * h10 + a22 * h20, a20 * h01 + a21 * h11 + a22 * h21,
+              a20 * h02 + a21 * h12 + a22 * h22)
+        c0, c1_, c2 = self.c
+        v0 = r00 * c0 + r01 * c1_ + r02 * c2 + px
+        v1 = r10 * c0 + r11 * c1_ + r12 * c2 + py
+        v2 = r20 * c0 + r21 * c1_ + r22 * c2 + pz
+        B, b = self.base_R, self.base_p
+        x = B[0][0] * v0 + B[0][1] * v1 + B[0][2] * v2 + b[0]
+        y = B[1][0] * v0 + B[1][1] * v1 + B[1][2] * v2 + b[1]
+        z = B[2][0] * v0 + B[2][1] * v1 + B[2][2] * v2 + b[2]
+        z0, r0, L2, L3, phi2, phi3 = self.g
+        rho = hypot(x, y)
+        if rho < self.sus_sin * self.size:
+            return None
+        q1 = atan2(y, x)
+        w = z - z0
+        Lp, Lm = L2 + L3, abs(L2 - L3)
+        tol = REACH_TOL * Lp
+        edge = self.sus_edge * Lp
+        o1, o2, o3, o4, o5, o6 = self.offsets
+        (k00, k01, k02), (k10, k11, k12), (k20, k21, k22) = self.K
+        (e00, e01, e02), (e10, e11, e12), (e20, e21, e22) = self.E1t
+        sig, s_w, sus_sin = self.sigma, self.s, self.sus_sin
+        q_out: list[list[float]] = []
+        slots: list[int] = []
+        up: list[bool] = []
+        vertical_tol = SINGULAR_TOL * L2
+        for side, u in ((0, rho - r0), (1, -rho - r0)):
+            r = hypot(u, w)
+            if not Lm - tol <= r <= Lp + tol:
+                continue
+            dp, dm = Lp - r, r - Lm
+            if dp < edge or dm < edge:  # at or near the edge of the reach
+                return None
+            sp, sm = Lp + r, r + Lm
+            B0 = 2.0 * atan2(sqrt(dp * sp), sqrt(dm * sm))
+            if L2 >= L3:
+                beta = 2.0 * atan2(sqrt(dm * dp), sqrt(sp * sm))
+            else:
+                beta = 2.0 * atan2(sqrt(sm * dp), sqrt(sp * dm))
+            base = atan2(w, u)
+            th1 = q1 + pi if side else q1
+            ct, st = cos(th1 + o1), sin(th1 + o1)
+            # U = Rz(-th1) S (rows 0, 1), then V = E1^T U
+            u00, u01, u02 = ct * S0[0] + st * S1[0], ct * S0[1] + st * S1[1], ct * S0[2] + st * S1[2]
+            u10, u11, u12 = ct * S1[0] - st * S0[0], ct * S1[1] - st * S0[1], ct * S1[2] - st * S0[2]
+            u20, u21, u22 = S2
+            V0 = (e00 * u00 + e01 * u10 + e02 * u20, e00 * u01 + e01 * u11 + e02 * u21,
+                  e00 * u02 + e01 * u12 + e02 * u22)
+            V1 = (e10 * u00 + e11 * u10 + e12 * u20, e10 * u01 + e11 * u11 + e12 * u21,
+                  e10 * u02 + e11 * u12 + e12 * u22)
+            V2 = (e20 * u00 + e21 * u10 + e22 * u20, e20 * u01 + e21 * u11 + e22 * u21,
+                  e20 * u02 + e21 * u12 + e22 * u22)
+            for elbow, (A, Bv) in enumerate(((base - beta, B0), (base + beta, -B0))):
+                q2, q3 = A - phi2, Bv - phi3
+                ph = (q2 + o2) + sig * (q3 + o3)
+                cp, sq = cos(ph), sin(ph)
+                w00, w01, w02 = cp * V0[0] + sq * V1[0], cp * V0[1] + sq * V1[1], cp * V0[2] + sq * V1[2]
+                w10, w11, w12 = cp * V1[0] - sq * V0[0], cp * V1[1] - sq * V0[1], cp * V1[2] - sq * V0[2]
+                w20, w21, w22 = V2
+                m00 = k00 * w00 + k01 * w10 + k02 * w20
+                m01 = k00 * w01 + k01 * w11 + k02 * w21
+                m02 = k00 * w02 + k01 * w12 + k02 * w22
+                m10 = k10 * w00 + k11 * w10 + k12 * w20
+                m11 = k10 * w01 + k11 * w11 + k12 * w21
+                m12 = k10 * w02 + k11 * w12 + k12 * w22
+                m22 = k20 * w02 + k21 * w12 + k22 * w22
+                sw = sqrt(m02 * m02 + m12 * m12)
+                if sw < sus_sin:
+                    return None
+                theta = atan2(sw, m22)
+                phw = atan2(m12, m02)
+                cph, sph = m02 / sw, m12 / sw
+                psi = atan2(cph * m10 - sph * m00, cph * m11 - sph * m01)
+                eu, ew = L2 * cos(A), L2 * sin(A)
+                if abs(u) <= vertical_tol:
+                    is_up = eu > 0
+                else:
+                    is_up = (u * ew - w * eu) * (1.0 if u > 0 else -1.0) > 0
+                t5 = s_w * theta
+                q_out.append([th1, q2, q3, phw - o4, -t5 - o5, psi - o6])
+                q_out.append([th1, q2, q3, phw + pi - o4, t5 - o5, psi + pi - o6])
+                slot = 4 * side + 2 * elbow
+                slots += [slot, slot + 1]
+                up += [is_up, is_up]
+        if not q_out:
+            return None
+        return q_out, slots, up
+
+
