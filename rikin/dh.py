@@ -424,37 +424,42 @@ class SerialArm:
     def _fk_revolute(self, q: FloatArray) -> FloatArray:
         """:meth:`_fk` of ``(k, n)`` joint values of an all-revolute arm, ``(k, 4, 4)``.
 
-        Each link is a constant times a rotation about z: standard
-        ``Rz(theta) [Tz(d) Tx(a) Rx(alpha)]``, modified ``[Rx(alpha) Tx(a) Tz(d)] Rz(theta)``
-        (Rz and Tz commute), so the chain takes a dozen array operations instead of
-        a dozen per link. The IK of one pose checks its solutions with it.
+        Each link is a rotation about z times a constant (standard:
+        ``Rz(theta) [Tz(d) Tx(a) Rx(alpha)]``; modified: ``[Rx(alpha) Tx(a) Tz(d)] Rz(theta)``,
+        as Rz and Tz commute), and ``Rz(theta) = cos(theta) P + sin(theta) Q + E`` with
+        constant ``P, Q, E``. So link i is ``cos * C1_i + sin * C2_i + C3_i`` with constants
+        (base folded into the first link, tool into the last): a dozen array operations for
+        the whole chain instead of a dozen per link. The IK of one pose checks with it.
         """
         consts = self.__dict__.get("_fk_consts")
         if consts is None:
             consts = self._link_constants()
             object.__setattr__(self, "_fk_consts", consts)
-        C, offsets = consts
+        C1, C2, C3, offsets = consts
         th = q + offsets
-        k, n = q.shape
-        Z = np.zeros((k, n, 4, 4))
-        c, s = np.cos(th), np.sin(th)
-        Z[..., 0, 0] = c
-        Z[..., 1, 1] = c
-        Z[..., 0, 1] = -s
-        Z[..., 1, 0] = s
-        Z[..., 2, 2] = 1.0
-        Z[..., 3, 3] = 1.0
-        M = Z @ C if self.convention == "standard" else C @ Z
-        T = self.base @ M[:, 0]
-        for i in range(1, n):
-            T = T @ M[:, i]
-        return T @ self.tool
+        c = np.cos(th)[..., None, None]
+        s = np.sin(th)[..., None, None]
+        M = (c * C1 + s * C2 + C3).transpose(1, 0, 2, 3)  # (n, k, 4, 4): M[i] is link i
+        T = M[0]
+        for i in range(1, q.shape[1]):
+            T = T @ M[i]
+        return T
 
-    def _link_constants(self) -> tuple[FloatArray, FloatArray]:
-        C = np.empty((self.n, 4, 4))
+    def _link_constants(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        P = np.zeros((4, 4))
+        P[0, 0] = P[1, 1] = 1.0
+        Q = np.zeros((4, 4))
+        Q[0, 1], Q[1, 0] = -1.0, 1.0
+        E = np.diag([0.0, 0.0, 1.0, 1.0])
+        C1, C2, C3 = (np.empty((self.n, 4, 4)) for _ in range(3))
         for i, lk in enumerate(self.links):
-            C[i] = _link_transform_one(replace(lk, offset=0.0), 0.0, self.convention)
-        return C, np.array([float(lk.offset) for lk in self.links])
+            D = _link_transform_one(replace(lk, offset=0.0), 0.0, self.convention)
+            for out, Z in ((C1, P), (C2, Q), (C3, E)):
+                out[i] = Z @ D if self.convention == "standard" else D @ Z
+        for out in (C1, C2, C3):
+            out[0] = self.base @ out[0]
+            out[-1] = out[-1] @ self.tool
+        return C1, C2, C3, np.array([float(lk.offset) for lk in self.links])
 
     def fk_flange(self, q: Any) -> FloatArray:
         """``T_0_n(q)``: the last link's frame in frame 0 (no base, no tool)."""

@@ -29,7 +29,7 @@ from ..errors import InputError, UnreachableError
 from ..tolerances import FK_CHECK_TOL, MAX_LENGTH, ROTATION_CLEAN_TOL, SAME_SOLUTION_TOL
 from ..transforms import _wrap_angle, homogeneous, rotz
 from .base import RawSolutions, Solver
-from .kernels import pose_defects, wrap_in_place
+from .kernels import pose_defects
 from .result import BatchIKResult, Branch, IKResult
 
 __all__ = ["solve", "solve_batch", "ClosedForm"]
@@ -208,8 +208,11 @@ def solve(
     """
     solver = _solver(arm)
     if near is None and within_limits is False and type(target) is np.ndarray:
-        single = getattr(solver, "single_kernel", None)
-        kernel = single(arm) if single is not None else None
+        kernel = arm.__dict__.get("_single_kernel", False)
+        if kernel is False:  # look it up once per arm (arms are immutable)
+            single = getattr(solver, "single_kernel", None)
+            kernel = single(arm) if single is not None else None
+            object.__setattr__(arm, "_single_kernel", kernel)
         if kernel is not None:
             fast = _solve_regular(arm, kernel, target)
             if fast is not None:
@@ -245,24 +248,25 @@ def _solve_regular(arm: SerialArm, kernel: Any, target: FloatArray) -> IKResult 
     if target.shape != (4, 4) or target.dtype != np.float64:
         return None
     rows = target.tolist()
-    if rows[3] != [0.0, 0.0, 0.0, 1.0] or not np.isfinite(target).all():
+    r0, r1, r2 = rows[0], rows[1], rows[2]
+    if rows[3] != [0.0, 0.0, 0.0, 1.0] or not math.isfinite(sum(r0) + sum(r1) + sum(r2)):
         return None
-    err, det = _rotation_errors([r[:3] for r in rows[:3]])
+    err, det = _rotation_errors([r0[:3], r1[:3], r2[:3]])
     if err > ROTATION_CLEAN_TOL or det < 0:
         return None
-    if max(abs(rows[0][3]), abs(rows[1][3]), abs(rows[2][3])) > MAX_LENGTH:
+    far = max(abs(r0[3]), abs(r1[3]), abs(r2[3]))
+    if far > MAX_LENGTH:
         return None
     out = kernel.solve(rows)
     if out is None:
         return None
     q_rows, slot_ids, up = out
-    q = wrap_in_place(np.array(q_rows))
-    F = arm._fk_revolute(q)
-    size = max(arm.scale, abs(rows[0][3]), abs(rows[1][3]), abs(rows[2][3]))
-    d = F[:, :3, 3] - target[:3, 3]
-    pos = float(np.sqrt((d * d).sum(axis=-1).max())) / size
-    rot = float(np.abs(F[:, :3, :3] - target[:3, :3]).max())
-    if not max(pos, rot) <= FK_CHECK_TOL:
+    q = np.array(q_rows)
+    D = arm._fk_revolute(q) - target
+    # positions relative to the arm's size (or the target's distance), times sqrt(3) so
+    # that a max-abs bound on the entries bounds the norm as the general check does
+    D[:, :3, 3] *= _SQRT3 / max(arm.scale, far)
+    if not float(np.abs(D).max()) <= FK_CHECK_TOL:
         return None  # the general path checks again and reports
     labels = _branch_labels(kernel.slots)
     branches = tuple(
@@ -273,6 +277,7 @@ def _solve_regular(arm: SerialArm, kernel: Any, target: FloatArray) -> IKResult 
     )
 
 
+_SQRT3 = math.sqrt(3.0)
 _LABELS: dict[tuple[Branch, ...], dict[tuple[int, bool, bool], Branch]] = {}
 
 

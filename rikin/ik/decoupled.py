@@ -19,9 +19,9 @@ Eight slots: arm slot ``a`` (see ``ARM_SLOTS``) times wrist slot ``b`` -> ``2 a 
 from __future__ import annotations
 
 import weakref
-from math import atan2, cos, hypot, pi, sin, sqrt
+from math import atan2, cos, hypot, pi, remainder, sin, sqrt
+from typing import TYPE_CHECKING, Any
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -543,15 +543,13 @@ class SingleKernel:
         self.offsets = batch.offsets
         self.slots = batch.slots
         self.sus_sin, self.sus_edge = batch.SUSPECT_SIN, batch.SUSPECT_EDGE
+        self.plain = bool(np.array_equal(batch.G, np.eye(3)) and np.array_equal(batch.H, np.eye(3)))
 
-    def solve(self, T: list[list[float]]) -> tuple[list[list[float]], list[int], list[bool]] | None:
-        """Joint values of the valid slots (not wrapped), their slot numbers (0-7) and
-        elbow-up flags.
-
-        ``T`` is the validated world pose as nested lists. None: near a singularity,
-        or nothing reachable (let the general solver decide and explain).
-        """
-        (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz) = T[0], T[1], T[2]
+    def _GRH(
+        self, r00: float, r01: float, r02: float, r10: float, r11: float, r12: float,
+        r20: float, r21: float, r22: float,
+    ) -> tuple[tuple[float, float, float], ...]:
+        """Rows of ``S = G R H`` (see :class:`BatchKernel`)."""
         (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = self.G
         a00 = g00 * r00 + g01 * r10 + g02 * r20
         a01 = g00 * r01 + g01 * r11 + g02 * r21
@@ -569,6 +567,20 @@ class SingleKernel:
               a10 * h02 + a11 * h12 + a12 * h22)
         S2 = (a20 * h00 + a21 * h10 + a22 * h20, a20 * h01 + a21 * h11 + a22 * h21,
               a20 * h02 + a21 * h12 + a22 * h22)
+        return S0, S1, S2
+
+    def solve(self, T: list[list[float]]) -> tuple[list[list[float]], list[int], list[bool]] | None:
+        """Joint values of the valid slots (wrapped to (-pi, pi]), their slot numbers (0-7)
+        and elbow-up flags.
+
+        ``T`` is the validated world pose as nested lists. None: near a singularity,
+        or nothing reachable (let the general solver decide and explain).
+        """
+        (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz) = T[0], T[1], T[2]
+        if self.plain:  # G and H are the identity (no base rotation, no tool twist)
+            S0, S1, S2 = (r00, r01, r02), (r10, r11, r12), (r20, r21, r22)
+        else:
+            S0, S1, S2 = self._GRH(r00, r01, r02, r10, r11, r12, r20, r21, r22)
         c0, c1_, c2 = self.c
         v0 = r00 * c0 + r01 * c1_ + r02 * c2 + px
         v1 = r10 * c0 + r11 * c1_ + r12 * c2 + py
@@ -594,6 +606,7 @@ class SingleKernel:
         slots: list[int] = []
         up: list[bool] = []
         vertical_tol = SINGULAR_TOL * L2
+        wrap = _wrap1
         for side, u in ((0, rho - r0), (1, -rho - r0)):
             r = hypot(u, w)
             if not Lm - tol <= r <= Lp + tol:
@@ -647,8 +660,11 @@ class SingleKernel:
                 else:
                     is_up = (u * ew - w * eu) * (1.0 if u > 0 else -1.0) > 0
                 t5 = s_w * theta
-                q_out.append([th1, q2, q3, phw - o4, -t5 - o5, psi - o6])
-                q_out.append([th1, q2, q3, phw + pi - o4, t5 - o5, psi + pi - o6])
+                a1, a2, a3 = wrap(th1), wrap(q2), wrap(q3)
+                q_out.append([a1, a2, a3, wrap(phw - o4), wrap(-t5 - o5), wrap(psi - o6)])
+                q_out.append(
+                    [a1, a2, a3, wrap(phw + pi - o4), wrap(t5 - o5), wrap(psi + pi - o6)]
+                )
                 slot = 4 * side + 2 * elbow
                 slots += [slot, slot + 1]
                 up += [is_up, is_up]
@@ -657,3 +673,7 @@ class SingleKernel:
         return q_out, slots, up
 
 
+def _wrap1(a: float, _rem: Any = remainder, _tau: float = 2.0 * pi) -> float:
+    """One angle wrapped to (-pi, pi], as :func:`rikin.transforms.wrap_angle` does."""
+    w = _rem(a, _tau)
+    return pi if w <= -pi else w
