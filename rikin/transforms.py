@@ -17,6 +17,7 @@ import numpy as np
 
 from ._validate import (
     FloatArray,
+    _to_float64,
     as_float_array,
     as_pose,
     as_rotation,
@@ -283,12 +284,20 @@ def r_to_zyz(R: Any, *, branch: int = 1, degrees: bool = False) -> FloatArray:
 def wrap_angle(theta: Any) -> FloatArray:
     """Wrap angles (radians) to the interval (-pi, pi]; shape preserved.
 
+    NaN stays NaN and an infinite angle becomes NaN (no angle to wrap), like numpy's
+    ufuncs, so a check cell can wrap a lesson's formula that produced NaN.
+
     Raises
     ------
     InputError
-        ``theta`` is not real numbers, or holds NaN or infinity.
+        ``theta`` is not real numbers (None, text, booleans, complex, symbols).
     """
-    return _wrap_angle(as_float_array(theta, "theta"))
+    if type(theta) is np.ndarray and theta.dtype == np.float64:
+        t = theta
+    else:
+        t = _to_float64(theta, "theta")
+    with np.errstate(invalid="ignore"):
+        return _wrap_angle(t)
 
 
 def _wrap_angle(t: FloatArray) -> FloatArray:

@@ -306,7 +306,14 @@ def test_targets_near_stretched_folded_and_axis_get_every_branch(name, kind, see
         res = arm.ik(near)
     T = _target_pose_of(arm, near)
     assert_reaches(arm, res, T, 1e-10)
-    assert not (res.singular and "wrist" not in (res.singularity or "")), res.singularity
+    T_0 = _target_pose_of(arm, near)
+    on_axis = hasattr(arm.solver, "geometry") and arm.solver.geometry.r0 == 0 and (
+        np.hypot(*T_0[:2, 3]) <= 1e-13 * arm.scale  # moved along axis 1: still on it
+    )
+    allowed = ("wrist", "axis of joint 1") if on_axis else ("wrist",)
+    assert not (res.singular and not any(a in (res.singularity or "") for a in allowed)), (
+        res.singularity
+    )
     if not res.singular:  # every branch, as one thousandth of the size away
         assert len(res) == len(ref), (res.table(), ref.table())
 
@@ -440,7 +447,8 @@ def test_one_pose_fast_path_equals_the_general_solver(name, seed):
     T = arm.fk(q)
     fast, general = arm.ik(T), arm.ik(T.tolist())
     assert fast.labels == general.labels
-    assert np.allclose(fast.q, general.q, atol=1e-12, rtol=0)
+    # near the wrist singularity q4 and q6 carry ~eps / sin(q5) of rounding: SAME_SOLUTION_TOL
+    assert np.allclose(fast.q, general.q, atol=1e-9, rtol=0)
     assert (fast.singular, fast.free_joints) == (general.singular, general.free_joints)
     assert_reaches(arm, fast, T, 1e-8)  # FK_CHECK_TOL: singular and near-singular poses here
 
