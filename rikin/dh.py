@@ -36,6 +36,10 @@ from .tolerances import DEGREES_SUSPECT, MAX_ANGLE, MAX_LENGTH
 from .transforms import _inv_transform
 
 
+#: rikin.ik.solve and solve_batch, registered by rikin.ik.api when it is imported.
+_IK_ENTRY: dict[str, Any] = {}
+
+
 def _one_pose(T: Any, name: str) -> FloatArray:
     arr = as_pose(T, name)
     if arr.shape != (4, 4):
@@ -503,23 +507,14 @@ class SerialArm:
     # ------------------------------------------------------------------ IK
     def ik(self, target: Any, **options: Any) -> Any:
         """Every closed-form IK solution of ``target`` (an ``IKResult``); see
-        :func:`rikin.ik.solve`. The arm's solver carries it, so this module never
+        :func:`rikin.ik.solve`. rikin.ik registers it here, so this module never
         imports :mod:`rikin.ik` (data flows robots -> dh -> ik)."""
-        return self._closed_form().ik(self, target, **options)
+        return _IK_ENTRY["solve"](self, target, **options)
 
     def ik_batch(self, T: Any, **options: Any) -> Any:
         """All solutions for many poses at once (a ``BatchIKResult``); see
         :func:`rikin.ik.solve_batch`."""
-        return self._closed_form().ik_batch(self, T, **options)
-
-    def _closed_form(self) -> Any:
-        """The arm family's solver (it carries the IK entry points: data flows dh -> ik)."""
-        if self.solver is None:
-            raise InputError(
-                f"{self.name!r} has no closed-form IK in rikin; build it with a constructor from "
-                "rikin.robots, or use rikin.ik.ik_numerical for a single numerical solution"
-            )
-        return self.solver
+        return _IK_ENTRY["solve_batch"](self, T, **options)
 
     def world_to_base(self, T_world: Any) -> FloatArray:
         """``T_0_n = base^-1 @ T_world_tcp @ tool^-1`` for poses ``(..., 4, 4)``."""
