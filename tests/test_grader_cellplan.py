@@ -53,3 +53,28 @@ def test_cells_in_doubt_run():
     # an unparseable cell that mentions a name keeps the cell that binds it
     assert _plan("x = fk(1)", "%time y = x") == set()
     assert _plan("x = fk(1)", "%time y = 2") == {1}
+
+
+def test_two_grader_workers_parse_cells_at_once():
+    """The grader's worker threads plan cells concurrently; CPython 3.11's parser raised
+    "SystemError: AST constructor recursion depth mismatch" when two threads parsed at once,
+    which turned a correct notebook into an internal grader error."""
+    import threading
+
+    deep = "x = " + "(" * 40 + "1" + ")" * 40 + "\n" + "ik(" + "[" * 30 + "0" + "]" * 30 + ")\n"
+    cells = [(i, deep) for i in range(40)]
+    errors = []
+
+    def work():
+        try:
+            for _ in range(30):
+                calling_cells(cells, ["ik"])
+        except Exception as exc:  # pragma: no cover - the failure being tested for
+            errors.append(exc)
+
+    threads = [threading.Thread(target=work) for _ in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert errors == []

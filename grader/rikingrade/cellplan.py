@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import ast
 import re
+import threading
 from collections.abc import Iterable
 
 _WORD = re.compile(r"[^\W\d]\w*")
@@ -106,10 +107,18 @@ class _Names:
 _DYNAMIC = {"globals", "exec", "eval", "setattr", "vars", "__import__", "get_ipython"}
 
 
+#: CPython 3.11's parser is not thread-safe: two grader workers parsing at once can fail
+#: with "SystemError: AST constructor recursion depth mismatch" (fixed in 3.12). One parse
+#: at a time.
+_PARSE_LOCK = threading.Lock()
+
+
 def _names(source: str) -> _Names | None:
     try:
-        return _Names(ast.parse(source))
-    except (SyntaxError, ValueError, RecursionError, MemoryError):
+        with _PARSE_LOCK:
+            tree = ast.parse(source)
+        return _Names(tree)
+    except (SyntaxError, ValueError, RecursionError, MemoryError, SystemError):
         return None  # IPython syntax, a broken cell, a lone surrogate: run it
 
 
