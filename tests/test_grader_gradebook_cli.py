@@ -216,8 +216,9 @@ def test_a_link_to_the_solution_is_graded_zero_with_the_reason(tmp_path):
     (cls / "mallory.ipynb").symlink_to(SOLUTION)
     out = tmp_path / "out"
     r = cli("grade", str(ASSIGNMENT), str(cls), "--out", str(out), *FAST)
-    assert r.returncode == 0, r.stderr
+    assert r.returncode == 1, r.stderr  # a refused file: graded 0, and the instructor must look
     assert "mallory.ipynb: a symbolic link: links are not followed" in r.stderr
+    assert "REFUSED 1" in r.stdout
     g = rows(out / "grades.csv")
     assert (g["alice"]["score"], g["mallory"]["score"], g["mallory"]["status"]) == (
         "5",

@@ -47,6 +47,7 @@ from .sandbox.config import (
     sandbox_workdir,
 )
 from .sandbox.uidmode import SHARED_WRITABLE
+from .studentfiles import StudentFiles
 from .views import export, write_student
 
 log = logging.getLogger("rikingrade")
@@ -197,11 +198,12 @@ def grade(
     out.mkdir(parents=True, exist_ok=True)
     handler = _attach_log(out / "grading.log")
     gb: Gradebook | None = None
+    reader = StudentFiles()
     try:
         a = load_assignment(assignment)
         if isinstance(submissions, (str, Path)):
             submissions = [submissions]
-        subs, notes = discover(list(submissions), a.notebook)
+        subs, notes = discover(list(submissions), a.notebook, reader)
         if roster is not None:
             notes += _match_roster(subs, read_roster(roster))
         for n in notes:
@@ -234,7 +236,16 @@ def grade(
             gb.set_policy(a.exercise, rules.due, rules.per_day, rules.cap, rules.grace_minutes)
         for sid, when, why in ext_rows:
             gb.add_extension(sid, a.exercise, when, why)
-        sub_ids = _record_submissions(gb, subs, a.exercise)
+        linked = {s.student for s in subs if s.refused}
+        sub_ids = _record_submissions(gb, subs, a.exercise)  # reads (hashes) every file
+        for s in subs:
+            if s.refused and s.student not in linked:
+                log.warning("%s: %s: not read: %s", s.student, s.shown_path, s.refused)
+                if not quiet:
+                    print(
+                        f"rikin-grade: note: {s.shown_path}: not read: {s.refused}",
+                        file=sys.stderr,
+                    )
         run_id = gb.start_run(
             a.exercise,
             __version__,
@@ -263,14 +274,19 @@ def grade(
         calls = a.calls(seed)
         results: dict[str, SubmissionResult] = {}
         todo: list[Submission] = []
+        resumed = 0  # results reused from an earlier run (refused files are not)
         for s in subs:
-            if s.refused:  # a link: never opened, graded 0 with the reason
-                why = (
-                    f"not graded: {s.shown_path} is {s.refused}; the grader reads only "
-                    "notebook files handed in as they are (upload the .ipynb file itself)"
-                )
+            if s.refused:  # a link, or a file its owner may not read: graded 0, with why
+                if s.refused.startswith("a "):  # a symbolic or hard link
+                    why = (
+                        f"not graded: {s.shown_path} is {s.refused}; the grader reads only "
+                        "notebook files handed in as they are (upload the .ipynb file itself)"
+                    )
+                else:
+                    why = f"not graded: {s.shown_path}: {s.refused}"
                 res = _failed(a, s, key, why, INVALID, "not run: the submission was not read")
                 res.problems = [why]
+                res.refused = s.refused
                 gb.record(run_id, sub_ids[s.student], res, a.exercise, seed)
                 write_student(out, res, a.exercise, None)
                 _log_result(res)
@@ -281,9 +297,9 @@ def grade(
                 prev.student = s.student
                 gb.record(run_id, sub_ids[s.student], prev, a.exercise, seed, reuse=prev.result_id)  # type: ignore[attr-defined]
                 results[s.student] = prev
+                resumed += 1
             else:
                 todo.append(s)
-        resumed = len(results)
         bar = Progress(len(subs), enabled=progress, quiet=quiet)
         for r in results.values():
             bar.update(r, resumed=True)
@@ -369,6 +385,7 @@ def grade(
                     )
         return GradeReport(out=out, results=ordered, summary=summary, notes=notes)
     finally:
+        reader.close()
         if gb is not None:
             gb.close()
         logging.getLogger("rikingrade").removeHandler(handler)
@@ -671,9 +688,7 @@ def _failed(
         max_score=a.max_score,
         key=key,
         tests=[
-            TestResult(
-                t.name, float(t.weight), 0.0, test_note, grader_error=status == GRADER_ERROR
-            )
+            TestResult(t.name, float(t.weight), 0.0, test_note, grader_error=status == GRADER_ERROR)
             for t in a.tests
         ],
     )

@@ -58,8 +58,9 @@ canvas-ASSIGNMENT.csv (Canvas gradebook import), moodle-ASSIGNMENT.csv (Moodle g
 worksheet upload), results/ (Gradescope JSON), feedback/ and report/ASSIGNMENT.html (the
 class report) are rewritten from it after each run, even after Ctrl-C.
 
-exit status: 0 graded (whatever the scores), 1 some submissions hit a grader error (see the
-log), 2 bad arguments, assignment, submissions folder or gradebook in use, 3 the sandbox is
+exit status: 0 graded (whatever the scores), 1 some submissions hit a grader error or were
+refused (a link, a file its folder's owner may not read: see the notes and the log), 2 bad
+arguments, assignment, submissions folder or gradebook in use, 3 the sandbox is
 unavailable.
 """
 
@@ -340,9 +341,11 @@ def _gradebook_command(cmd: str, args_list: list[str]) -> int:
                 return EXIT_USAGE
             gb.add_override(ns.student, ns.assignment, kind, ns.score, ns.reason)
         info = export(gb, ns.assignment, ns.assignment, out)
-    print(f"wrote {info['grades']}" + "".join(
-        f", {info[k]}" for k in ("canvas", "moodle") if k in info
-    ) + f", {info['report'][0]}")
+    print(
+        f"wrote {info['grades']}"
+        + "".join(f", {info[k]}" for k in ("canvas", "moodle") if k in info)
+        + f", {info['report'][0]}"
+    )
     return EXIT_OK
 
 
@@ -393,7 +396,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         kw = vars(grade_parser().parse_args(args_list))
         report = grade(kw.pop("assignment"), kw.pop("submissions"), kw.pop("out"), **kw)
-        return EXIT_GRADER_ERRORS if report.summary.get("grader_errors") else EXIT_OK
+        s = report.summary
+        return EXIT_GRADER_ERRORS if s.get("grader_errors") or s.get("refused") else EXIT_OK
     except (AssignmentError, SubmissionsError, GradebookBusy, PolicyError, RosterError) as exc:
         print(f"rikin-grade: {exc}", file=sys.stderr)
         return EXIT_USAGE

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import io
 import json
+import os
 import re
 import shutil
 import stat
@@ -22,10 +23,11 @@ from pathlib import Path
 from . import __version__
 from .api import DEFAULT_SEED, grade
 from .assignment import load_assignment
-from .notebook import _notebooks_in, pick_notebook
+from .notebook import MAX_NOTEBOOK_BYTES, _notebooks_in, pick_notebook
 from .outputs import atomic_write
 from .report import GRADER_ERROR, SubmissionResult
 from .sandbox.config import SandboxUnavailable, package_dir
+from .studentfiles import ReadFailed, read_in_process
 
 SETUP_SH = """#!/usr/bin/env bash
 # Gradescope runs this once while building the autograder image (Ubuntu, as root).
@@ -294,11 +296,29 @@ def gradescope_run(
             reason="no notebook",
             max_score=a.max_score,
         )
+    try:  # the upload is Gradescope's (read as root), but a link in it is not followed
+        data = read_in_process(nb, MAX_NOTEBOOK_BYTES)
+    except ReadFailed as exc:
+        atomic_write(
+            results_path, json.dumps(_no_notebook(a, f"The upload was not read: {exc.why}."))
+        )
+        return SubmissionResult(
+            student="submission",
+            path=str(nb),
+            sha256="",
+            status="invalid",
+            reason=f"not read: {exc.why}",
+            max_score=a.max_score,
+            refused=exc.why,
+        )
     work = Path(tempfile.mkdtemp(prefix="rikingrade-gs-"))  # 0700: unreadable to the sandbox
     try:
         staged = work / "in" / "submission.ipynb"
         staged.parent.mkdir()
-        shutil.copyfile(nb, staged)
+        # the copy is readable by the grader's unprivileged file reader, inside ``work``
+        os.chmod(staged.parent, 0o755)
+        staged.write_bytes(data)
+        os.chmod(staged, 0o644)
         try:
             report = grade(
                 a.source_path if a.source_path and str(assignment).endswith(".py") else assignment,
@@ -352,11 +372,11 @@ def _not_graded(results_path: Path, why: str) -> None:
     )
 
 
-def _no_notebook(a) -> dict:
+def _no_notebook(a, why: str = "") -> dict:
     """A Gradescope results.json for an upload without a notebook (the student's to fix)."""
     return {
         "score": 0.0,
-        "output": f"No .ipynb notebook found in the upload: submit {a.notebook}.",
+        "output": why or f"No .ipynb notebook found in the upload: submit {a.notebook}.",
         "tests": [
             {
                 "name": t.name,

@@ -12,11 +12,16 @@ from __future__ import annotations
 import difflib
 import hashlib
 import json
+import logging
 import os
 import re
 import stat
 from dataclasses import dataclass, field
 from pathlib import Path
+
+from .studentfiles import REFUSED, TOO_LARGE, ReadFailed, StudentFiles, default_files
+
+log = logging.getLogger("rikingrade")
 
 MAX_NOTEBOOK_BYTES = 100 * 1024 * 1024
 SKIP_DIRS = {".ipynb_checkpoints", "__pycache__", "__MACOSX", ".git"}
@@ -24,6 +29,17 @@ SKIP_DIRS = {".ipynb_checkpoints", "__pycache__", "__MACOSX", ".git"}
 
 class NotebookError(ValueError):
     """A submission that is not a readable notebook; the message is shown to the student."""
+
+
+class FileRefused(NotebookError):
+    """A file the grader will not read (a link, or one its folder's owner may not read)."""
+
+
+def _too_large(size: int) -> str:
+    return (
+        f"the file is {size / 2**20:.0f} MiB, over the {MAX_NOTEBOOK_BYTES // 2**20} MiB "
+        "limit (clear the outputs and save again)"
+    )
 
 
 @dataclass
@@ -66,19 +82,68 @@ class Submission:
     login: str = ""
     earlier: list[Submission] = field(default_factory=list)
     refused: str = ""  # why the file is not read at all (a link): graded 0 with this reason
+    #: the submissions folder it was found in (files are read relative to it), and whether
+    #: the instructor named the file itself (then a hard link is read: they chose it)
+    root: Path | None = None
+    named: bool = False
+    files: StudentFiles | None = field(default=None, repr=False, compare=False)
+
+    def read_bytes(self, cap: int = MAX_NOTEBOOK_BYTES) -> bytes:
+        """The file's bytes, read without privileges it should not need (see
+        :mod:`rikingrade.studentfiles`).
+
+        Raises
+        ------
+        ReadFailed
+            Refused (a link, a file its folder's owner may not read), larger than ``cap``
+            or gone.
+        """
+        files = self.files or default_files()
+        return files.read(self.root or self.path.parent, self.path, cap, links=self.named)
 
     def hash(self) -> str:
+        """The sha256 of the file (of the refusal, for a file that is not read).
+
+        A file the grader refuses to read gets ``refused`` set here, with the reason.
+        """
+        if not self.sha256 and not self.refused:
+            try:
+                self.sha256 = hashlib.sha256(self.read_bytes()).hexdigest()
+            except ReadFailed as exc:
+                if exc.kind == REFUSED:
+                    self.refused = exc.why
+                else:  # too large or gone: read_notebook says so when grading
+                    text = f"{exc.kind}\0{exc.size}\0{shown(self.path)}"
+                    self.sha256 = hashlib.sha256(text.encode()).hexdigest()
         if not self.sha256 and self.refused:
             link = os.readlink(self.path) if os.path.islink(self.path) else ""
             text = f"refused\0{self.refused}\0{shown(self.path)}\0{shown(link)}"
             self.sha256 = hashlib.sha256(text.encode()).hexdigest()
-        if not self.sha256:
-            h = hashlib.sha256()
-            with _open_student_file(self.path) as f:
-                for block in iter(lambda: f.read(1 << 20), b""):
-                    h.update(block)
-            self.sha256 = h.hexdigest()
         return self.sha256
+
+    def load(self) -> Notebook:
+        """The notebook's code cells, read as :meth:`read_bytes` does (``sha256`` follows
+        what was read, should the file have changed since it was hashed).
+
+        Raises
+        ------
+        NotebookError
+            Unreadable, refused (``FileRefused``), too large, or not a notebook.
+        """
+        try:
+            raw = self.read_bytes()
+        except ReadFailed as exc:
+            if exc.kind == TOO_LARGE:
+                raise NotebookError(_too_large(exc.size)) from None
+            if exc.kind == REFUSED:
+                self.refused = exc.why
+                raise FileRefused(f"not read: {exc.why}") from None
+            raise NotebookError(f"cannot read the file: {exc.why}") from None
+        sha = hashlib.sha256(raw).hexdigest()
+        if self.sha256 and sha != self.sha256:
+            log.warning("%s: %s changed since it was found", self.student, self.shown_path)
+        self.sha256 = sha
+        return parse_notebook(raw)
 
     @property
     def shown_path(self) -> str:
@@ -118,7 +183,7 @@ def _source(value: object) -> str:
 
 
 def read_notebook(path: Path) -> Notebook:
-    """The code cells of the notebook at ``path``.
+    """The code cells of the notebook at ``path`` (a link at its last name is not followed).
 
     Raises
     ------
@@ -127,17 +192,22 @@ def read_notebook(path: Path) -> Notebook:
     """
     path = Path(path)
     try:
-        size = path.stat().st_size
+        with _open_student_file(path) as f:
+            size = os.fstat(f.fileno()).st_size
+            if size > MAX_NOTEBOOK_BYTES:
+                raise NotebookError(_too_large(size))
+            raw = f.read(MAX_NOTEBOOK_BYTES + 1)
     except OSError as exc:
-        raise NotebookError(f"cannot read the file: {exc.strerror}") from None
-    if size == 0:
+        raise NotebookError(f"cannot read the file: {exc.strerror or exc}") from None
+    if len(raw) > MAX_NOTEBOOK_BYTES:
+        raise NotebookError(_too_large(len(raw)))
+    return parse_notebook(raw)
+
+
+def parse_notebook(raw: bytes) -> Notebook:
+    """The code cells of a notebook file's bytes (see :func:`read_notebook`)."""
+    if not raw:
         raise NotebookError("the file is empty (0 bytes): it was probably not saved")
-    if size > MAX_NOTEBOOK_BYTES:
-        raise NotebookError(
-            f"the file is {size / 2**20:.0f} MiB, over the {MAX_NOTEBOOK_BYTES // 2**20} MiB "
-            "limit (clear the outputs and save again)"
-        )
-    raw = path.read_bytes()
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -342,6 +412,8 @@ class _Found:
     time_source: str = ""
     name: str = ""
     refused: str = ""  # why the file was not read (a link)
+    root: Path | None = None  # the submissions folder given (files are read relative to it)
+    named: bool = False  # the instructor named this file itself
 
 
 def _examples(paths: list, n: int = 4) -> str:
@@ -527,7 +599,9 @@ def _mtime(p: Path) -> float:
         return 0.0
 
 
-def discover(paths: list[Path | str], expected: str) -> tuple[list[Submission], list[str]]:
+def discover(
+    paths: list[Path | str], expected: str, files: StudentFiles | None = None
+) -> tuple[list[Submission], list[str]]:
     """The submissions in the files and folders given, with one note per thing skipped.
 
     Each ``.ipynb`` argument is one student. A folder holds a class: a notebook per student
@@ -536,7 +610,8 @@ def discover(paths: list[Path | str], expected: str) -> tuple[list[Submission], 
     ``expected`` is taken, or the only/most similar one), or an nbgrader ``submitted/``
     tree. A folder holding only ``expected`` is one student's folder. Several attempts of
     one student: the newest counts, the others are returned in ``earlier``. Symbolic links
-    are never followed (each is reported), nor hard-linked files read.
+    are never followed (each is reported), nor hard-linked files read. The submissions
+    read their files through ``files`` (see :mod:`rikingrade.studentfiles`).
 
     Raises
     ------
@@ -556,9 +631,13 @@ def discover(paths: list[Path | str], expected: str) -> tuple[list[Submission], 
             if p.is_symlink() or _refusal(p):
                 # A path the instructor typed may be a link; read what it points to as is.
                 p = Path(os.path.realpath(p))
-            found.append(_from_file(p))
+            f = _from_file(p)
+            f.root, f.named = p.parent, True
+            found.append(f)
         elif p.is_dir():
-            found += _class(p, expected, notes)
+            for f in _class(p, expected, notes):
+                f.root = p
+                found.append(f)
         else:
             raise SubmissionsError(f"{shown(p)}: neither a file nor a folder")
     if not found:
@@ -606,6 +685,9 @@ def discover(paths: list[Path | str], expected: str) -> tuple[list[Submission], 
             for s in same:
                 s.student = f"{sid}-{_tag(s.shown_path)}"
     subs.sort(key=lambda s: s.student)
+    for s in subs:
+        for one in (s, *s.earlier):
+            one.files = files
     return subs, notes
 
 
@@ -622,4 +704,6 @@ def _submission(f: _Found, earlier: list[Submission]) -> Submission:
         late=bool(getattr(parsed, "late", False)),
         earlier=earlier,
         refused=f.refused,
+        root=f.root,
+        named=f.named,
     )

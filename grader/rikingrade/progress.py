@@ -75,6 +75,8 @@ def summarize(
         "cell_errors": by[CELL_ERRORS],
         "invalid": by[INVALID],
         "grader_errors": by[GRADER_ERROR],
+        # files the grader would not read (links, no right to read them): the instructor's
+        "refused": sum(bool(getattr(r, "refused", "")) for r in results),
         "resumed": resumed,
         "mean_score": (sum(scores) / n) if n else 0.0,
         "max_score": max_score,
@@ -89,6 +91,12 @@ def summary_text(s: dict[str, float | int]) -> str:
     return (
         f"graded {s['graded']} of {s['submissions']} (resumed {s['resumed']}); "
         f"failed to run {s['failed_to_run']}; timed out {s['timed_out']}; crashed {s['crashed']}; "
-        f"cell errors {s['cell_errors']}; mean score {s['mean_score']:.3g}/{s['max_score']:.4g}; "
+        f"cell errors {s['cell_errors']}; "
+        + (
+            f"REFUSED {s['refused']} (links or unreadable files: see the notes); "
+            if s.get("refused")
+            else ""
+        )
+        + f"mean score {s['mean_score']:.3g}/{s['max_score']:.4g}; "
         f"{s['seconds']:.1f} s ({s['notebooks_per_min']:.0f} notebooks/min)"
     )

@@ -69,6 +69,7 @@ class SubmissionResult:
     max_score: float = 0.0
     elapsed: float = 0.0
     key: str = ""  # grader version + assignment + settings; resume only when equal
+    refused: str = ""  # why the grader would not read the file (a link, no right to it)
 
     @property
     def score(self) -> float:

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from .assignment import Assignment
 from .cellplan import calling_cells
 from .feedback import cell_problems, missing_cause
-from .notebook import Notebook, NotebookError, Submission, read_notebook
+from .notebook import FileRefused, Notebook, NotebookError, Submission
 from .report import (
     CELL_ERRORS,
     CRASHED,
@@ -141,10 +141,12 @@ class SubmissionRunner:
             key=self.key,
         )
         try:
-            nb = read_notebook(sub.path)
+            nb = sub.load()  # read without root's rights, even as root (studentfiles)
+            result.sha256 = sub.sha256
         except NotebookError as exc:
             result.status = INVALID
             result.reason = str(exc)
+            result.refused = sub.refused if isinstance(exc, FileRefused) else ""
             result.problems = [f"the notebook could not be read: {exc}"]
             result.tests = [
                 TestResult(t.name, float(t.weight), 0.0, "not run: the notebook could not be read")
