@@ -31,6 +31,8 @@ from __future__ import annotations
 import html
 import importlib
 import io
+import math
+import re
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -39,11 +41,13 @@ import numpy as np
 from ._validate import FloatArray
 from .dh import SerialArm
 from .errors import InputError, RikinError, UnreachableError
+from .ik import classify
 from .ik.result import IKResult
 from .plot import _check_arm, _q_text
-from .transforms import homogeneous, r_to_rpy, rotz, rpy_to_r
+from .transforms import homogeneous, r_to_rpy, rotz, rpy_to_r, wrap_angle
 
-__all__ = ["IKPanel", "TeachPanel", "ik_panel", "pose_sliders_for", "teach"]
+__all__ = ["DHPanel", "IKPanel", "PUMA560_TABLE", "TeachPanel", "arm_from_table", "dh_panel",
+           "ik_panel", "pose_sliders_for", "teach"]
 
 #: Pixel density of the redrawn figure.
 DPI = 80
@@ -88,9 +92,14 @@ def pose_sliders_for(arm: SerialArm) -> list[tuple[str, str, float, float]]:
         ``phi`` (degrees) for a planar arm.
     """
     _check_arm(arm)
-    if arm.solver is None:
-        raise InputError(f"{arm.name!r} has no closed-form IK in rikin, so no IK panel")
-    kind = arm.solver.target_kind
+    if arm.solver is not None:
+        kind = arm.solver.target_kind
+    else:  # an arm typed from its DH table: the general 6R solver, when classify allows it
+        verdict = classify(arm)
+        if not verdict.closed_form:
+            raise InputError(f"{arm.name!r} has no closed-form IK in rikin, so no IK panel: "
+                             f"{verdict.reason}")
+        kind = "pose"
     r = _reach(arm)
     c = arm.base[:3, 3]
     u = arm.units
@@ -378,6 +387,387 @@ class TeachPanel:
         from IPython.display import display
 
         display(self.widget())
+
+
+#: The table :func:`dh_panel` starts with: the Puma 560 in standard DH, metres and degrees
+#: (Corke and Armstrong-Hélouvry 1994, as in roboticstoolbox's ``Puma560``; d1 is the
+#: pedestal, 26.45 in).
+PUMA560_TABLE = """\
+# type d        a       alpha offset
+R      0.67183  0        90   0
+R      0        0.4318    0   0
+R      0.15005  0.0203  -90   0
+R      0.4318   0        90   0
+R      0        0       -90   0
+R      0        0         0   0
+"""
+
+_DECIMAL_COMMA = re.compile(r"^[-+]?\d+,\d+$")
+
+
+def _is_number(token: str) -> bool:
+    try:
+        return math.isfinite(float(token))
+    except ValueError:
+        return False
+
+
+def _row_tokens(line: str) -> list[str]:
+    """The columns of one table row: spaces, tabs, ``;``, ``|`` or commas separate them;
+    on a row with one comma per number at most and none between columns, ``0,4318`` is
+    a decimal comma."""
+    parts = [t for t in re.split(r"[\s;|]+", line) if t]
+    if sum(t.count(",") for t in parts) and all(_DECIMAL_COMMA.match(t) or "," not in t
+                                                for t in parts):
+        return [t.replace(",", ".") for t in parts]
+    return [t for part in parts for t in part.split(",") if t]
+
+
+def arm_from_table(text: str, convention: str = "standard", units: str = "",
+                   name: str = "your arm", tool: Any = None, base: Any = None) -> SerialArm:
+    """A :class:`~rikin.SerialArm` from a DH table typed as text, one row per joint.
+
+    Parameters
+    ----------
+    text : str
+        One row per joint: ``type d a alpha offset``. ``type`` is ``R`` or ``P``
+        (may be left out: revolute); ``d`` and ``a`` in length units; ``alpha``
+        and a revolute joint's ``offset`` in **degrees** (a prismatic joint's
+        offset is a length); ``offset`` may be left out (0). Columns are
+        separated by spaces, tabs, ``;``, ``|`` or commas (``0,4318`` on a row
+        without column commas is a decimal comma); ``#`` starts a comment;
+        blank lines and a header row of words are skipped. For a modified-DH
+        arm ``a`` and ``alpha`` of row i are ``a_{i-1}``, ``alpha_{i-1}``
+        (Craig), as in :class:`~rikin.Link`.
+    convention : {"standard", "modified"}
+    units : str
+        Name of the length unit.
+    name : str
+    tool, base : array_like, shape (4, 4), optional
+        ``T_n_tcp`` and ``T_world_0``; identity by default.
+
+    Returns
+    -------
+    SerialArm
+
+    Raises
+    ------
+    InputError
+        A row that is not ``type d a alpha offset``, naming the row and the
+        column.
+
+    Examples
+    --------
+    >>> arm = arm_from_table("R 0 1 0\\nR 0 1 0", name="2R")
+    >>> arm.fk([0.0, 0.0])[:3, 3]
+    array([2., 0., 0.])
+    """
+    from .dh import Link
+
+    if not isinstance(text, str):
+        raise InputError(f"the DH table must be text, got {type(text).__name__}")
+    links: list[Link] = []
+    for number, raw in enumerate(text.splitlines(), 1):
+        line = raw.split("#", 1)[0].strip()
+        tokens = _row_tokens(line)
+        if not tokens:
+            continue
+        if not links and not any(_is_number(t) for t in tokens):
+            continue  # a header row of words: "type d a alpha offset"
+        joint = "R"
+        if tokens[0].upper() in ("R", "P"):
+            joint, tokens = tokens[0].upper(), tokens[1:]
+        if not 3 <= len(tokens) <= 4:
+            raise InputError(
+                f"DH table line {number} ({raw.strip()!r}): expected 'type d a alpha offset' "
+                f"(3 or 4 numbers after R or P), got {len(tokens)} values")
+        values = []
+        for column, token in zip(("d", "a", "alpha", "offset"), tokens, strict=False):
+            if not _is_number(token):
+                raise InputError(f"DH table line {number} ({raw.strip()!r}): {column} = "
+                                 f"{token!r} is not a number")
+            values.append(float(token))
+        d, a, alpha_deg = values[:3]
+        offset = values[3] if len(values) == 4 else 0.0
+        links.append(Link("P" if joint == "P" else "R", d=d, a=a, alpha=math.radians(alpha_deg),
+                          offset=math.radians(offset) if joint == "R" else offset))
+    if not links:
+        raise InputError("the DH table has no rows: type one row 'R d a alpha offset' per joint")
+    return SerialArm(tuple(links), convention=convention,  # type: ignore[arg-type]
+                     base=np.eye(4) if base is None else base,
+                     tool=np.eye(4) if tool is None else tool, units=units, name=name)
+
+
+def _numbers(text: Any, count: int, what: str) -> FloatArray:
+    """``count`` numbers typed as text (or given as a sequence)."""
+    tokens = _row_tokens(text) if isinstance(text, str) else list(np.ravel(text))
+    try:
+        values = np.array([float(t) for t in tokens])
+    except (TypeError, ValueError):
+        raise InputError(f"{what} must be {count} numbers, got {text!r}") from None
+    if values.shape != (count,) or not np.isfinite(values).all():
+        raise InputError(f"{what} must be {count} finite numbers, got {len(values)}: {text!r}")
+    return values
+
+
+@dataclass
+class DHState:
+    """What the DH-table panel shows.
+
+    Attributes
+    ----------
+    arm : SerialArm or None
+        None when the table could not be read.
+    verdict : IKClass or None
+        :func:`rikin.ik.classify` of the arm.
+    target : ndarray, shape (4, 4), or None
+        The world pose solved for.
+    result : IKResult or None
+        Every closed-form solution (None without a closed form or a reachable target).
+    numerical : NumericalIKResult or None
+        For an arm without a closed form: one solution from :func:`rikin.ik.ik_numerical`.
+    message : str
+        The status in words.
+    typed_q : ndarray, shape (n,), or None
+        The joints the target was made from (target given as joints).
+    """
+
+    arm: SerialArm | None
+    verdict: Any
+    target: FloatArray | None
+    result: IKResult | None
+    message: str
+    numerical: Any = None
+    typed_q: FloatArray | None = None
+
+
+class DHPanel:
+    """Type a DH table, get every IK solution of one pose, drawn (see :func:`dh_panel`)."""
+
+    MODES = ("joints", "pose")
+
+    def __init__(self, table: str = PUMA560_TABLE, convention: str = "standard",
+                 units: str = "m", target: Any = "20 -30 40 10 50 60", mode: str = "joints",
+                 tool: Any = "0 0 0", name: str = "your arm", width: float = 12.0) -> None:
+        self.inputs: dict[str, Any] = {"table": table, "convention": convention,
+                                       "units": units, "target": target, "mode": mode,
+                                       "tool": tool, "name": name}
+        self.width = float(width)
+        self.state = self.compute()
+        self._widget: Any = None
+
+    # ---- the computation (no front end needed)
+    def set(self, redraw: bool = True, **inputs: Any) -> None:
+        """Change inputs by name: ``table``, ``convention``, ``units``, ``target``,
+        ``mode`` ("joints": the target is FK of six joint values, degrees for revolute
+        joints; "pose": x y z roll pitch yaw, degrees) and ``tool`` (x y z of the TCP in
+        the last frame)."""
+        for k, v in inputs.items():
+            if k not in self.inputs:
+                raise InputError(f"the DH panel has no input {k!r}; it has "
+                                 + ", ".join(self.inputs))
+            self.inputs[k] = v
+        if redraw:
+            self.state = self.compute()
+            self._refresh()
+
+    def compute(self) -> DHState:
+        """Read the table, classify the arm, solve the target: every step's outcome in words."""
+        from .ik import ik_numerical
+
+        inp = self.inputs
+        try:
+            if inp["mode"] not in self.MODES:
+                raise InputError(f"mode must be 'joints' or 'pose', got {inp['mode']!r}")
+            tool = homogeneous(np.eye(3), _numbers(inp["tool"], 3, "the tool (x y z)"))
+            arm = arm_from_table(inp["table"], inp["convention"], inp["units"],
+                                 name=str(inp["name"]), tool=tool)
+        except RikinError as exc:
+            return DHState(None, None, None, None, f"The table cannot be read: {exc}")
+        verdict = classify(arm)
+        try:
+            if inp["mode"] == "joints":
+                values = _numbers(inp["target"], arm.n, f"the target joints ({arm.n} values)")
+                q = np.where(arm.revolute, np.radians(values), values)
+                T, typed = arm.fk(q), q
+            else:
+                v = _numbers(inp["target"], 6, "the target pose (x y z roll pitch yaw)")
+                T, typed = homogeneous(rpy_to_r(*v[3:], degrees=True), v[:3]), None
+        except RikinError as exc:
+            return DHState(arm, verdict, None, None, f"The target cannot be read: {exc}")
+        if not verdict.closed_form:
+            num = ik_numerical(arm, T, rng=0)
+            how = ("it found one solution" if num.success else f"it did not converge "
+                   f"({num.reason})")
+            return DHState(arm, verdict, T, None,
+                           f"No closed form: {verdict.reason}. rikin.ik.ik_numerical "
+                           f"(Levenberg-Marquardt from a seeded start): {how}; "
+                           "ik_numerical_multistart finds more, with no guarantee of all.",
+                           numerical=num, typed_q=typed)
+        try:
+            res = arm.ik(T)
+        except UnreachableError as exc:
+            return DHState(arm, verdict, T, None, f"Unreachable: {exc}", typed_q=typed)
+        except RikinError as exc:
+            return DHState(arm, verdict, T, None, f"No solution: {exc}", typed_q=typed)
+        err = _pose_error(arm, res.q, T)
+        msg = (f"{len(res)} solution{'s' if len(res) != 1 else ''}, each put back through "
+               f"FK: largest pose error {err:.0e}")
+        if typed is not None:
+            d = np.where(arm.revolute, np.abs(wrap_angle(res.q - typed)), np.abs(res.q - typed))
+            hit = int(np.argmin(d.max(axis=1))) if len(res) else -1
+            if hit >= 0 and d[hit].max() < 1e-6:
+                msg += f"; the joints you typed are solution {hit + 1} ({res.labels[hit]})"
+        if res.singular:
+            msg += f". Singular: {res.singularity}"
+        return DHState(arm, verdict, T, res, msg + ".", typed_q=typed)
+
+    def html(self) -> str:
+        """The verdict, the status and the solutions as HTML."""
+        from .tables import solutions_table, table
+
+        st = self.state
+        parts = []
+        if st.verdict is not None:
+            parts.append(f"<p><b>classify:</b> {html.escape(str(st.verdict))}</p>")
+        colour = "#b00" if st.result is None else "inherit"
+        parts.append(f'<p style="color:{colour}">{html.escape(st.message)}</p>')
+        if st.result is not None and len(st.result):
+            parts.append(solutions_table(st.result, decimals=1)._repr_html_())
+        elif st.numerical is not None and st.numerical.success and st.arm is not None:
+            qd = np.where(st.arm.revolute, np.degrees(st.numerical.q), st.numerical.q)
+            parts.append(table(["", *[f"q{j + 1}" for j in range(st.arm.n)]],
+                               [["ik_numerical", *map(float, qd)]], decimals=2)._repr_html_())
+        return "\n".join(parts)
+
+    def figure(self) -> Any:
+        """Every solution side by side (the arm at q = 0 or the numerical solution else)."""
+        from .plot import plot_arm, plot_solutions
+
+        st = self.state
+        if st.arm is None:
+            return None
+        if st.result is not None and len(st.result):
+            k = len(st.result)
+            cols = min(k, 4)
+            rows = -(-k // cols)
+            return plot_solutions(st.arm, st.result, ncols=cols,
+                                  figsize=(self.width, self.width / cols * 1.15 * rows + 0.4))
+        q = st.numerical.q if st.numerical is not None and st.numerical.success else None
+        title = ("ik_numerical's solution" if q is not None else "the arm at q = 0")
+        ax = plot_arm(st.arm, np.zeros(st.arm.n) if q is None else q, frames=True,
+                      title=f"{st.arm.name}: {title}")
+        fig: Any = ax.get_figure(root=True)
+        fig.set_size_inches(self.width * 0.6, self.width * 0.6)
+        return fig
+
+    def static_html(self, alt: str = "") -> str:
+        """The panel as it looks, without a kernel: the typed table, the verdict, the
+        solutions and the drawing (an embedded PNG), for a page built without one."""
+        import base64
+
+        inp = self.inputs
+        rows = [f"<p><b>DH table</b> ({html.escape(str(inp['convention']))} DH, "
+                f"{html.escape(str(inp['units']) or 'no units')}; tool at "
+                f"({html.escape(str(inp['tool']))}); target "
+                f"{'joints' if inp['mode'] == 'joints' else 'pose'} "
+                f"({html.escape(str(inp['target']))})</b></p>",
+                f'<pre class="rikin-dh-table">{html.escape(str(inp["table"]).rstrip())}</pre>',
+                self.html()]
+        fig = self.figure()
+        if fig is not None:
+            data = base64.b64encode(_png(fig)).decode("ascii")
+            rows.append(f'<img src="data:image/png;base64,{data}" alt="{html.escape(alt)}" '
+                        'style="max-width:100%;height:auto">')
+        return ('<div class="rikin-dh-panel" style="text-align:left">' + "\n".join(rows)
+                + "</div>")
+
+    # ---- the widget
+    def _refresh(self) -> None:
+        if self._widget is None:
+            return
+        self._out.value = self.html()
+        fig = self.figure()
+        self._image.value = _png(fig) if fig is not None else b""
+        self._image.layout.display = None if fig is not None else "none"
+
+    def widget(self) -> Any:
+        """The ipywidgets box (built once)."""
+        if self._widget is not None:
+            return self._widget
+        w = _ipywidgets()
+        full = w.Layout(width="100%")
+        style = {"description_width": "90px"}
+        inp = self.inputs
+        self._fields = {
+            "table": w.Textarea(value=str(inp["table"]), description="DH table",
+                                style=style, layout=w.Layout(width="100%", height="170px")),
+            "convention": w.ToggleButtons(options=["standard", "modified"],
+                                          value=inp["convention"], description="convention",
+                                          style=style),
+            "name": w.Text(value=str(inp["name"]), description="name", style=style,
+                           layout=full),
+            "units": w.Text(value=str(inp["units"]), description="units", style=style,
+                            layout=full),
+            "tool": w.Text(value=str(inp["tool"]), description="tool x y z", style=style,
+                           layout=full),
+            "mode": w.ToggleButtons(options=list(self.MODES), value=inp["mode"],
+                                    description="target as", style=style),
+            "target": w.Text(value=str(inp["target"]), description="target", style=style,
+                             layout=full,
+                             placeholder="q1 ... q6 (deg)  or  x y z roll pitch yaw"),
+        }
+        button = w.Button(description="Solve", button_style="primary")
+        button.on_click(self._on_solve)
+        self._out = w.HTML()
+        self._image = w.Image(format="png", layout=w.Layout(max_width="100%"))
+        help_text = w.HTML("<b>Your own arm</b>: one row per joint, <code>type d a alpha "
+                           "offset</code> (R or P; lengths in your units, angles in degrees); "
+                           "press Solve for every IK solution of the target, drawn.")
+        self._widget = w.VBox([help_text, *self._fields.values(), button, self._out,
+                               self._image], layout=w.Layout(max_width="100%"))
+        self._refresh()
+        return self._widget
+
+    def _on_solve(self, _button: Any = None) -> None:
+        self.set(**{k: f.value for k, f in self._fields.items()})
+
+    def _ipython_display_(self) -> None:
+        from IPython.display import display
+
+        display(self.widget())
+
+
+def _pose_error(arm: SerialArm, Q: FloatArray, T: FloatArray) -> float:
+    """Largest FK error of solutions ``Q`` against ``T``: position / arm size, rotation."""
+    if not len(Q):
+        return 0.0
+    F = arm.fk(Q)
+    pos = np.linalg.norm(F[..., :3, 3] - T[:3, 3], axis=-1) / arm.scale
+    rot = np.abs(F[..., :3, :3] - T[:3, :3]).max(axis=(-1, -2))
+    return float(max(pos.max(), rot.max()))
+
+
+def dh_panel(table: str = PUMA560_TABLE, **inputs: Any) -> DHPanel:
+    """Type your arm's DH table, see every IK solution of one pose, drawn.
+
+    Parameters
+    ----------
+    table : str
+        One row per joint, ``type d a alpha offset`` (see :func:`arm_from_table`);
+        default: the Puma 560.
+    **inputs
+        ``convention`` ("standard" or "modified"), ``units``, ``tool`` ("x y z"),
+        ``mode`` ("joints" or "pose"), ``target`` (six numbers: joint values in
+        degrees, or x y z roll pitch yaw) and ``name``.
+
+    Returns
+    -------
+    DHPanel
+        Displays as the input fields, a Solve button, the verdict of
+        :func:`rikin.ik.classify`, the solutions table and the drawing.
+    """
+    return DHPanel(table, **inputs)
 
 
 def ik_panel(arm: SerialArm, **values: float) -> IKPanel:

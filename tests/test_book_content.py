@@ -36,13 +36,16 @@ PAGES = _toc_files()
 #: Reference pages: plain MyST markdown, nothing executed, no errata.
 REFERENCE_PAGES = ["book/glossary", "book/references"]
 NOTEBOOK_PAGES = [p for p in PAGES if p not in REFERENCE_PAGES]
-CHAPTERS = [p for p in NOTEBOOK_PAGES[1:] if p != "book/what_is_ik"]  # the lessons' chapters
+#: Sections that teach beyond the lessons (no lesson, so no errata of one).
+SECTIONS = ["book/own_arm"]
+CHAPTERS = [p for p in NOTEBOOK_PAGES[1:]
+            if p != "book/what_is_ik" and p not in SECTIONS]  # the lessons' chapters
 #: Chapters with the full teaching apparatus (item 5 of issue 16).
 TAUGHT = ["book/what_is_ik", "book/planar", "book/angular", "book/dh_product",
           "book/decoupling", "book/epson_c4"]
 #: Chapters whose asserting cells are all folded away.
 FOLDED = ["book/what_is_ik", "book/planar", "book/angular", "book/dh_product",
-          "book/decoupling", "book/epson_c4"]
+          "book/decoupling", "book/own_arm", "book/epson_c4"]
 CODE_CELL = re.compile(r"^```\{code-cell\}[^\n]*\n(.*?)^```", re.S | re.M)
 
 
@@ -63,6 +66,7 @@ def test_toc_lists_the_chapters() -> None:
         "angular",
         "dh_product",
         "decoupling",
+        "own_arm",
         "epson_c4",
         "exercises",
         "glossary",
@@ -202,14 +206,15 @@ def test_glossary_has_the_lessons_terms() -> None:
         assert word in text, f"the glossary does not explain the lessons' term {word!r}"
 
 
-@pytest.mark.parametrize("page", TAUGHT)
+@pytest.mark.parametrize("page", TAUGHT + SECTIONS)
 def test_chapter_has_the_teaching_apparatus(page: str) -> None:
     text = _source(page)
     first_code = text.index("```{code-cell}")
-    assert "```{admonition} In this chapter" in text[:first_code], (
-        f"{page}: no 'In this chapter' box (objectives and prerequisites) before the first cell"
+    what = "section" if page in SECTIONS else "chapter"
+    assert f"```{{admonition}} In this {what}" in text[:first_code], (
+        f"{page}: no 'In this {what}' box (objectives and prerequisites) before the first cell"
     )
-    box = text[text.index("```{admonition} In this chapter"):first_code]
+    box = text[text.index(f"```{{admonition}} In this {what}"):first_code]
     assert "You will be able to" in box and "It assumes" in box, page
     for heading in ("Summary", "Check yourself", "Exercises"):
         assert re.search(rf"^## {heading}\s*$", text, re.M), f"{page}: no '## {heading}' section"

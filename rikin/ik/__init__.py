@@ -2,11 +2,14 @@
 
 from .api import solve, solve_batch
 from .numerical import NumericalIKResult, ik_numerical, ik_numerical_multistart
+from .pieper import IKClass, classify
 from .result import BatchIKResult, Branch, IKResult
 
 __all__ = [
     "solve",
     "solve_batch",
+    "classify",
+    "IKClass",
     "IKResult",
     "BatchIKResult",
     "Branch",

@@ -1,0 +1,171 @@
+"""rikin.widgets.dh_panel and arm_from_table: a DH table typed as text, every solution.
+
+The panel is driven as a user would (text typed into its fields, the Solve button
+clicked); every solution it shows is put back through FK here, independently of the
+solver's own check.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rikin
+from rikin import InputError, Link, SerialArm, widgets
+
+pi = np.pi
+
+PUMA = SerialArm((
+    Link(d=0.67183, alpha=pi / 2), Link(a=0.4318), Link(d=0.15005, a=0.0203, alpha=-pi / 2),
+    Link(d=0.4318, alpha=pi / 2), Link(alpha=-pi / 2), Link(),
+), units="m", name="Puma 560")
+
+UR5_TABLE = """\
+d         a         alpha
+0.089159  0          90
+0        -0.425       0
+0        -0.39225     0
+0.10915   0          90
+0.09465   0         -90
+0.0823    0           0
+"""
+
+
+def fk_error(arm, Q, T):
+    F = arm.fk(Q)
+    pos = np.linalg.norm(F[..., :3, 3] - T[:3, 3], axis=-1) / arm.scale
+    rot = np.abs(F[..., :3, :3] - T[:3, :3]).max(axis=(-1, -2))
+    return float(np.max(np.maximum(pos, rot)))
+
+
+def test_classify_is_public_in_rikin_ik():
+    assert rikin.ik.classify(PUMA).closed_form
+    assert "quadratic" in str(rikin.ik.classify(PUMA))
+
+
+def test_the_default_table_is_the_puma():
+    arm = widgets.arm_from_table(widgets.PUMA560_TABLE, units="m")
+    Q = np.random.default_rng(1).uniform(-pi, pi, size=(50, 6))
+    assert np.abs(arm.fk(Q) - PUMA.fk(Q)).max() < 1e-12
+
+
+@pytest.mark.parametrize("text", [
+    "R 0.67183 0 90 0\nR 0 0.4318 0 0\nR 0.15005 0.0203 -90\nR 0.4318 0 90\nR 0 0 -90\nR 0 0 0",
+    "type d a alpha offset\n0.67183, 0, 90, 0\n0, 0.4318, 0, 0\n0.15005, 0.0203, -90, 0\n"
+    "0.4318, 0, 90, 0\n0, 0, -90, 0\n0, 0, 0, 0\n",
+    "| R | 0,67183 | 0 | 90 |\n| R | 0 | 0,4318 | 0 |\n| R | 0,15005 | 0,0203 | -90 |\n"
+    "| R | 0,4318 | 0 | 90 |\n| R | 0 | 0 | -90 |\n| R | 0 | 0 | 0 |",  # a pasted markdown table
+    "# my Puma\n\nr\t0.67183\t0\t90  # base\nr 0 0.4318 0\nR 0.15005 0.0203 -90\n"
+    "R 0.4318 0 90\nR 0 0 -90\nR 0 0 0\n",
+])
+def test_tables_as_people_type_them(text):
+    arm = widgets.arm_from_table(text, units="m")
+    assert arm.n == 6 and arm.joint_types == "RRRRRR"
+    Q = np.random.default_rng(2).uniform(-pi, pi, size=(20, 6))
+    assert np.abs(arm.fk(Q) - PUMA.fk(Q)).max() < 1e-12
+
+
+def test_modified_prismatic_offsets_and_tool():
+    arm = widgets.arm_from_table("R 0 0 0 30\nP 0.2 0.5 90 0.1", convention="modified",
+                                 tool=rikin.transl(0, 0, 0.05))
+    ref = SerialArm((Link(offset=pi / 6), Link("P", d=0.2, a=0.5, alpha=pi / 2, offset=0.1)),
+                    convention="modified", tool=rikin.transl(0, 0, 0.05))
+    q = np.array([0.3, 0.25])
+    assert np.abs(arm.fk(q) - ref.fk(q)).max() < 1e-12
+
+
+@pytest.mark.parametrize("text, match", [
+    ("R 0 1 x 0", r"line 1 .*alpha = 'x' is not a number"),
+    ("R 0 1 90\nR 0 1", r"line 2 .*3 or 4 numbers.*got 2"),
+    ("R 0 1 90 0 7", r"line 1 .*got 5"),
+    ("# nothing\n\n", r"no rows"),
+    ("Q 0 1 90 0", r"line 1 .*got 5|is not a number"),
+])
+def test_bad_rows_name_the_line_and_column(text, match):
+    with pytest.raises(InputError, match=match):
+        widgets.arm_from_table(text)
+
+
+def test_panel_gives_every_solution_of_the_typed_joints():
+    panel = widgets.dh_panel()
+    st = panel.state
+    assert st.verdict.closed_form and len(st.result) == 8
+    assert fk_error(st.arm, st.result.q, st.target) < 1e-12
+    q = np.radians([20, -30, 40, 10, 50, 60])
+    k = int(np.argmin(np.abs(rikin.wrap_angle(st.result.q - q)).max(axis=1)))
+    assert np.abs(rikin.wrap_angle(st.result.q[k] - q)).max() < 1e-9
+    assert f"the joints you typed are solution {k + 1}" in st.message
+    html = panel.html()
+    assert all(lab in html for lab in st.result.labels) and "quadratic" in html
+
+
+def test_panel_pose_target_and_unreachable():
+    panel = widgets.dh_panel(mode="pose", target="0.5 0.2 0.6 0 90 0")
+    st = panel.state
+    T = rikin.homogeneous(rikin.rpy_to_r(0, 90, 0, degrees=True), [0.5, 0.2, 0.6])
+    assert np.allclose(st.target, T) and len(st.result) == 8
+    assert fk_error(st.arm, st.result.q, T) < 1e-12
+    panel.set(target="3 0 0 0 0 0")
+    assert panel.state.result is None and panel.state.message.startswith("Unreachable")
+    assert "out of reach" in panel.state.message
+    panel.set(target="1 2 3")
+    msg = panel.state.message
+    assert msg.startswith("The target cannot be read") and "6 finite numbers" in msg
+
+
+def test_panel_without_closed_form_says_why_and_solves_numerically():
+    panel = widgets.dh_panel(UR5_TABLE, target="30 -60 80 -110 -90 20")
+    st = panel.state
+    assert not st.verdict.closed_form and st.result is None
+    assert "axis 6 passes 0.09465 m" in st.message and "ik_numerical" in st.message
+    assert st.numerical.success and fk_error(st.arm, st.numerical.q, st.target) < 1e-9
+    assert "ik_numerical" in panel.html() and panel.figure() is not None
+
+
+def test_panel_bad_table_is_a_message_not_a_traceback():
+    panel = widgets.dh_panel("R 0 1 x")
+    assert panel.state.arm is None and "line 1" in panel.state.message
+    assert panel.figure() is None and "cannot be read" in panel.static_html()
+    with pytest.raises(InputError, match="no input 'colour'"):
+        panel.set(colour="red")
+
+
+def test_static_html_embeds_the_drawing_and_the_table():
+    panel = widgets.dh_panel(name="Puma 560")
+    out = panel.static_html(alt="eight arms")
+    assert out.count("<img") == 1 and 'alt="eight arms"' in out and "base64," in out
+    assert "0.4318" in out and all(lab in out for lab in panel.state.result.labels)
+
+
+def test_widget_typing_a_table_and_pressing_solve():
+    pytest.importorskip("ipywidgets")
+    panel = widgets.dh_panel()
+    panel.widget()
+    first = panel._image.value
+    assert first[:4] == b"\x89PNG"
+    panel._fields["table"].value = UR5_TABLE
+    panel._fields["target"].value = "30 -60 80 -110 -90 20"
+    (button,) = [c for c in panel.widget().children if type(c).__name__ == "Button"]
+    button.click()
+    assert "0.09465" in panel._out.value and panel.state.result is None
+    assert panel._image.value[:4] == b"\x89PNG" and panel._image.value != first
+    # the Puma in modified DH (Craig): a and alpha move down a row
+    panel._fields["table"].value = ("R 0.67183 0 0\nR 0 0 90\nR 0.15005 0.4318 0\n"
+                                    "R 0.4318 0.0203 -90\nR 0 0 90\nR 0 0 -90")
+    panel._fields["convention"].value = "modified"
+    button.click()
+    st = panel.state
+    assert st.arm.convention == "modified" and st.result is not None and len(st.result) == 8
+    assert fk_error(st.arm, st.result.q, st.target) < 1e-12
+    Q = np.random.default_rng(3).uniform(-pi, pi, size=(20, 6))
+    assert np.abs(st.arm.fk(Q) - PUMA.fk(Q)).max() < 1e-12
+
+
+def test_ik_panel_takes_an_arm_typed_from_its_table():
+    panel = widgets.ik_panel(PUMA)
+    assert [s[0] for s in panel.spec] == ["x", "y", "z", "roll", "pitch", "yaw"]
+    st = panel.state
+    assert st.result is not None and len(st.result) == 8
+    assert fk_error(PUMA, st.result.q, st.target) < 1e-12
+    with pytest.raises(InputError, match="0.09465"):
+        widgets.ik_panel(widgets.arm_from_table(UR5_TABLE, units="m"))
