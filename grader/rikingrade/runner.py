@@ -9,7 +9,9 @@ The steps, in order:
    ``cell_timeout`` or kills its process is recorded and skipped in a fresh child;
 3. for each hidden test, send its calls one at a time with that test's wall-clock
    timeout; a call that times out or kills the child costs that test only: the rest of
-   its calls are not run and the next test gets a fresh child (cells re-run);
+   its calls are not run and the next test gets a fresh child (cells re-run); a function
+   that ran out of time gets a short limit from then on, wherever it is called from
+   (``calllimits``);
 4. score every test in the grader with ``HiddenTest.check`` (never in the child).
 
 Nothing the child sends extends a deadline: cell events count only in the order the cells
@@ -30,6 +32,7 @@ import traceback
 from dataclasses import dataclass
 
 from .assignment import Assignment
+from .calllimits import GRACE, CallLimits
 from .cellplan import calling_cells
 from .feedback import cell_problems, missing_cause
 from .notebook import FileRefused, Notebook, NotebookError, Submission
@@ -203,6 +206,14 @@ class _Run:
         self.template: Child | None = None  # the process that ran the cells, when kept
         self.templates_ok = True  # False once a template failed to fork a worker
         self.cell_seconds = 0.0
+        self.limits = CallLimits()  # the functions' times, and where they ran out
+        opt, tests = runner.opt, runner.assignment.tests
+        #: seconds per call of an answer function, also from a cell that runs
+        self.call_limit = (
+            opt.timeout
+            if opt.timeout is not None
+            else max((float(t.timeout) for t in tests), default=5.0)
+        )
 
     def deadline(self, seconds: float) -> float:
         """``seconds`` from now, but never past the submission's budget."""
@@ -301,6 +312,8 @@ class _Run:
                         "output_limit": opt.output_limit,
                         "output_total": max(0, opt.output_total - self.output_used),
                         "want": list(self.r.assignment.functions),
+                        "limit": self.call_limit,
+                        "leash": self.limits.leash(self.call_limit),
                     },
                     deadline,
                 )
@@ -321,6 +334,7 @@ class _Run:
                             if n not in self.seen:
                                 self.seen.add(n)
                                 self._record(n, msg)
+                                self._cell_ran_out(n, msg)
                             current = None
                             deadline = self.deadline(opt.cell_timeout)
                     elif ev == "exec_done" and current is None and pos == len(order):
@@ -374,6 +388,13 @@ class _Run:
             return
         self.cells[n] = rep
 
+    def _cell_ran_out(self, n: int, msg: dict) -> None:
+        """A call in cell ``n`` was stopped at its limit: its functions get short ones."""
+        fired = msg.get("timed_out")
+        if isinstance(fired, dict):
+            self.timed_out = True
+            self.limits.timed_out(_names(fired.get("stack")), f"code cell {n}")
+
     def _why_died(self, child: Child, exc: Exception) -> str:
         """Why a child stopped answering, in words ("killed (SIGKILL)", a protocol error)."""
         return str(exc) if isinstance(exc, ProtocolError) else self.r.sandbox.status_of(child.pid)
@@ -399,14 +420,18 @@ class _Run:
         return cell
 
     # ------------------------------------------------------------------ tests
-    def call_batch(self, calls: list[Call], timeout: float) -> tuple[list[Outcome], bool, bool]:
+    def call_batch(
+        self, calls: list[Call], timeout: float, test: str = ""
+    ) -> tuple[list[Outcome], bool, bool]:
         """Run calls in order in the current child; returns (outcomes, timed out, crashed).
 
         All calls go in one message and the child answers each as soon as it returns,
         so the wall-clock ``timeout`` applies per call: call k's clock starts when
-        call k - 1's answer arrives (or when the batch is sent). A call that times out
-        or kills the child ends the batch: the child is dropped and the calls after it
-        are not run.
+        call k - 1's answer arrives (or when the batch is sent). The child stops a call
+        at its limit (``timeout``, or the short limit of a function that already ran out:
+        see ``calllimits``) and says which functions were running; the grader's own
+        clock waits GRACE longer. A call that times out or kills the child ends the
+        batch: the child is dropped and the calls after it are not run.
         """
         assert self.child is not None
         ids = []
@@ -424,29 +449,52 @@ class _Run:
                 }
             )
         outcomes: list[Outcome] = []
-        deadline = self.deadline(timeout)
+        limits = self.limits
+        leash = limits.leash(timeout)
+        started = time.monotonic()
+        deadline = self.deadline(limits.limit_of(calls[0].function, timeout) + GRACE)
+        fired: dict = {}
         try:
-            self.child.send({"op": "calls", "calls": items}, deadline)
-            for cid in ids:
+            msg = {"op": "calls", "calls": items, "limit": timeout, "leash": leash}
+            self.child.send(msg, deadline)
+            for k, cid in enumerate(ids):
                 while True:  # only the answer to the call asked for moves the clock on
                     msg = self.child.recv(deadline)
                     if msg.get("id") == cid:
                         break
+                if isinstance(msg.get("timed_out"), dict):  # the child stopped it
+                    fired = msg["timed_out"]
+                    raise ChildTimeout()
+                limits.returned(calls[k].function, time.monotonic() - started, timeout)
+                seen = msg.get("seen")
+                for name, sec in list(seen.items())[:50] if isinstance(seen, dict) else ():
+                    limits.returned(name, sec, timeout)
                 outcomes.append(_outcome(msg))
-                deadline = self.deadline(timeout)
+                started = time.monotonic()
+                if k + 1 < len(calls):
+                    nxt = limits.limit_of(calls[k + 1].function, timeout)
+                    deadline = self.deadline(nxt + GRACE)
         except ChildTimeout:
             self.timed_out = True
             self._drop_child()
-            spent = time.monotonic() >= self.t_end - 1e-3
+            spent = time.monotonic() >= self.t_end - 1e-3 and not fired
             self.budget_spent |= spent
-            outcomes.append(
-                Outcome(
-                    timed_out=True,
-                    detail=f"stopped: {self._spent()}"
-                    if spent
-                    else f"timed out: no result within {timeout:g} s",
+            call = calls[len(outcomes)].function
+            names = _names(fired.get("stack")) or [call]
+            name = fired.get("function") if isinstance(fired.get("function"), str) else call
+            short = name in leash
+            if spent:
+                detail = f"stopped: {self._spent()}"
+            elif short:
+                detail = limits.stopped_text(name, timeout, self.r.assignment.functions)
+            else:
+                inner = [n for n in names if n in self.r.assignment.functions and n != call]
+                detail = f"timed out: no result within {timeout:g} s" + (
+                    f" (it was running {inner[-1]})" if inner else ""
                 )
-            )
+            if not spent:
+                limits.timed_out(names, test, name if short else "")
+            outcomes.append(Outcome(timed_out=True, detail=detail))
             rest = Outcome(timed_out=True, detail="not run: an earlier call of this test timed out")
             outcomes += [rest] * (len(calls) - len(outcomes))
             return outcomes, True, False
@@ -491,7 +539,9 @@ class _Run:
                 for i in pending:
                     outcomes[i] = lost
             else:
-                answers, t_out, crashed = self.call_batch([calls[i] for i in pending], timeout)
+                answers, t_out, crashed = self.call_batch(
+                    [calls[i] for i in pending], timeout, test.name
+                )
                 for i, o in zip(pending, answers, strict=True):
                     outcomes[i] = o
         return self.check(test, calls, outcomes, t_out, crashed)
@@ -597,6 +647,7 @@ class _Run:
             missing_cause(f, self.functions, a.functions, self.nb.cells, self.cells)
             for f in missing
         ]
+        problems += self.limits.summary(a.functions, self.call_limit)
         if self.exec_error:
             problems.append(self.exec_error)
         if self.budget_spent:
@@ -660,6 +711,11 @@ def _outcome(msg: dict) -> Outcome:
             error_bases=tuple(_text(b, 200) for b in bases[:20]) if isinstance(bases, list) else (),
         )
     return Outcome(value=msg.get("value"))
+
+
+def _names(v: object) -> list[str]:
+    """The function names a child reported (at most 50 of 200 characters), else []."""
+    return [x[:200] for x in v[:50] if isinstance(x, str)] if isinstance(v, list) else []
 
 
 def _int(v: object) -> int | None:

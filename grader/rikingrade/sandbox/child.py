@@ -7,17 +7,27 @@ fresh socket; the zygote forks a child that sets its resource limits, moves into
 working directory and serves JSON lines on that socket:
 
 grader -> child
-    {"op": "exec", "cells": [[index, source], ...], "output_limit": int}
+    {"op": "exec", "cells": [[index, source], ...], "output_limit": int, "limit": s,
+     "leash": {function: s}}
     {"op": "call", "id": int, "function": str, "args": [<wire>, ...], "kwargs": <wire>}
-    {"op": "calls", "calls": [{"id", "function", "args", "kwargs"}, ...]}  (answered one by one)
+    {"op": "calls", "calls": [{"id", "function", "args", "kwargs"}, ...], "limit": s,
+     "leash": {function: s}}  (answered one by one)
 child -> grader
     {"event": "cell_start", "cell": i}
-    {"event": "cell_end", "cell": i, "error": ..., "output": ..., "seconds": ...}
+    {"event": "cell_end", "cell": i, "error": ..., "output": ..., "seconds": ...,
+     "timed_out": null or <stop>}
     {"event": "exec_done", "functions": [...]}
-    {"id": int, "value": <wire>} or
+    {"id": int, "value": <wire>, "seen": {function: s}} or
+    {"id": int, "timed_out": <stop>}  (the child stopped the call at its limit) or
     {"id": int, "error_type": str, "error_message": str, "error_bases": ["mod.Name", ...]}
     {"id": int, "error_type": "UnreadableResult", "error_message": <reason code>,
      "error_bases": ["rikingrade.UnreadableResult"]}  (it returned; the value cannot be read)
+
+Time limits (``Watch``): each call gets ``limit`` seconds, a function named in ``leash``
+that many wherever it is called from, and in a cell each call of an answer function gets
+``limit``; a stop is {"stack": [function, ...], "function": str, "limit": s}: the notebook's
+functions that were running, outermost first, and the one whose limit ran out. "seen" gives
+how long the functions a call called were seen running (for the grader's short limits).
 
 Nothing here decides a score: values go back as JSON (never pickle) and the grader compares.
 Wire format: JSON plus one-key marker objects: {"$float": "nan"|"inf"|"-inf"},
@@ -58,6 +68,9 @@ from builtins import (  # noqa: E402,A004,UP029
     len,
     list,
     max,
+    reversed,
+    round,
+    set,
     sorted,
     str,
     tuple,
@@ -432,6 +445,145 @@ def _transformer():
         return None
 
 
+# ----------------------------------------------------------------------------- time limits
+TICK = 0.02  # seconds between two looks at what a student's call is running
+MAX_FRAMES = 2000  # frames looked at per look (a deeper recursion is cut)
+MAX_NAMES = 50  # function names reported per call
+_FunctionType = type(lambda: None)
+_setitimer = signal.setitimer
+_ITIMER_REAL = signal.ITIMER_REAL
+_SIGALRM = signal.SIGALRM
+
+
+class CallTimedOut(BaseException):
+    """Raised in a student's function that ran past its time limit.
+
+    Not an Exception, so ``except Exception`` in the notebook does not swallow it.
+    """
+
+
+class Watch:
+    """Time limits per function, enforced inside the child by looking at its stack.
+
+    While a student's call (or a cell) runs, SIGALRM fires every TICK and the handler walks
+    the main thread's frames; the frames of the notebook's functions are remembered with
+    the time each was first seen. The handler raises CallTimedOut in the student's code:
+
+    * in a call, when the call has run ``limit`` seconds;
+    * anywhere, when a function with a short limit (``leash``: the grader gives one to a
+      function that already ran out of time) has been running that long;
+    * in a cell, when an answer function has been running ``limit`` seconds.
+
+    It records which functions were on the stack then (outermost first: none of them
+    returned in time) and, for each function seen running that then finished, how long it
+    was seen (a lower bound of its time, from which the grader derives short limits). It
+    raises again at every tick until the call ends, so a notebook that swallows it only
+    reaches the grader's own wall-clock limit, which stays behind this one.
+    """
+
+    def __init__(self):
+        self.running = False
+        self.fired = None
+        self.seen = {}
+        self.finished = {}
+
+    def start(self, ns, limit, leash, answers=(), call=""):
+        """Watch the code about to run; ``call``: the function called (a call), else a cell."""
+        self.ns = ns
+        self.names = None  # code object -> the notebook's name for it (made when needed)
+        self.limit = limit
+        self.leash = leash
+        self.answers = answers
+        self.call = call
+        self.fired = None
+        self.seen = {}
+        self.finished = {}
+        self.t0 = _monotonic()
+        try:
+            self.previous = signal.signal(_SIGALRM, self._tick)
+            _setitimer(_ITIMER_REAL, TICK, TICK)
+        except (OSError, ValueError):
+            self.previous = None
+        self.running = True
+
+    def stop(self):
+        """Stop watching; the functions seen finishing, with their seen seconds."""
+        self.running = False
+        try:
+            _setitimer(_ITIMER_REAL, 0, 0)
+            if self.previous is not None:
+                signal.signal(_SIGALRM, self.previous)
+        except (OSError, ValueError, TypeError):
+            pass
+        for name, first, last in self.seen.values():
+            self._finish(name, last - first)
+        self.seen = {}
+        return self.finished
+
+    def _finish(self, name, seconds):
+        if name in self.finished or len(self.finished) < MAX_NAMES:
+            self.finished[name] = max(self.finished.get(name, 0.0), round(seconds, 4))
+
+    def _name(self, code):
+        if self.names is None:
+            names = {}
+            for k, v in list(self.ns.items()):
+                if type(k) is str and type(v) is _FunctionType:
+                    names.setdefault(v.__code__, k)
+                    inner = v.__dict__.get("__wrapped__")  # functools.wraps: the real body
+                    if type(inner) is _FunctionType:
+                        names.setdefault(inner.__code__, k)
+            self.names = names
+        return self.names.get(code) or code.co_name
+
+    def _tick(self, signum, frame):
+        if not self.running:
+            return
+        now = _monotonic()
+        if self.fired is not None:
+            raise CallTimedOut(self.fired["message"])
+        stack = []  # the notebook's function frames, innermost first
+        f, k = frame, 0
+        while f is not None and k < MAX_FRAMES:
+            code = f.f_code
+            if code.co_filename.startswith("<cell") and not code.co_name.startswith("<"):
+                stack.append(f)
+            f, k = f.f_back, k + 1
+        live = set(stack)
+        for fr in [fr for fr in self.seen if fr not in live]:
+            name, first, last = self.seen.pop(fr)
+            self._finish(name, last - first)
+        over = None
+        if self.call and now - self.t0 >= self.limit:
+            over = (self.call, self.limit)
+        names = []
+        for fr in reversed(stack):  # outermost first
+            rec = self.seen.get(fr)
+            if rec is None:
+                rec = self.seen[fr] = [self._name(fr.f_code), now, now]
+            rec[2] = now
+            if not names or names[-1] != rec[0]:
+                names.append(rec[0])
+            limit = self.leash.get(rec[0])
+            if limit is None and not self.call and rec[0] in self.answers:
+                limit = self.limit
+            if over is None and limit is not None and now - rec[1] >= limit:
+                over = (rec[0], limit)
+        if over is None:
+            return
+        name, limit = over
+        if self.call and self.call not in names:
+            names.insert(0, self.call)
+        self.fired = {
+            "stack": [n[:200] for n in names[:MAX_NAMES]],
+            "function": name[:200],
+            "limit": limit,
+            "message": f"{name[:200]} did not return within {limit:.3g} s "
+            "(the time limit of a call while grading)",
+        }
+        raise CallTimedOut(self.fired["message"])
+
+
 class Runner:
     def __init__(self, chan, mypid):
         self.chan = chan
@@ -442,6 +594,9 @@ class Runner:
         self.tm = _transformer()
         self.output_limit = 10_000
         self.output_left = 100_000  # characters of output this submission may still send
+        self.watch = Watch()
+        self.limit = None  # seconds per call of an answer function (from the grader)
+        self.leash = {}  # function name -> its short limit (seconds), from the grader
 
     def _guard_fork(self):
         # A process the student forked must never answer for the child.
@@ -472,12 +627,21 @@ class Runner:
             def run(code=code):
                 if isinstance(code, BaseException):
                     raise code
-                exec(code, self.ns)
+                if self.limit is None and not self.leash:
+                    exec(code, self.ns)
+                    return
+                self.watch.start(self.ns, self.limit, self.leash, want)
+                try:
+                    exec(code, self.ns)
+                finally:
+                    self.watch.stop()
 
             t0 = _monotonic()
             _, exc, cap = self._captured(run, min(self.output_limit, self.output_left))
             with _CleanBuiltins():
-                self._after_cell(index, exc, cap, _monotonic() - t0)
+                fired = self.watch.fired if isinstance(exc, CallTimedOut) else None
+                self.watch.fired = None
+                self._after_cell(index, exc, cap, _monotonic() - t0, fired)
             self.output_left = max(0, self.output_left - cap.kept)
         with _CleanBuiltins():
             self._done(want)
@@ -508,7 +672,7 @@ class Runner:
             except (ValueError, MemoryError, RecursionError, OverflowError) as exc:
                 return exc  # e.g. a NUL byte, or a cell too deeply nested to compile
 
-    def _after_cell(self, index, exc, cap, seconds):
+    def _after_cell(self, index, exc, cap, seconds, fired=None):
         name = f"<cell {index}>"
         _close_figures()
         err = None
@@ -527,6 +691,7 @@ class Runner:
                 "output": cap.text()[: self.output_limit + 200],
                 "notes": [str(n) for n in self.shell.notes[:10]],
                 "seconds": round(seconds, 4),
+                "timed_out": fired,
             }
         )
 
@@ -578,25 +743,49 @@ class Runner:
                 }
             )
             return
-        value, exc, _ = self._captured(lambda: fn(*args, **kwargs))
+        watch = self.watch
+        limit = self.leash.get(name, self.limit)
+
+        def run():
+            if limit is None:
+                return fn(*args, **kwargs)
+            watch.start(self.ns, limit, self.leash, call=name)
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                watch.stop()
+
+        value, exc, _ = self._captured(run)
         _close_figures()
+        if watch.fired is not None:  # raised in its code, swallowed or not: it ran out
+            with _CleanBuiltins():
+                fired = {k: v for k, v in watch.fired.items() if k != "message"}
+                self.chan.send({"id": cid, "timed_out": fired})
+            watch.fired = None
+            return
+        seen = {k: v for k, v in watch.finished.items() if k != name}
+        watch.finished = {}
         if exc is not None:
             msg = str(exc)
             if isinstance(exc, SystemExit):
                 msg = f"sys.exit({exc.code!r}) was called"
-            self.chan.send(
-                {
-                    "id": cid,
-                    "error_type": type(exc).__name__,
-                    "error_message": msg[:MAX_ERROR_CHARS],
-                    "error_bases": _class_path(type(exc)),
-                }
-            )
+            reply = {
+                "id": cid,
+                "error_type": type(exc).__name__,
+                "error_message": msg[:MAX_ERROR_CHARS],
+                "error_bases": _class_path(type(exc)),
+            }
+            if seen:  # how long the functions it called were seen running
+                reply["seen"] = seen
+            self.chan.send(reply)
             return
         try:
             with _CleanBuiltins():
                 wire = encode(value)
-            self.chan.send({"id": cid, "value": wire})
+            reply = {"id": cid, "value": wire}
+            if seen:
+                reply["seen"] = seen
+            self.chan.send(reply)
         except (RecursionError, EncodeError) as exc:
             why = str(exc) if isinstance(exc, EncodeError) else "depth"
             self.chan.send(
@@ -615,6 +804,9 @@ class Runner:
             if msg is None or msg.get("op") == "bye":
                 _exit(0)
             op = msg.get("op")
+            if op in ("exec", "calls"):
+                with _CleanBuiltins():
+                    self._limits(msg)
             if op == "exec":
                 self.output_limit = int(msg.get("output_limit", self.output_limit))
                 self.output_left = int(msg.get("output_total", self.output_left))
@@ -628,6 +820,17 @@ class Runner:
                         self.call(one)
             elif op == "fork":
                 self.fork_worker()
+
+    def _limits(self, msg):
+        """The time limits the grader sent: per call, and short ones per function."""
+        limit = msg.get("limit")
+        self.limit = float(limit) if isinstance(limit, (int, float)) and limit > 0 else None
+        leash = msg.get("leash")
+        self.leash = {
+            k: float(v)
+            for k, v in (leash.items() if isinstance(leash, dict) else ())
+            if isinstance(k, str) and isinstance(v, (int, float)) and v > 0
+        }
 
     def fork_worker(self):
         """Fork a worker that serves calls on the socket the grader sent, from this state.

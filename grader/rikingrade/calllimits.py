@@ -1,0 +1,114 @@
+"""How long a notebook's functions may run: the per-call limit, and a short one after a hang.
+
+Every call of a student's function gets the test's limit (2 s in the arm exercises,
+``--timeout``), wherever it is called from: the hidden tests call the answer functions, and
+the answer functions call each other (``ik_scara_6dof`` calls ``ik_scara``) and their
+helpers. The child enforces the limits itself (``sandbox/child.py``, ``Watch``): it looks at
+its stack every 20 ms, stops the call when it runs out and says which of the notebook's
+functions were running (none of them returned in time). The grader's own clock stays
+:data:`GRACE` behind, for code that cannot be interrupted.
+
+An endless loop would otherwise cost the full limit again in every test that reaches it.
+So once a function has run out of time, each later call of it (direct, or from another
+function, in any later test or cell) gets a short limit: :data:`FACTOR` times the longest
+it was seen taking in a call that returned, at least :data:`FLOOR` of the per-call limit
+(0.25 s of 2 s), never more than the limit. A function that hangs on every input costs
+the limit once and a quarter of a second per later test; one that hangs only on some inputs
+keeps the points of every test where it returns in its usual time; a slow but correct
+function never runs out, so it never gets a short limit. The feedback of a test stopped at a
+short limit says so, and why.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+#: A function that ran out of time gets this many times its longest successful call.
+FACTOR = 4.0
+#: ... and never less than this fraction of the per-call limit.
+FLOOR = 1 / 8
+#: Seconds the grader's clock waits beyond the child's (which stops the call itself).
+GRACE = 0.5
+#: Functions the grader keeps figures for, per notebook.
+MAX_FUNCTIONS = 200
+
+
+@dataclass
+class CallLimits:
+    """What one notebook's functions did so far: their times, and where they ran out."""
+
+    #: function -> longest seconds seen for a call of it that returned
+    ok: dict[str, float] = field(default_factory=dict)
+    #: function -> where it ran out of time, in order (test names, "code cell N")
+    ran_out: dict[str, list[str]] = field(default_factory=dict)
+
+    def short(self, name: str, limit: float) -> float:
+        """The short limit of ``name`` once it has run out of time (seconds)."""
+        return min(limit, max(FLOOR * limit, FACTOR * self.ok.get(name, 0.0)))
+
+    def leash(self, limit: float) -> dict[str, float]:
+        """The short limits to enforce now: function -> seconds (below ``limit`` only)."""
+        out = {n: self.short(n, limit) for n in self.ran_out}
+        return {n: s for n, s in out.items() if s < limit}
+
+    def limit_of(self, name: str, limit: float) -> float:
+        """The limit of a call of ``name``: its short one if it has one, else ``limit``."""
+        return self.short(name, limit) if name in self.ran_out else limit
+
+    def returned(self, name: str, seconds: object, limit: float) -> None:
+        """A call of ``name`` was seen to take ``seconds`` and finish (clamped to the limit)."""
+        if not isinstance(name, str) or isinstance(seconds, bool):
+            return
+        if not isinstance(seconds, (int, float)) or not math.isfinite(seconds):
+            return
+        if name not in self.ok and len(self.ok) >= MAX_FUNCTIONS:
+            return
+        self.ok[name] = max(self.ok.get(name, 0.0), min(max(float(seconds), 0.0), limit))
+
+    def timed_out(self, names: list[str], where: str, short: str = "") -> None:
+        """A call (or a cell) ran out of time in ``where`` with ``names`` running.
+
+        At the full limit every function on the stack gets a short limit (none of them
+        returned in time); at the short limit of ``short``, only that function is charged
+        (the functions around it did not run out of their own time).
+        """
+        for n in [short] if short else names:
+            if n in self.ran_out:
+                self.ran_out[n].append(where)
+            elif len(self.ran_out) < MAX_FUNCTIONS:
+                self.ran_out[n] = [where]
+
+    def summary(self, answers: tuple[str, ...], limit: float) -> list[str]:
+        """One line per answer function that ran out of time, for the student."""
+        lines = []
+        for name in answers:
+            where = self.ran_out.get(name)
+            if not where:
+                continue
+            text = (
+                f"{name} did not return within {limit:g} s in {_where(where[0])}; from then on "
+                f"each call of it got a short limit of {self.short(name, limit):.2g} s "
+                f"({FACTOR:g} times its longest call that returned, at least "
+                f"{FLOOR * limit:.2g} s), so that an endless loop costs the full limit once"
+            )
+            if len(where) > 1:
+                more = ", ".join(_where(w) for w in where[1:6]) + (
+                    ", ..." if len(where) > 6 else ""
+                )
+                text += f"; it ran out of that too in {more}"
+            lines.append(text)
+        return lines
+
+    def stopped_text(self, name: str, limit: float, answers: tuple[str, ...]) -> str:
+        """The feedback of a call stopped at the short limit of ``name``."""
+        who = name if name in answers else "a function it calls"
+        first = self.ran_out.get(name, ["an earlier test"])[0]
+        return (
+            f"timed out: stopped at the short limit of {who} ({self.short(name, limit):.2g} s), "
+            f"which did not return within {limit:g} s in {_where(first)}"
+        )
+
+
+def _where(w: str) -> str:
+    return w if w.startswith(("code cell", "an earlier")) else f"test {w}"
