@@ -46,8 +46,8 @@ from .ik.result import IKResult
 from .plot import _check_arm, _q_text
 from .transforms import homogeneous, r_to_rpy, rotz, rpy_to_r, wrap_angle
 
-__all__ = ["DHPanel", "IKPanel", "PUMA560_TABLE", "TeachPanel", "arm_from_table", "dh_panel",
-           "ik_panel", "pose_sliders_for", "teach"]
+__all__ = ["DHPanel", "EXAMPLES", "IKPanel", "PUMA560_TABLE", "TeachPanel", "arm_from_table",
+           "dh_panel", "ik_panel", "pose_sliders_for", "teach"]
 
 #: Pixel density of the redrawn figure.
 DPI = 80
@@ -402,6 +402,44 @@ R      0        0       -90   0
 R      0        0         0   0
 """
 
+#: Tables the DH panel offers to start from: name -> its inputs (see :class:`DHPanel`).
+EXAMPLES: dict[str, dict[str, str]] = {
+    "Puma 560": {"table": PUMA560_TABLE, "convention": "standard", "units": "m",
+                 "tool": "0 0 0", "target": "20 -30 40 10 50 60"},
+    "KUKA KR5": {"table": """\
+# KUKA KR5 (ARTE): m and degrees
+# type d      a     alpha offset
+R      0.4    0.18  -90   0
+R      0      0.6     0   0
+R      0      0.12   90   0
+R     -0.62   0     -90   0
+R      0      0      90   0
+R     -0.115  0     180   0
+""", "convention": "standard", "units": "m", "tool": "0 0 0", "target": "20 -40 60 30 40 50"},
+    "Epson C4 (modified DH)": {"table": """\
+# Epson C4, the lab's arm: mm and degrees
+# type d     a    alpha offset
+R      320   0      0    0
+R      0     100   90   90
+R      0     250    0    0
+R     -250   0    -90    0
+R      0     0     90    0
+R      0     0    -90    0
+""", "convention": "modified", "units": "mm", "tool": "0 0 -65 180 0 0",
+        "target": "30 20 -20 20 40 30"},
+    "UR5 (no spherical wrist)": {"table": """\
+# Universal Robots UR5: m and degrees
+# type d         a         alpha offset
+R      0.089159  0          90   0
+R      0        -0.425       0   0
+R      0        -0.39225     0   0
+R      0.10915   0          90   0
+R      0.09465   0         -90   0
+R      0.0823    0           0   0
+""", "convention": "standard", "units": "m", "tool": "0 0 0",
+        "target": "30 -60 80 -110 -90 20"},
+}
+
 _DECIMAL_COMMA = re.compile(r"^[-+]?\d+,\d+$")
 
 
@@ -510,6 +548,14 @@ def _numbers(text: Any, count: int, what: str) -> FloatArray:
     return values
 
 
+def _tool_pose(text: Any) -> FloatArray:
+    """The tool ``T_n_tcp`` from "x y z" or "x y z roll pitch yaw" (degrees)."""
+    tokens = _row_tokens(text) if isinstance(text, str) else list(np.ravel(text))
+    v = _numbers(tokens, 6 if len(tokens) == 6 else 3, "the tool (x y z, or x y z roll pitch yaw)")
+    R = rpy_to_r(*v[3:], degrees=True) if len(v) == 6 else np.eye(3)
+    return homogeneous(R, v[:3])
+
+
 @dataclass
 class DHState:
     """What the DH-table panel shows.
@@ -560,8 +606,8 @@ class DHPanel:
     def set(self, redraw: bool = True, **inputs: Any) -> None:
         """Change inputs by name: ``table``, ``convention``, ``units``, ``target``,
         ``mode`` ("joints": the target is FK of six joint values, degrees for revolute
-        joints; "pose": x y z roll pitch yaw, degrees) and ``tool`` (x y z of the TCP in
-        the last frame)."""
+        joints; "pose": x y z roll pitch yaw, degrees), ``tool`` (the TCP in the last
+        frame: x y z, or x y z roll pitch yaw) and ``name``."""
         for k, v in inputs.items():
             if k not in self.inputs:
                 raise InputError(f"the DH panel has no input {k!r}; it has "
@@ -579,7 +625,7 @@ class DHPanel:
         try:
             if inp["mode"] not in self.MODES:
                 raise InputError(f"mode must be 'joints' or 'pose', got {inp['mode']!r}")
-            tool = homogeneous(np.eye(3), _numbers(inp["tool"], 3, "the tool (x y z)"))
+            tool = _tool_pose(inp["tool"])
             arm = arm_from_table(inp["table"], inp["convention"], inp["units"],
                                  name=str(inp["name"]), tool=tool)
         except RikinError as exc:
@@ -709,14 +755,17 @@ class DHPanel:
                            layout=full),
             "units": w.Text(value=str(inp["units"]), description="units", style=style,
                             layout=full),
-            "tool": w.Text(value=str(inp["tool"]), description="tool x y z", style=style,
-                           layout=full),
+            "tool": w.Text(value=str(inp["tool"]), description="tool", style=style,
+                           layout=full, placeholder="x y z  or  x y z roll pitch yaw"),
             "mode": w.ToggleButtons(options=list(self.MODES), value=inp["mode"],
                                     description="target as", style=style),
             "target": w.Text(value=str(inp["target"]), description="target", style=style,
                              layout=full,
                              placeholder="q1 ... q6 (deg)  or  x y z roll pitch yaw"),
         }
+        self._example = w.Dropdown(options=["(your table)", *EXAMPLES], value="(your table)",
+                                   description="start from", style=style)
+        self._example.observe(self._on_example, names="value")
         button = w.Button(description="Solve", button_style="primary")
         button.on_click(self._on_solve)
         self._out = w.HTML()
@@ -724,13 +773,22 @@ class DHPanel:
         help_text = w.HTML("<b>Your own arm</b>: one row per joint, <code>type d a alpha "
                            "offset</code> (R or P; lengths in your units, angles in degrees); "
                            "press Solve for every IK solution of the target, drawn.")
-        self._widget = w.VBox([help_text, *self._fields.values(), button, self._out,
+        self._widget = w.VBox([help_text, self._example, *self._fields.values(), button,
+                               self._out,
                                self._image], layout=w.Layout(max_width="100%"))
         self._refresh()
         return self._widget
 
     def _on_solve(self, _button: Any = None) -> None:
         self.set(**{k: f.value for k, f in self._fields.items()})
+
+    def _on_example(self, change: dict[str, Any]) -> None:
+        example = EXAMPLES.get(change["new"])
+        if example is None:
+            return
+        for k, v in {**example, "name": change["new"].split(" (")[0], "mode": "joints"}.items():
+            self._fields[k].value = v
+        self._on_solve()
 
     def _ipython_display_(self) -> None:
         from IPython.display import display
@@ -757,7 +815,8 @@ def dh_panel(table: str = PUMA560_TABLE, **inputs: Any) -> DHPanel:
         One row per joint, ``type d a alpha offset`` (see :func:`arm_from_table`);
         default: the Puma 560.
     **inputs
-        ``convention`` ("standard" or "modified"), ``units``, ``tool`` ("x y z"),
+        ``convention`` ("standard" or "modified"), ``units``, ``tool`` ("x y z" or
+        "x y z roll pitch yaw"),
         ``mode`` ("joints" or "pose"), ``target`` (six numbers: joint values in
         degrees, or x y z roll pitch yaw) and ``name``.
 

@@ -169,3 +169,47 @@ def test_ik_panel_takes_an_arm_typed_from_its_table():
     assert fk_error(PUMA, st.result.q, st.target) < 1e-12
     with pytest.raises(InputError, match="0.09465"):
         widgets.ik_panel(widgets.arm_from_table(UR5_TABLE, units="m"))
+
+
+@pytest.mark.parametrize("name", list(widgets.EXAMPLES))
+def test_every_example_table_is_the_arm_it_names(name):
+    panel = widgets.dh_panel(**widgets.EXAMPLES[name])
+    st = panel.state
+    if name.startswith("UR5"):
+        assert not st.verdict.closed_form and st.numerical.success
+        assert fk_error(st.arm, st.numerical.q, st.target) < 1e-9
+        return
+    assert st.verdict.closed_form and len(st.result) == 8
+    assert fk_error(st.arm, st.result.q, st.target) < 1e-12
+    assert "the joints you typed are solution" in st.message
+    if name.startswith("Epson"):  # the lab's arm: the same FK as rikin.robots.epson_c4, tool too
+        ref = rikin.robots.epson_c4()
+        Q = np.random.default_rng(4).uniform(-pi, pi, size=(30, 6))
+        assert np.abs(st.arm.fk(Q) - ref.fk(Q)).max() < 1e-9 * ref.scale
+        ref_res = ref.ik(st.target)  # with the C4's joint limits: it may drop some
+        assert len(ref_res) + ref_res.discarded == len(st.result)
+        for q in ref_res.q:  # the lesson solver's solutions, each among the table's
+            assert np.abs(rikin.wrap_angle(st.result.q - q)).max(axis=1).min() < 1e-9
+
+
+def test_the_start_from_menu_fills_the_fields_and_solves():
+    pytest.importorskip("ipywidgets")
+    panel = widgets.dh_panel()
+    panel.widget()
+    panel._example.value = "Epson C4 (modified DH)"
+    assert panel._fields["convention"].value == "modified"
+    assert panel._fields["tool"].value == "0 0 -65 180 0 0"
+    st = panel.state
+    assert st.arm.name == "Epson C4" and st.arm.units == "mm" and len(st.result) == 8
+    assert np.allclose(st.arm.tool, rikin.robots.epson_c4().tool, atol=1e-12)
+    panel._example.value = "UR5 (no spherical wrist)"
+    assert "0.09465" in panel._out.value
+
+
+def test_tool_as_position_or_pose():
+    panel = widgets.dh_panel(tool="0 0 0.1 0 0 90")
+    T_tool = panel.state.arm.tool
+    assert np.allclose(T_tool, rikin.homogeneous(rikin.rotz(pi / 2), [0, 0, 0.1]), atol=1e-12)
+    panel.set(tool="0 0")
+    msg = panel.state.message
+    assert msg.startswith("The table cannot be read") and "tool" in msg
