@@ -334,3 +334,150 @@ def test_hostile_corpus_in_the_uid_sandbox(batch):
         if case.name not in UID_MODE_AT_MOST:  # their status varies as their score does
             assert rows[case.name] == UID_MODE_STATUS.get(case.name, case.status), case.name
     assert not _sandbox_processes()
+
+
+def _grade_uid(
+    gs, name: str, nb: bytes, *options: str
+) -> tuple[subprocess.CompletedProcess[str], Path]:
+    """One notebook graded by the CLI in the uid sandbox, under the seccomp filter."""
+    private = gs["base"] / name
+    private.mkdir(mode=0o700)
+    shutil.copyfile(ASSIGNMENT, private / "fake2r.py")
+    (private / "class").mkdir()
+    (private / "class" / f"{name}.ipynb").write_bytes(nb)
+    env = dict(gs["env"], PYTHONPATH=str(gs["base"] / "grader" / "lib"))
+    r = subprocess.run(
+        [
+            *NOUSERNS,
+            str(gs["base"] / "venv" / "bin" / "python"),
+            "-m",
+            "rikingrade.cli",
+            str(private / "fake2r.py"),
+            str(private / "class"),
+            "--out",
+            str(private / "out"),
+            "--workers",
+            "1",
+            "--sandbox",
+            "uid",
+            "--memory-mb",
+            "512",
+            "--cpu-seconds",
+            "60",
+            "--quiet",
+            *options,
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=600,
+    )
+    assert "sandbox: uid" in (private / "out" / "grading.log").read_text(), r.stderr
+    return r, private / "out"
+
+
+def _result(out: Path) -> dict:
+    import sqlite3
+
+    with sqlite3.connect(out / "gradebook.sqlite") as db:
+        (row,) = db.execute("SELECT result FROM results ORDER BY id DESC LIMIT 1").fetchall()
+    return json.loads(row[0])
+
+
+def test_a_hung_call_keeps_the_template_in_the_uid_sandbox(gs):
+    """A slow cell, then add() hangs once (the first call ever): the next tests run in
+    forks of the process that ran the cells, so the cells run once. Run again they would
+    count 2, and every function here then answers wrong on purpose."""
+    runs = f"/tmp/rikin-uid-template-{os.getpid()}"
+    nb = corpus._dump(
+        corpus._append(
+            corpus.solution(),
+            "import os, time\n"
+            "time.sleep(0.6)  # slow cells: worth keeping as a template\n"
+            f"RUNS = {runs!r}\n"
+            "with open(RUNS, 'a') as f:\n"
+            "    f.write('x')\n"
+            "def _once():\n"
+            "    return len(open(RUNS).read()) == 1\n"
+            "_add, _fk, _fkb = add, fk_2r, fk_2r_batch\n"
+            "def add(a, b):\n"
+            "    if not os.path.exists(RUNS + '.hung'):\n"
+            "        open(RUNS + '.hung', 'w').close()\n"
+            "        while True:\n"
+            "            pass\n"
+            "    return _add(a, b) if _once() else -999\n"
+            "def fk_2r(*a, **k):\n"
+            "    return _fk(*a, **k) if _once() else _fk(*a, **k) + 1\n"
+            "def fk_2r_batch(*a, **k):\n"
+            "    return _fkb(*a, **k) if _once() else _fkb(*a, **k) + 1\n",
+        )
+    )
+    r, out = _grade_uid(gs, "template", nb, "--cell-timeout", "10")
+    res = _result(out)
+    points = {t["name"]: t["weight"] * t["fraction"] for t in res["tests"]}
+    # add_int hung (0); the rest ran in forks of the template, the cells never again
+    assert points == {"add_int": 0.0, "add_float": 1.0, "fk_2r": 2.0, "fk_2r_batch": 1.0}, (
+        res["tests"],
+        r.stderr[-2000:],
+    )
+    assert not _sandbox_processes()
+
+
+HOG_UID = (
+    "import json, os, time\n"
+    "r, w = os.pipe()\n"
+    "kids, forks_failed = [], 0\n"
+    "for _ in range(4):\n"
+    "    try:\n"
+    "        pid = os.fork()\n"
+    "    except OSError:\n"
+    "        forks_failed += 1\n"
+    "        continue\n"
+    "    if pid == 0:\n"
+    "        try:\n"
+    "            junk = b'x' * (350 * 2**20)  # written, so really held\n"
+    "            os.write(w, b'%d\\n' % os.getpid())\n"
+    "            time.sleep(30)\n"
+    "        finally:\n"
+    "            os._exit(0)\n"
+    "    kids.append(pid)\n"
+    "os.set_blocking(r, False)\n"
+    "got, dead = b'', set()\n"
+    "end = time.time() + 25\n"
+    "while time.time() < end and len(got.split()) + len(dead) < len(kids):\n"
+    "    try:\n"
+    "        got += os.read(r, 100)\n"
+    "    except BlockingIOError:\n"
+    "        time.sleep(0.05)\n"
+    "    dead |= {p for p in kids if p not in dead and os.waitpid(p, os.WNOHANG)[0]}\n"
+    "time.sleep(0.5)  # an OOM kill may follow the last write\n"
+    "alive = {p for p in kids if p not in dead and os.waitpid(p, os.WNOHANG) == (0, 0)}\n"
+    "held = len({int(x) for x in got.split()} & alive)\n"
+    "lim = {l[:26].strip(): l[26:].split()[0] for l in open('/proc/self/limits') if l[:3] == 'Max'}\n"  # noqa: E501
+    "print(json.dumps({'held': held, 'nproc': lim['Max processes'], 'as': lim['Max address space']}))\n"  # noqa: E501
+    "for p in alive:\n"
+    "    os.kill(p, 9)\n"
+)
+
+
+def test_memory_is_limited_per_sandbox_in_the_uid_sandbox(gs):
+    """Four forks of 350 MiB under memory_mb=512: with a memory cgroup (a root grader where
+    the cgroup fs is writable, as here) the sandbox never holds two; without one the
+    process limit keeps processes x per-process memory within the machine's share."""
+    from rikingrade.sandbox.cgroup import MemoryGroup, machine_memory_mb
+
+    probe = MemoryGroup.create(f"rikingrade-test-{os.getpid()}")
+    if probe is not None:
+        probe.close()
+    r, out = _grade_uid(
+        gs, "hog", corpus._dump(corpus._append(corpus.solution(), HOG_UID)), "--cell-timeout", "40"
+    )
+    res = _result(out)
+    found = [c["output"] for c in res["cells"] if '"held"' in c["output"]]
+    assert res["status"] == "ok" and found, (res["status"], res["problems"], r.stderr[-2000:])
+    found = json.loads(found[0].strip().splitlines()[-1])
+    if probe is not None:
+        assert found["held"] <= 1, found
+    else:  # a read-only cgroup fs (most containers): the fallback must hold
+        assert int(found["nproc"]) * int(found["as"]) <= machine_memory_mb() * 0.9 * 2**20, found
+    assert not _sandbox_processes()

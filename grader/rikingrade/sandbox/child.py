@@ -1120,7 +1120,7 @@ class Zygote:
 
     def kill_except(self, keep):
         """Kill every process but this one and ``keep`` (a template); True if it lives."""
-        if not self.in_pidns or keep not in self.children:
+        if not (self.in_pidns or self.by_uid) or keep not in self.children:
             self.kill_all()
             self.wipe_scratch()
             return False
@@ -1132,6 +1132,8 @@ class Zygote:
             except OSError:
                 break
             victims = [p for p in pids if p not in (1, me, keep)]
+            if not self.in_pidns:  # uid mode: the live processes of this uid are ours
+                victims = [p for p in victims if self._live_ours(p)]
             for sig in (signal.SIGSTOP, signal.SIGKILL):  # stopped, nothing forks again
                 for p in victims:
                     try:
@@ -1146,6 +1148,20 @@ class Zygote:
             self.children.pop(keep, None)
             return False
         return True
+
+    def _live_ours(self, pid):
+        """``pid`` is a live (not zombie) process of this uid."""
+        try:
+            with open(f"/proc/{pid}/stat") as f:
+                if f.read().rsplit(")", 1)[1].split()[0] == "Z":
+                    return False
+            with open(f"/proc/{pid}/status") as f:
+                for line in f:
+                    if line.startswith("Uid:"):
+                        return line.split()[1] == str(os.getuid())
+        except (OSError, IndexError):
+            pass
+        return False
 
     def _others_exist(self):
         me = os.getpid()

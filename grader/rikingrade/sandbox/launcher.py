@@ -124,6 +124,9 @@ def uid_main(cfg, libc):
         notes["netns"] = True
     else:
         notes["netns"] = os.strerror(ctypes.get_errno())
+    if cfg.get("cgroup"):  # join the sandbox's memory cgroup while still root
+        with open(cfg["cgroup"], "w") as f:
+            f.write(str(os.getpid()))
     os.umask(0o077)
     _drop(uid, gid)
     if libc.prctl(PR_SET_NO_NEW_PRIVS, 1, 0, 0, 0) != 0:

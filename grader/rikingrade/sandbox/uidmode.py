@@ -17,7 +17,11 @@ student code with plain Unix permissions:
   network namespace is used as well where one can be made);
 - ``kill(-1)`` as that uid ends every process it owns, daemonised grandchildren included
   (the zygote does it between submissions; the grader, through the launcher, when the
-  zygote itself is gone), and files it left in the world-writable directories are removed.
+  zygote itself is gone), and files it left in the world-writable directories are removed;
+  after a hung call the zygote kills every live process of that uid but the template that
+  ran the cells, so those are not run again (as in the bwrap mode);
+- a root grader puts each zygote in a memory cgroup of its own where the cgroup fs is
+  writable (not in most containers: there the process count bounds memory, see cgroup.py).
 
 What it does not hide: the rest of the machine's world-readable files (``/etc/passwd``,
 the Python installation). On Gradescope those hold nothing of the course.

@@ -343,6 +343,9 @@ class Sandbox:
         argv = [cfg.python, "-I", "-B", child, json.dumps(child_cfg)]
         secret = [str(h) for h in cfg.hidden if os.path.exists(h)]
         self.command = argv
+        # Memory for the sandbox as a whole, where the cgroup fs is writable (a root grader
+        # on a machine or VM; not in most containers: then the process-count fallback).
+        self.group = MemoryGroup.create(f"rikingrade-{os.getpid()}-{id(self):x}-{self.starts}")
         launcher = {
             "op": "uid",
             "uid": uid,
@@ -353,6 +356,7 @@ class Sandbox:
             "secret": secret,
             "argv": argv,
             "env": env,
+            "cgroup": self.group.procs if self.group is not None else None,
         }
         log.info("sandbox (uid mode) as uid %d: %s", uid, argv)
         return (
@@ -503,8 +507,8 @@ class Sandbox:
     def kill_except(self, keep: int) -> bool:
         """Kill every process in the sandbox but the zygote and ``keep`` (a template).
 
-        False when ``keep`` is gone or cannot be kept (no PID namespace): then everything
-        was killed and the scratch wiped, as :meth:`reset` does.
+        False when ``keep`` is gone or cannot be kept (unsandboxed: no PID namespace nor uid
+        of its own): then everything was killed and the scratch wiped, as :meth:`reset` does.
         """
         if not self.alive:
             self.close()
