@@ -110,13 +110,14 @@ class _Helper:
                         int(head.get("size", 0)),
                     )
                 n = int(head["n"])
-                buf = bytearray()
-                while len(buf) < n:
-                    chunk = self.sock.recv(filereader.CHUNK)
-                    if not chunk:
+                buf = bytearray(n)  # filled in place: one copy of a large notebook
+                view, got = memoryview(buf), 0
+                while got < n:
+                    k = self.sock.recv_into(view[got:], min(filereader.CHUNK, n - got))
+                    if not k:
                         raise OSError("the file reader ended")
-                    buf += chunk
-                return bytes(buf)
+                    got += k
+                return buf  # type: ignore[return-value]
             except ReadFailed:
                 raise
             except (OSError, ValueError, KeyError) as exc:
