@@ -26,7 +26,7 @@ import numpy as np
 from .errors import InputError
 from .ik.result import IKResult
 
-__all__ = ["Table", "solutions_table", "table"]
+__all__ = ["Table", "dh_table", "solutions_table", "table"]
 
 #: The CSS class of every table (the book's stylesheet may style it).
 CSS_CLASS = "rikin-table"
@@ -149,3 +149,47 @@ def solutions_table(result: IKResult, decimals: int = 4, caption: str | None = N
     if caption is None and result.singular:
         caption = f"singular: {result.singularity}; free joints {result.free_joints}"
     return Table(header, rows, decimals, caption)
+
+
+def dh_table(arm: Any, decimals: int = 4) -> Table:
+    """An arm's DH table: one row per joint, angles in degrees, the joint variable by name.
+
+    The HTML counterpart of ``arm.dh_table()`` (aligned text, angles in radians): columns
+    theta, d, a, alpha for standard DH and alpha_{i-1}, a_{i-1}, theta, d for modified DH,
+    then the joint offset. A revolute joint's theta reads ``q<i>`` (plus its offset), a
+    prismatic joint's d reads ``q<i> + d``.
+
+    Parameters
+    ----------
+    arm : rikin.SerialArm
+    decimals : int
+        Most decimals of a length, shown without trailing zeros (angles: 4 significant
+        digits).
+
+    Returns
+    -------
+    Table
+    """
+    links = getattr(arm, "links", None)
+    if links is None or not hasattr(arm, "convention"):
+        raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
+    unit = f" ({arm.units})" if getattr(arm, "units", "") else ""
+
+    def deg(x: Any) -> str:
+        return f"{float(np.degrees(float(x))):.4g}°"
+
+    def length(x: Any) -> str:  # as typed: 10, 0.25, -250 (no trailing zeros)
+        return str(np.format_float_positional(round(float(x), decimals) + 0.0, trim="-"))
+
+    modified = arm.convention == "modified"
+    header = (["joint", "type", "α(i−1)", f"a(i−1){unit}", "θ(i)", f"d(i){unit}", "offset"]
+              if modified else
+              ["joint", "type", "θ(i)", f"d(i){unit}", f"a(i){unit}", "α(i)", "offset"])
+    rows = []
+    for i, lk in enumerate(links, 1):
+        theta = f"q{i}" if lk.is_revolute else deg(lk.theta)
+        d = length(lk.d) if lk.is_revolute else f"q{i} + {length(lk.d)}"
+        cells = ([deg(lk.alpha), length(lk.a), theta, d] if modified
+                 else [theta, d, length(lk.a), deg(lk.alpha)])
+        rows.append([i, lk.joint, *cells, deg(lk.offset)])
+    return Table(header, rows, decimals)

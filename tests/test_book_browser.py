@@ -11,6 +11,16 @@ fails on:
   ``#anchor`` that is not an id of the target page);
 * a SEVERE message in the browser console (a script error, a resource that failed to load).
 
+Every chapter is also laid out at two widths, with every folded cell and dropdown opened:
+
+* at 1280 px every code cell, output, table, display equation and figure fits the text
+  column: none scrolls sideways inside its box, none sticks out of the column, none is cut
+  by ``overflow: hidden``, and the page does not scroll sideways;
+* at 390 px (a phone) the page does not scroll sideways and nothing sticks out or is cut;
+  a wide table, code block or equation may scroll inside its own box there (never a whole
+  section or cell). ``test_the_layout_check_finds_what_does_not_fit`` shows the check
+  catching each kind of defect.
+
 And one interactive figure is operated: on the first chapter with an all-solutions
 figure, clicking a solution's button must change the traces shown, the title (to that
 solution's branch) and the pixels drawn, with plotly.js served by the book itself.
@@ -18,8 +28,8 @@ solution's branch) and the pixels drawn, with plotly.js served by the book itsel
 The book is built once per module into a temporary directory with the same strict command
 as ``test_book_build.py``; set ``RIKIN_BOOK_HTML`` to an existing ``_build/html`` folder to
 test that build instead. Chromium and chromedriver come from the Debian packages
-``chromium`` and ``chromium-driver``; the test is skipped, saying so, only when they are not
-installed.
+``chromium`` and ``chromium-driver`` (``tools/dev.py test`` installs them as root); without
+them these tests fail, saying how to install them (never skip).
 """
 
 from __future__ import annotations
@@ -76,9 +86,10 @@ PAGES = _toc_pages()
 def browser_paths() -> tuple[str, str]:
     browser, driver = _which(BROWSERS), _which(DRIVERS)
     if browser is None or driver is None:
-        pytest.skip(
-            "Chromium and chromedriver are not installed "
-            "(Debian: apt-get install -y chromium chromium-driver); CI installs them"
+        pytest.fail(
+            "Chromium and chromedriver are not installed: the book's browser tests need them "
+            "(Debian: apt-get install -y chromium chromium-driver; tools/dev.py test installs "
+            "them when run as root)"
         )
     return browser, driver
 
@@ -232,6 +243,29 @@ return Array.from(document.querySelectorAll('a[href]')).map(a => [a.getAttribute
 """
 
 
+#: A line of the page (code blocks included) that is a directive's fence: MyST that did not
+#: parse (e.g. a backtick in a backtick fence's title) and is shown to the reader as is.
+_RAW_MARKUP = r"""
+const article = document.querySelector('article') || document.body;
+return article.innerText.split('\n').filter(l => /^\s*(`{3,}|:{3,}|~{3,})\{[a-z-]+\}/.test(l))
+              .map(l => l.trim().slice(0, 80));
+"""
+
+
+#: Output text a reader should never see: 0.30000000000000004 or 0.4999999999999999 (a
+#: float printed unformatted), np.float64(...) / np.int64(...) (a numpy scalar's repr).
+_NOISY_NUMBERS = r"""
+const out = [];
+const noise = /\d\.\d*(?:0{9,}[1-9]|9{9,}\d)|np\.(?:float|int)\d+\(/;
+for (const el of document.querySelectorAll('.cell_output, .output')) {
+  for (const line of el.innerText.split('\n')) {
+    if (noise.test(line)) out.push(line.trim().slice(0, 80));
+  }
+}
+return Array.from(new Set(out));
+"""
+
+
 def _ids_of(html_file: Path) -> set[str]:
     text = html_file.read_text(encoding="utf-8", errors="replace")
     return set(re.findall(r'\bid="([^"]+)"', text)) | set(re.findall(r'\bname="([^"]+)"', text))
@@ -307,6 +341,12 @@ def test_page_renders_offline(page: str, book_html: Path, server: str, driver: o
 
     problems += _check_links(driver.execute_script(_LINKS), server, book_html, page)
 
+    markup = driver.execute_script(_RAW_MARKUP)
+    problems += [f"{page}: MyST markup shown as text (a broken directive): {t!r}"
+                 for t in markup]
+    problems += [f"{page}: an output shows a number's rounding noise or its numpy type: {t!r}"
+                 for t in driver.execute_script(_NOISY_NUMBERS)]
+
     severe = [e["message"] for e in driver.get_log("browser") if e.get("level") == "SEVERE"]
     problems += [f"{page}: console error: {m}" for m in severe]
     assert not problems, "\n".join(problems)
@@ -336,23 +376,33 @@ document.querySelectorAll('.toggle-hidden, .toggle-details').forEach(
   el => el.classList.remove('toggle-hidden'));
 const column = document.querySelector('article.bd-article') || document.querySelector('main');
 const col = column.getBoundingClientRect();
-// inline math measures wider than its box by its glyphs' overhang; display math is checked
+// the inside of a typeset formula, a plotly drawing or a heading's link is not a box of
+// the text; inline math measures wider than its box by its glyphs' overhang (display
+// math is checked)
 const internal = el => el.closest('mjx-assistive-mml, .headerlink, script, style, '
-                                  + '.modebar-container, .plotly .main-svg defs, '
-                                  + 'mjx-container:not([display="true"]), span.math');
-const scrolls = el => ['auto', 'scroll', 'hidden', 'clip'].includes(
-  getComputedStyle(el).overflowX);
+                                  + '.modebar-container, .js-plotly-plot .plot-container, '
+                                  + 'mjx-container:not([display="true"]), '
+                                  + 'mjx-container[display="true"] *, span.math');
+const overflowX = el => getComputedStyle(el).overflowX;
+const scrolls = el => ['auto', 'scroll'].includes(overflowX(el));
+const clips = el => ['hidden', 'clip'].includes(overflowX(el));
 const kind = el => {
+  if (el.matches('mjx-container:not([display="true"])')) return 'inline math';
   if (el.matches('.math, mjx-container') || el.querySelector('mjx-container[display]'))
     return 'equation';
-  if (el.matches('table') || el.querySelector(':scope > table')) return 'table';
+  if (el.matches('table') || el.querySelector('table')) return 'table';
   if (el.closest('.cell_input')) return 'input cell';
   if (el.closest('.cell_output, .output')) return 'output';
-  if (el.matches('pre, div.highlight')) return 'code block';
-  if (el.matches('img, svg, canvas, .rikin-interactive')) return 'figure';
+  if (el.matches('pre, div.highlight') || el.querySelector('pre')) return 'code block';
+  if (el.matches('img, svg, canvas, .rikin-interactive') || el.querySelector('img, svg'))
+    return 'figure';
   return el.tagName.toLowerCase();
 };
-const describe = (el, why) => ({kind: kind(el), why: why,
+// a box that scrolls sideways is the box of ONE table, code block, equation or figure,
+// not a section or a whole cell made to scroll so that everything in it passes
+const ownBox = el => !el.matches('section, .cell, article, main')
+  && !el.querySelector('h1, h2, h3, h4, h5, h6, section, .cell, p + p');
+const describe = (el, why) => ({kind: kind(el), why: why, own: ownBox(el),
   text: (el.textContent || el.getAttribute('src') || '').trim().replace(/\s+/g, ' ')
           .slice(0, 70)});
 const insideScroller = el => {
@@ -361,33 +411,55 @@ const insideScroller = el => {
   }
   return false;
 };
-const found = [];
-const flagged = [];
-const under = el => flagged.some(f => f.contains(el));
-// (a) a box that scrolls (or clips) sideways because its content is wider than it
+const scrolled = [], clipped = [], out = [];
+const seen = [];
+const under = el => seen.some(f => f !== el && f.contains(el));
+// (a) a box whose content is wider than it: it scrolls sideways (or hides what is wider)
 for (const el of column.querySelectorAll('*')) {
-  if (internal(el) || !scrolls(el) || el.clientWidth === 0) continue;
-  if (el.scrollWidth > el.clientWidth + 1 && !under(el)) {
-    flagged.push(el);
-    found.push(describe(el, `content ${el.scrollWidth}px in a ${el.clientWidth}px box`));
-  }
+  if (internal(el) || el.clientWidth === 0) continue;
+  if (!(scrolls(el) || clips(el)) || el.scrollWidth <= el.clientWidth + 1 || under(el)) continue;
+  seen.push(el);
+  const why = `content ${el.scrollWidth}px in a ${el.clientWidth}px box`;
+  (scrolls(el) ? scrolled : clipped).push(describe(el, why));
 }
-// (b) a block that sticks out of the column (not inside a box that scrolls)
+// (b) a block that sticks out of the column (not inside a box that scrolls), and inline
+// math that does (MathJax does not break a formula inside a line: one wider than the
+// column is cut off at its edge); a glyph may overhang its box by a pixel or two
+const inlineMath = 'mjx-container:not([display="true"])';
 const blocks = column.querySelectorAll(
   'pre, div.highlight, table, img, svg, canvas, div.math, mjx-container[display="true"], '
-  + '.rikin-interactive, .cell, .cell_output, figure, p, li, dl, blockquote, .admonition');
+  + '.rikin-interactive, .cell, .cell_output, figure, p, li, dl, blockquote, .admonition, '
+  + inlineMath);
 for (const el of blocks) {
-  if (internal(el) || under(el) || insideScroller(el)) continue;
+  const inline = el.matches(inlineMath);
+  if ((!inline && internal(el)) || under(el) || insideScroller(el)) continue;
+  if (inline && el.parentElement.closest('mjx-assistive-mml, mjx-container')) continue;
   const r = el.getBoundingClientRect();
   if (r.width === 0 || r.height === 0) continue;
-  if (r.right > col.right + 1 || r.left < col.left - 1) {
-    flagged.push(el);
-    found.push(describe(el, `${Math.round(r.width)}px wide, sticks out of the `
-                            + `${Math.round(col.width)}px column`));
+  const slack = inline ? 3 : 1;
+  // cut at the edge of a box that hides what is wider (an admonition does)
+  let clipper = null;
+  for (let p = el.parentElement; p && p !== column && !clipper; p = p.parentElement) {
+    if (clips(p)) clipper = p;
+  }
+  if (clipper && !clipper.matches('mjx-container')) {
+    const c = clipper.getBoundingClientRect();
+    if (r.right > c.right + slack || r.left < c.left - slack) {
+      seen.push(el);
+      clipped.push(describe(el, `${Math.round(r.width)}px wide, cut at the edge of its `
+                                + `${Math.round(c.width)}px box`));
+      continue;
+    }
+  }
+  if (r.right > col.right + slack || r.left < col.left - slack) {
+    seen.push(el);
+    out.push(describe(el, `${Math.round(r.width)}px wide, sticks out of the `
+                          + `${Math.round(col.width)}px column`));
   }
 }
 return {column: Math.round(col.width), page: document.documentElement.scrollWidth,
-        viewport: window.innerWidth, found: found};
+        viewport: window.innerWidth, scrolled: scrolled, clipped: clipped, out: out,
+        n_checked: blocks.length};
 """
 
 
@@ -411,6 +483,124 @@ def _set_width(driver: object, px: int) -> None:
 
 
 CHAPTER_PAGES = [p for p in PAGES if p.startswith("book/")]
+
+
+
+def _layout_problems(page: str, px: int, state: dict, *, may_scroll: bool) -> list[str]:
+    """What a reader at ``px`` wide would find cut off, hidden or sticking out."""
+    at = f"{page} at {px}px"
+    problems = []
+    if state["page"] > state["viewport"] + 1:
+        problems.append(f"{at}: the page is {state['page']}px wide for a {state['viewport']}px "
+                        "window: it scrolls sideways")
+    problems += [f"{at}: {f['kind']} hidden (overflow hidden): {f['why']}: {f['text']!r}"
+                 for f in state["clipped"]]
+    problems += [f"{at}: {f['kind']} {f['why']}: {f['text']!r}" for f in state["out"]]
+    for f in state["scrolled"]:
+        if not may_scroll:
+            problems.append(f"{at}: {f['kind']} does not fit the column, it scrolls "
+                            f"sideways: {f['why']}: {f['text']!r}")
+        elif not f["own"]:
+            problems.append(f"{at}: a whole block of the text scrolls sideways, not one "
+                            f"{f['kind']} in its own box: {f['why']}: {f['text']!r}")
+    return problems
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", CHAPTER_PAGES)
+def test_nothing_is_wider_than_the_column(page: str, book_html: Path, server: str,
+                                          driver: object) -> None:
+    """Every folded cell and dropdown opened: at 1280 px every code cell, output, table,
+    display equation and figure fits the text column (none scrolls sideways, none sticks
+    out, none is cut by ``overflow: hidden``); at 390 px (a phone) the page never scrolls
+    sideways and nothing sticks out or is cut, though a wide table, code block or
+    equation may scroll inside its own box."""
+    try:
+        _set_width(driver, DESKTOP_PX)
+        _open(driver, f"{server}/{page}")
+        desk = driver.execute_script(_OVERFLOW)
+        _set_width(driver, PHONE_PX)
+        time.sleep(0.5)  # plotly and MathJax re-lay out on resize
+        phone = driver.execute_script(_OVERFLOW)
+    finally:
+        _set_width(driver, DESKTOP_PX)
+    assert desk["viewport"] == DESKTOP_PX and phone["viewport"] == PHONE_PX, (desk, phone)
+    assert desk["column"] > 500, f"{page}: the text column is only {desk['column']}px at 1280"
+    assert phone["column"] < PHONE_PX, f"{page}: the column is {phone['column']}px on a phone"
+    assert desk["n_checked"] > 0, f"{page}: no block of text was found to check"
+    problems = _layout_problems(page, DESKTOP_PX, desk, may_scroll=False)
+    problems += _layout_problems(page, PHONE_PX, phone, may_scroll=True)
+    assert not problems, "\n".join(problems)
+
+
+
+_INJECT_BAD_LAYOUT = r"""
+const sec = document.querySelector('article.bd-article section');
+const add = html => { const d = document.createElement('div'); d.innerHTML = html;
+                      sec.appendChild(d.firstElementChild); };
+add('<div class="rikin-table-wrap" style="overflow-x:auto"><table id="t-scroll">'
+    + '<tr><td style="white-space:nowrap">' + 'scrolling table '.repeat(80)
+    + '</td></tr></table></div>');
+add('<pre id="t-hidden" style="overflow-x:hidden; white-space:pre">'
+    + 'hidden code '.repeat(80) + '</pre>');
+add('<table id="t-out"><tr><td style="white-space:nowrap">'
+    + 'sticking-out table '.repeat(80) + '</td></tr></table>');
+add('<p>a formula in a line: <mjx-container id="t-inline" style="display:inline-block;'
+    + 'white-space:nowrap">' + 'x + '.repeat(200) + 'y</mjx-container></p>');
+add('<section id="t-section" style="overflow-x:auto"><h3>a heading</h3><p>text</p>'
+    + '<p style="white-space:nowrap">' + 'a whole scrolling section '.repeat(60)
+    + '</p></section>');
+"""
+
+#: A formula in a line, typeset by the page's MathJax, wider than its 200 px column: the
+#: theme's ``span.math`` shrinks to the line and hides the rest (its own box is not
+#: checked: inline glyphs overhang it), so only the formula's edges show that it is cut.
+_INJECT_CUT_FORMULA = r"""
+const done = arguments[arguments.length - 1];
+const box = document.createElement('div');
+box.style.cssText = 'width:200px';
+box.innerHTML = '<ol><li><p>in a box: <span class="math notranslate nohighlight">\\('
+                + 'z + '.repeat(40) + 'w\\)</span></p></li></ol>';
+document.querySelector('article.bd-article section').appendChild(box);
+MathJax.typesetPromise([box]).then(() => done(box.querySelector('mjx-container') ? 'ok'
+                                                : 'not typeset')).catch(e => done(String(e)));
+"""
+
+
+@pytest.mark.book
+@pytest.mark.slow
+def test_the_layout_check_finds_what_does_not_fit(book_html: Path, server: str,
+                                                  driver: object) -> None:
+    """The check above is not vacuous: a page given a table that scrolls, code cut by
+    ``overflow: hidden``, a table and a formula in a line sticking out, and a whole section
+    made to scroll fails, each for its own reason, at both widths."""
+    page = "book/planar.html"
+    try:
+        for px in (DESKTOP_PX, PHONE_PX):
+            _set_width(driver, px)
+            _open(driver, f"{server}/{page}")
+            driver.execute_script(_INJECT_BAD_LAYOUT)
+            assert driver.execute_async_script(_INJECT_CUT_FORMULA) == "ok"
+            time.sleep(0.2)
+            problems = "\n".join(_layout_problems(page, px, driver.execute_script(_OVERFLOW),
+                                                  may_scroll=px == PHONE_PX))
+            assert "hidden (overflow hidden)" in problems and "hidden code" in problems
+            assert "sticks out of the" in problems and "sticking-out table" in problems
+            assert "it scrolls sideways" in problems  # the page itself, for the wide table
+            assert "a whole scrolling section" in problems
+            assert "inline math " in problems and "x + x + x" in problems
+            assert "inline math hidden (overflow hidden)" in problems
+            assert re.search(r"inline math hidden \(overflow hidden\): \d+px wide, cut at "
+                             r"the edge of its 1\d\dpx box: 'z\+z\+z", problems), problems
+            if px == DESKTOP_PX:
+                assert "table does not fit the column, it scrolls sideways" in problems
+                assert "scrolling table" in problems
+            else:  # on a phone one table may scroll in its own box, a section may not
+                assert "scrolling table" not in problems, problems
+                assert "a whole block of the text scrolls sideways" in problems
+    finally:
+        _set_width(driver, DESKTOP_PX)
 
 
 # ------------------------------------------------------------------ an interactive figure, operated

@@ -219,7 +219,7 @@ def test_chapter_has_the_teaching_apparatus(page: str) -> None:
     for heading in ("Summary", "Check yourself", "Exercises"):
         assert re.search(rf"^## {heading}\s*$", text, re.M), f"{page}: no '## {heading}' section"
     check = text[text.index("## Check yourself"):]
-    assert len(re.findall(r"^```\{dropdown\}", check, re.M)) >= 3, (
+    assert len(re.findall(r"^(?:```|:::)\{dropdown\}", check, re.M)) >= 3, (
         f"{page}: fewer than 3 self-check questions with hidden answers ({{dropdown}})"
     )
     assert "{ref}`" in text and "references" in text, f"{page}: cites no reference"
@@ -239,7 +239,8 @@ def test_checks_are_folded(page: str) -> None:
 
     unfolded = [b.splitlines()[0] if b.strip() else "" for b in blocks
                 if re.search(r"^\s*assert ", b, re.M) and not folded.search(options(b))]
-    assert not unfolded, f"{page}: {len(unfolded)} asserting cells are shown unfolded: {unfolded[:3]}"
+    assert not unfolded, (
+        f"{page}: {len(unfolded)} asserting cells are shown unfolded: {unfolded[:3]}")
 
 
 def test_exercises_chapter_states_the_problems() -> None:
@@ -298,3 +299,17 @@ def test_every_figure_is_numbered_captioned_and_referenced(page: str) -> None:
     for name in names:
         assert f"{{numref}}`{name}`" in text, f"{page}: figure {name} is never referred to"
     assert len(set(names)) == len(names), f"{page}: two figures share a name"
+
+
+@pytest.mark.parametrize("page", PAGES)
+def test_directives_open_with_a_fence_that_allows_their_title(page: str) -> None:
+    """A directive whose title has inline code (a backtick) must open with a colon fence
+    (``:::{dropdown} ...``): CommonMark forbids a backtick in a backtick fence's info
+    string, so "```{dropdown} Why `x`?" is no fence at all: the reader gets the raw markup,
+    and the next fence turns the following text into a code block."""
+    bad = [
+        f"{page}.md:{n}: {line[:70]}"
+        for n, line in enumerate(_source(page).splitlines(), 1)
+        if re.match(r"^`{3,}\{[a-z-]+\}", line) and "`" in line.lstrip("`")
+    ]
+    assert not bad, "use :::{directive} ... ::: for these:\n" + "\n".join(bad)

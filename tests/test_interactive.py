@@ -10,7 +10,7 @@ import pytest
 
 import rikin
 from rikin import InputError, interactive, robots
-from rikin.tables import Table, solutions_table, table
+from rikin.tables import Table, dh_table, solutions_table, table
 
 AULA10_Q_DEG = [99.6, 9, 26.4, 68.4, 30, 151]
 
@@ -138,3 +138,20 @@ def test_table_formats_numpy_scalars_without_their_type():
     assert str(t).splitlines()[2].split() == ["3", "0.0"]
     with pytest.raises(InputError, match="row 1"):
         Table(["a", "b"], [[1]])
+
+
+def test_dh_table_rows_follow_the_arm_in_degrees():
+    """The HTML DH table shows what the arm's links hold, angles in degrees: checked
+    against the lab's and the notes' tables (C4: modified, mm; RPRRR: a slide)."""
+    c4 = dh_table(rikin.robots.epson_c4())
+    assert c4.header[:6] == ["joint", "type", "α(i−1)", "a(i−1) (mm)", "θ(i)", "d(i) (mm)"]
+    assert [r[2:] for r in c4.cells[:4]] == [["0°", "0", "q1", "320", "0°"],
+                                             ["90°", "100", "q2", "0", "90°"],
+                                             ["0°", "250", "q3", "0", "0°"],
+                                             ["-90°", "0", "q4", "-250", "0°"]]
+    rp = dh_table(rikin.robots.rprrr())  # a1 + a3 = 4 + 6 on the slide
+    assert rp.header[2:6] == ["θ(i)", "d(i)", "a(i)", "α(i)"]
+    assert rp.cells[1][1:4] == ["P", "0°", "q2 + 10"]
+    assert c4._repr_html_().count("<tr>") == 7 and "np." not in str(c4) + str(rp)
+    with pytest.raises(InputError, match="SerialArm"):
+        dh_table([1, 2])
