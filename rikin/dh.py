@@ -432,21 +432,33 @@ class SerialArm:
         ``Rz(theta) [Tz(d) Tx(a) Rx(alpha)]``; modified: ``[Rx(alpha) Tx(a) Tz(d)] Rz(theta)``,
         as Rz and Tz commute), and ``Rz(theta) = cos(theta) P + sin(theta) Q + E`` with
         constant ``P, Q, E``. So link i is ``cos * C1_i + sin * C2_i + C3_i`` with constants
-        (base folded into the first link, tool into the last): a dozen array operations for
-        the whole chain instead of a dozen per link. The IK of one pose checks with it.
+        (base folded into the first link, tool into the last): one matmul with a block-diagonal
+        constant gives every link of every row, and neighbours are multiplied pairwise, about
+        ten array operations for the whole chain instead of a dozen per link. The IK of one pose checks with it.
         """
         consts = self.__dict__.get("_fk_consts")
         if consts is None:
-            consts = self._link_constants()
+            C1, C2, C3, offsets = self._link_constants()
+            n = self.n
+            # link i = [cos, sin, 1] @ C[i], all links in ONE matmul with a block-diagonal C
+            C = np.zeros((3 * n, 16 * n))
+            for i, Ci in enumerate((C1, C2, C3)):
+                for j in range(n):
+                    C[3 * j + i, 16 * j : 16 * j + 16] = Ci[j].ravel()
+            consts = (C, offsets)
             object.__setattr__(self, "_fk_consts", consts)
-        C1, C2, C3, offsets = consts
+        C, offsets = consts
+        k, n = q.shape
         th = q + offsets
-        c = np.cos(th)[..., None, None]
-        s = np.sin(th)[..., None, None]
-        M = (c * C1 + s * C2 + C3).transpose(1, 0, 2, 3)  # (n, k, 4, 4): M[i] is link i
-        T = M[0]
-        for i in range(1, q.shape[1]):
-            T = T @ M[i]
+        X = np.ones((k, n, 3))
+        np.cos(th, out=X[..., 0])
+        np.sin(th, out=X[..., 1])
+        M = (X.reshape(k, 3 * n) @ C).reshape(k, n, 4, 4)  # M[:, i] is link i
+        while M.shape[1] > 3 and M.shape[1] % 2 == 0:  # neighbours pairwise: fewer matmuls
+            M = M[:, 0::2] @ M[:, 1::2]
+        T = M[:, 0]
+        for i in range(1, M.shape[1]):
+            T = T @ M[:, i]
         return T
 
     def _link_constants(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:

@@ -1,6 +1,7 @@
 """rikin on input as students type it (issue 10): angles modulo 2*pi, rounded poses,
 targets near stretched/folded/axis configurations, magnitudes at the edge of double precision."""
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -10,6 +11,7 @@ from hypothesis import strategies as st
 
 import rikin
 from rikin import InputError, robots
+from rikin.ik.result import IKResult
 
 ARMS = {name: make() for name, make in robots.LESSON_ROBOTS.items()}
 turns = st.integers(-3, 3)
@@ -451,6 +453,12 @@ def test_one_pose_fast_path_equals_the_general_solver(name, seed):
     assert np.allclose(fast.q, general.q, atol=1e-9, rtol=0)
     assert (fast.singular, fast.free_joints) == (general.singular, general.free_joints)
     assert_reaches(arm, fast, T, 1e-8)  # FK_CHECK_TOL: singular and near-singular poses here
+    # the fast path builds its IKResult without __init__: every field, nothing more
+    assert set(vars(fast)) == {f.name for f in dataclasses.fields(IKResult)}
+    assert (fast.discarded, fast.rotation_distance, fast.arm_name) == (
+        general.discarded, general.rotation_distance, general.arm_name
+    )
+    assert np.isin(fast.q, [-np.pi]).sum() == 0  # wrapped to (-pi, pi]
 
 
 @pytest.mark.parametrize("name", sorted(ARMS))

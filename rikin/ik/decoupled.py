@@ -569,9 +569,10 @@ class SingleKernel:
               a20 * h02 + a21 * h12 + a22 * h22)
         return S0, S1, S2
 
-    def solve(self, T: list[list[float]]) -> tuple[list[list[float]], list[int], list[bool]] | None:
-        """Joint values of the valid slots (wrapped to (-pi, pi]), their slot numbers (0-7)
-        and elbow-up flags.
+    def solve(self, T: list[list[float]]) -> tuple[list[float], list[tuple[int, bool, bool]]] | None:
+        """Joint values of the valid slots (wrapped to (-pi, pi]), as one flat list of
+        6 per solution, and per solution its branch key ``(slot 0-7, elbow up,
+        sin(q5) >= 0)`` (see ``rikin.ik.api._branch_labels``).
 
         ``T`` is the validated world pose as nested lists. None: near a singularity,
         or nothing reachable (let the general solver decide and explain).
@@ -602,11 +603,10 @@ class SingleKernel:
         (k00, k01, k02), (k10, k11, k12), (k20, k21, k22) = self.K
         (e00, e01, e02), (e10, e11, e12), (e20, e21, e22) = self.E1t
         sig, s_w, sus_sin = self.sigma, self.s, self.sus_sin
-        q_out: list[list[float]] = []
-        slots: list[int] = []
-        up: list[bool] = []
+        q_out: list[float] = []
+        keys: list[tuple[int, bool, bool]] = []
         vertical_tol = SINGULAR_TOL * L2
-        wrap = _wrap1
+        rem, tau = remainder, 2.0 * pi
         for side, u in ((0, rho - r0), (1, -rho - r0)):
             r = hypot(u, w)
             if not Lm - tol <= r <= Lp + tol:
@@ -622,6 +622,7 @@ class SingleKernel:
                 beta = 2.0 * atan2(sqrt(sm * dp), sqrt(sp * dm))
             base = atan2(w, u)
             th1 = q1 + pi if side else q1
+            a1 = rem(th1, tau)
             ct, st = cos(th1 + o1), sin(th1 + o1)
             # U = Rz(-th1) S (rows 0, 1), then V = E1^T U
             u00, u01, u02 = ct * S0[0] + st * S1[0], ct * S0[1] + st * S1[1], ct * S0[2] + st * S1[2]
@@ -660,20 +661,14 @@ class SingleKernel:
                 else:
                     is_up = (u * ew - w * eu) * (1.0 if u > 0 else -1.0) > 0
                 t5 = s_w * theta
-                a1, a2, a3 = wrap(th1), wrap(q2), wrap(q3)
-                q_out.append([a1, a2, a3, wrap(phw - o4), wrap(-t5 - o5), wrap(psi - o6)])
-                q_out.append(
-                    [a1, a2, a3, wrap(phw + pi - o4), wrap(t5 - o5), wrap(psi + pi - o6)]
-                )
+                q5a, q5b = rem(-t5 - o5, tau), rem(t5 - o5, tau)
+                a2, a3 = rem(q2, tau), rem(q3, tau)
+                q_out += (a1, a2, a3, rem(phw - o4, tau), q5a, rem(psi - o6, tau))
+                q_out += (a1, a2, a3, rem(phw + pi - o4, tau), q5b, rem(psi + pi - o6, tau))
                 slot = 4 * side + 2 * elbow
-                slots += [slot, slot + 1]
-                up += [is_up, is_up]
+                keys += ((slot, is_up, sin(q5a) >= 0.0), (slot + 1, is_up, sin(q5b) >= 0.0))
         if not q_out:
             return None
-        return q_out, slots, up
-
-
-def _wrap1(a: float, _rem: Any = remainder, _tau: float = 2.0 * pi) -> float:
-    """One angle wrapped to (-pi, pi], as :func:`rikin.transforms.wrap_angle` does."""
-    w = _rem(a, _tau)
-    return pi if w <= -pi else w
+        if -pi in q_out:  # remainder's range is [-pi, pi]; wrap_angle's is (-pi, pi]
+            q_out = [pi if v == -pi else v for v in q_out]
+        return q_out, keys
