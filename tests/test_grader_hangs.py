@@ -11,6 +11,7 @@ bound per notebook checks the total against the per-call limit plus a constant.
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 
 import pytest
@@ -151,3 +152,59 @@ def test_short_limits_derive_from_the_functions_own_successful_calls():
     # a stop at one function's short limit charges that function, not its callers
     lim.timed_out(["ik_6dof", "ik"], "ik_6dof", short="ik")
     assert "ik_6dof" not in lim.ran_out and lim.ran_out["ik"] == ["ik", "ik_6dof"]
+
+
+def test_the_exercises_state_the_short_limit_as_the_grader_applies_it():
+    said = f"{FACTOR:g} times its longest call that returned, at least {FLOOR * TIMEOUT:g} s"
+    for arm in ("cartesian", "cylindrical", "spherical", "scara"):
+        for folder in ("exercises", "solutions"):
+            cells = json.loads((ROOT / folder / f"{arm}.ipynb").read_text())["cells"]
+            text = " ".join("".join(c["source"]) for c in cells if c["cell_type"] == "markdown")
+            assert said in " ".join(text.split()), (folder, arm)
+
+
+def _cell_functions(source: str) -> dict:
+    """A namespace with ``source`` run as a notebook cell (its functions' file is "<cell 1>")."""
+    ns: dict = {"__name__": "__main__"}
+    exec(compile(source, "<cell 1>", "exec"), ns)
+    return ns
+
+
+def test_the_child_stops_a_call_at_its_limit_and_names_what_was_running():
+    from rikingrade.sandbox import child
+
+    ns = _cell_functions(
+        "import time\n"
+        "def helper(n):\n    while True:\n        pass\n"
+        "def outer():\n    return helper(0)\n"
+        "def swallows():\n    try:\n        helper(0)\n    except BaseException:\n        pass\n"
+        "    return 42\n"
+        "def quick():\n    time.sleep(0.05)\n    return 1\n"
+        "def caller():\n    return [quick() for _ in range(3)]\n"
+    )
+    watch = child.Watch()
+
+    def run(name, limit, leash=None):
+        watch.start(ns, limit, leash or {}, call=name)
+        t0 = time.monotonic()
+        try:
+            return ns[name](), time.monotonic() - t0
+        except child.CallTimedOut:
+            return None, time.monotonic() - t0
+        finally:
+            watch.stop()
+
+    value, took = run("outer", 0.2)
+    assert value is None and 0.2 <= took < 0.2 + 5 * child.TICK
+    assert watch.fired["stack"] == ["outer", "helper"] and watch.fired["function"] == "outer"
+    # a short limit on the helper stops it inside a caller that has the full limit
+    value, took = run("outer", 5.0, {"helper": 0.1})
+    assert watch.fired["function"] == "helper" and took < 0.1 + 5 * child.TICK
+    # swallowed, it still counts: the child reports the call as stopped (call() reads fired)
+    value, took = run("swallows", 0.2)
+    assert value == 42 and watch.fired["function"] == "swallows"
+    # a call that returns in time is not stopped, and says how long its callees ran
+    watch.fired = None
+    value, took = run("caller", 2.0)
+    assert value == [1, 1, 1] and watch.fired is None
+    assert 0.0 <= watch.finished.get("quick", 0.0) < 0.1

@@ -501,6 +501,7 @@ class Watch:
         self.t0 = _monotonic()
         try:
             self.previous = signal.signal(_SIGALRM, self._tick)
+            signal.siginterrupt(_SIGALRM, False)  # C-level system calls resume (SA_RESTART)
             _setitimer(_ITIMER_REAL, TICK, TICK)
         except (OSError, ValueError):
             self.previous = None
