@@ -11,6 +11,7 @@ bound per notebook checks the total against the per-call limit plus a constant.
 from __future__ import annotations
 
 import json
+import re
 import time
 from pathlib import Path
 
@@ -111,7 +112,10 @@ def test_a_function_that_hangs_on_some_inputs_keeps_the_points_where_it_returns(
     lost = {t.name: t.fraction for t in res.tests if t.fraction < 1}
     assert lost == {"ik_unreachable": 0.0, "ik_6dof_unreachable": 0.0}, res.tests
     assert _stops(res) == (1, 1)
-    assert f"short limit of {FACTOR * 0.3:.2g} s" in " ".join(res.problems), res.problems
+    # the short limit said is derived from its calls (each took at least 0.3 s, more on a
+    # loaded machine), not the floor
+    (said,) = re.findall(r"a short limit of ([0-9.]+) s", " ".join(res.problems))
+    assert FACTOR * 0.3 - 0.05 <= float(said) <= TIMEOUT, res.problems
 
 
 def test_a_hung_function_called_by_a_cell_costs_the_call_limit_not_the_cell_limit(tmp_path):
