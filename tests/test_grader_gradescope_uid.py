@@ -415,6 +415,7 @@ def test_a_hung_call_keeps_the_template_in_the_uid_sandbox(gs):
     r, out = _grade_uid(gs, "template", nb, "--cell-timeout", "10")
     res = _result(out)
     points = {t["name"]: t["weight"] * t["fraction"] for t in res["tests"]}
+    print(f"uid mode, a hung call with a template kept: {res['elapsed']:.1f} s")
     # add_int hung (0); the rest ran in forks of the template, the cells never again
     assert points == {"add_int": 0.0, "add_float": 1.0, "fk_2r": 2.0, "fk_2r_batch": 1.0}, (
         res["tests"],
@@ -476,6 +477,7 @@ def test_memory_is_limited_per_sandbox_in_the_uid_sandbox(gs):
     found = [c["output"] for c in res["cells"] if '"held"' in c["output"]]
     assert res["status"] == "ok" and found, (res["status"], res["problems"], r.stderr[-2000:])
     found = json.loads(found[0].strip().splitlines()[-1])
+    print(f"uid mode, four forks of 350 MiB: {found} in {res['elapsed']:.1f} s")
     if probe is not None:
         assert found["held"] <= 1, found
     else:  # a read-only cgroup fs (most containers): the fallback must hold
