@@ -23,11 +23,11 @@ from pathlib import Path
 from . import __version__
 from .api import DEFAULT_SEED, grade
 from .assignment import load_assignment
-from .notebook import MAX_NOTEBOOK_BYTES, _notebooks_in, pick_notebook
+from .notebook import MAX_NOTEBOOK_BYTES, _notebooks_in, _too_large, pick_notebook
 from .outputs import atomic_write
 from .report import GRADER_ERROR, SubmissionResult
 from .sandbox.config import SandboxUnavailable, package_dir
-from .studentfiles import ReadFailed, read_in_process
+from .studentfiles import TOO_LARGE, ReadFailed, read_in_process
 
 SETUP_SH = """#!/usr/bin/env bash
 # Gradescope runs this once while building the autograder image (Ubuntu, as root).
@@ -299,17 +299,17 @@ def gradescope_run(
     try:  # the upload is Gradescope's (read as root), but a link in it is not followed
         data = read_in_process(nb, MAX_NOTEBOOK_BYTES)
     except ReadFailed as exc:
-        atomic_write(
-            results_path, json.dumps(_no_notebook(a, f"The upload was not read: {exc.why}."))
-        )
+        large = exc.kind == TOO_LARGE
+        why = _too_large(exc.size) if large else f"not read: {exc.why}"
+        atomic_write(results_path, json.dumps(_no_notebook(a, f"The upload: {why}.")))
         return SubmissionResult(
             student="submission",
             path=str(nb),
             sha256="",
             status="invalid",
-            reason=f"not read: {exc.why}",
+            reason=why,
             max_score=a.max_score,
-            refused=exc.why,
+            refused="" if large else exc.why,
         )
     work = Path(tempfile.mkdtemp(prefix="rikingrade-gs-"))  # 0700: unreadable to the sandbox
     try:
