@@ -329,3 +329,304 @@ def test_unreachable_says_by_how_much_like_the_lesson_solver(make):
     with pytest.raises(rikin.UnreachableError, match="out of reach of joints 1-3") as got:
         general.ik(T)
     assert got.value.excess == pytest.approx(want.value.excess, rel=1e-6)
+
+
+# ------------------------------------------------------------------ complete sets, singular poses
+# The poses below are built from the arm's geometry alone (joint axes from FK), never from
+# the solver: the wrist centre where axes 4 and 5 meet, its distance from axes 1 and 2.
+def epson_c4_table():
+    return from_table(robots.epson_c4())
+
+
+GENERAL = INDUSTRIAL + [epson_c4_table]
+
+
+def wrist_centre(arm, q):
+    o, z = arm.joint_axes(q)
+    w = o[..., 3, :] - o[..., 4, :]
+    b = (z[..., 3, :] * z[..., 4, :]).sum(-1)
+    d, e = (z[..., 3, :] * w).sum(-1), (z[..., 4, :] * w).sum(-1)
+    return o[..., 3, :] + ((b * e - d) / (1 - b * b))[..., None] * z[..., 3, :]
+
+
+def off_axis(arm, q, i):
+    """The wrist centre's offset from joint axis ``i`` (1-based), perpendicular to it."""
+    o, z = arm.joint_axes(q)
+    v = wrist_centre(arm, q) - o[..., i - 1, :]
+    zi = z[..., i - 1, :]
+    return v - (v * zi).sum(-1, keepdims=True) * zi
+
+
+def onto_axis1(arm, q):
+    """``q`` with joints 2, 3 moved (Gauss-Newton) to bring the wrist centre onto axis 1, or
+    as near as the arm's offsets let it come."""
+    q = np.array(q, dtype=float)
+    g = np.linspace(-pi, pi, 121)[:-1]
+    Q = np.tile(q, (g.size**2, 1))
+    Q[:, 1], Q[:, 2] = np.repeat(g, g.size), np.tile(g, g.size)
+    q = Q[int(np.argmin(np.linalg.norm(off_axis(arm, Q, 1), axis=-1)))]  # then Gauss-Newton
+    for _ in range(60):
+        r = off_axis(arm, q, 1)
+        J = np.empty((3, 2))
+        for c, j in enumerate((1, 2)):
+            dq = np.zeros(6)
+            dq[j] = 1e-7
+            J[:, c] = (off_axis(arm, q + dq, 1) - off_axis(arm, q - dq, 1)) / 2e-7
+        step = np.linalg.lstsq(J, -r, rcond=None)[0]
+        q[1:3] += np.clip(step, -0.3, 0.3)
+        if np.abs(step).max() < 1e-15:
+            break
+    return q
+
+
+def elbow_extreme(arm, q, stretched):
+    """``q`` with joint 3 where the wrist centre is farthest from (or nearest to) axis 2."""
+    q = np.array(q, dtype=float)
+    x = np.linspace(-pi, pi, 3601)
+    for _ in range(7):
+        Q = np.tile(q, (len(x), 1))
+        Q[:, 2] = x
+        r = np.linalg.norm(off_axis(arm, Q, 2), axis=-1)
+        i = int(np.argmax(r if stretched else -r))
+        h = x[1] - x[0]
+        x = np.linspace(x[i] - 2 * h, x[i] + 2 * h, 41)
+    q[2] = x[20]
+    return q
+
+
+def singular_q(arm, kind, rng):
+    off = np.array([float(lk.offset) for lk in arm.links])
+    q = rng.uniform(-pi, pi, 6)
+    q[4] = rng.uniform(0.3, 2.8) * rng.choice([-1, 1]) - off[4]  # wrist regular
+    if kind in ("wrist0", "wrist_pi"):
+        q[4] = (0.0 if kind == "wrist0" else pi) - off[4]
+    elif kind == "shoulder":
+        q = onto_axis1(arm, q)
+    else:
+        q = elbow_extreme(arm, q, kind == "stretched")
+    return q
+
+
+KINDS = ["wrist0", "wrist_pi", "shoulder", "stretched", "folded"]
+CROSSING = {"wrist0": 4, "wrist_pi": 4, "shoulder": 1, "stretched": 2, "folded": 2}
+
+
+def sigma_ratio(arm, q):
+    """Smallest over largest singular value of the Jacobian, positions over the arm's size."""
+    J = arm.jacobian(q)
+    J = np.concatenate([J[:3] / arm.scale, J[3:]])
+    s = np.linalg.svd(J, compute_uv=False)
+    return s[-1] / s[0]
+
+
+def indistinguishable(arm, T, q, Q):
+    """Some row of ``Q`` is joined to ``q`` by a straight joint path on which every point
+    reaches ``T`` within the FK tolerance."""
+    for row in Q:
+        path = q + np.outer(np.linspace(0, 1, 11), rikin.wrap_angle(row - q))
+        pos, rot = fk_errors(arm, path, T)
+        if pos.max() <= POS_TOL and rot.max() <= ROT_TOL:
+            return True
+    return False
+
+
+def near_axis2(arm, q, Q):
+    """The wrist centre within 1e-5 of the arm's size from axis 2 (the Epson C4 folded:
+    a2 = |d4| puts it on axis 2), where q2 and the wrist are fixed only loosely: some row
+    of ``Q`` then has q1 and q3 of ``q``."""
+    if np.linalg.norm(off_axis(arm, q, 2)) > 1e-5 * arm.scale:
+        return False
+    return np.abs(rikin.wrap_angle(Q[:, [0, 2]] - q[[0, 2]])).max(axis=1).min() < SAME_Q
+
+
+def assert_distinct(res):
+    if len(res) > 1:
+        d = np.abs(rikin.wrap_angle(res.q[:, None] - res.q[None])).max(-1)
+        assert d[~np.eye(len(res), dtype=bool)].min() > 1e-9
+
+
+def brute_force_positions(arm, T, q_wrist):
+    """Joints 2, 3 of every way joints 1-3 put the wrist centre where ``T`` needs it, by a
+    grid over (q2, q3) and Newton: joint 1 keeps the centre's height along axis 1 and its
+    distance from it, so those two numbers fix (q2, q3); q1 then follows."""
+    o, z = arm.joint_axes(q_wrist)
+    o1, z1 = o[0], z[0]
+
+    def invariants(Q):
+        shape = Q.shape[:-1]
+        v = wrist_centre(arm, Q.reshape(-1, 6)).reshape(shape + (3,)) - o1
+        h = v @ z1
+        return np.stack([h, np.linalg.norm(v - h[..., None] * z1, axis=-1)], axis=-1)
+
+    goal = invariants(q_wrist[None])[0]
+    g = np.linspace(-pi, pi, 121)[:-1]
+    G2, G3 = np.meshgrid(g, g, indexing="ij")
+    Q = np.zeros((G2.size, 6))
+    Q[:, 1], Q[:, 2] = G2.ravel(), G3.ravel()
+    E = np.linalg.norm(invariants(Q) - goal, axis=-1).reshape(G2.shape)
+    minima = E <= np.minimum.reduce([np.roll(E, s, a) for s in (-1, 1) for a in (0, 1)])
+    X = np.stack([G2[minima], G3[minima]], axis=-1)  # seeds, Newton on all at once
+    H = np.array([[0.0, 0.0], [1e-7, 0], [-1e-7, 0], [0, 1e-7], [0, -1e-7]])
+    for _ in range(40):
+        Q = np.zeros((len(X), 5, 6))
+        Q[..., 1:3] = X[:, None, :] + H
+        V = invariants(Q) - goal  # (k, 5, 2)
+        J = np.stack([V[:, 1] - V[:, 2], V[:, 3] - V[:, 4]], axis=-1) / 2e-7
+        step = np.linalg.lstsq(J[0], V[0, 0], rcond=None)[0] if len(X) == 1 else np.stack(
+            [np.linalg.lstsq(Jk, r, rcond=None)[0] for Jk, r in zip(J, V[:, 0], strict=True)])
+        X = rikin.wrap_angle(X - np.clip(step, -0.2, 0.2))
+    Q = np.zeros((len(X), 6))
+    Q[:, 1:3] = X
+    ok = np.abs(invariants(Q) - goal).max(-1) < 1e-10 * arm.scale
+    roots = []
+    for x in X[ok]:
+        if not any(np.abs(rikin.wrap_angle(x - y)).max() < 1e-6 for y in roots):
+            roots.append(x)
+    return np.array(roots)
+
+
+@pytest.mark.parametrize("make", GENERAL)
+def test_solution_count_matches_a_brute_force_count(make):
+    """Twice (two wrist branches) as many solutions as a grid search finds ways to place the
+    wrist centre, and joints 2-3 of each solution are one of those ways."""
+    arm = make()
+    rng = np.random.default_rng(23)
+    for _ in range(2):
+        q = rng.uniform(-pi, pi, 6)
+        q[4] = rng.uniform(0.3, 2.8) - float(arm.links[4].offset)
+        T = arm.fk(q)
+        res = arm.ik(T)
+        roots = brute_force_positions(arm, T, q)
+        assert len(res) == 2 * len(roots), (len(res), len(roots))
+        for row in res.q:
+            assert np.abs(rikin.wrap_angle(roots - row[1:3])).max(axis=1).min() < 1e-7
+        assert_all_reach(arm, res, T)
+        assert_distinct(res)
+
+
+def test_solutions_match_numerical_multistart():
+    """Every solution numerical IK finds from 40 random starts is one of arm.ik's."""
+    for make in (kuka_kr5, epson_c4_table):
+        arm = make()
+        rng = np.random.default_rng(4)
+        q = rng.uniform(-pi, pi, 6)
+        T = arm.fk(q)
+        res = arm.ik(T)
+        found = rikin.ik.ik_numerical_multistart(arm, T, 40, rng=5)
+        assert len(found) >= 2
+        for row in found:
+            assert np.abs(rikin.wrap_angle(res.q - row)).max(axis=1).min() < 1e-6
+
+
+@pytest.mark.parametrize("kind", KINDS)
+@pytest.mark.parametrize("make", GENERAL)
+def test_near_singular_poses_keep_every_solution(make, kind):
+    """Poses on and 1e-9..1e-5 rad off each singularity: every solution real and distinct,
+    the generating joints among them (without any hint: both shoulders of a wrist centre
+    just off axis 1 included)."""
+    arm = make()
+    rng = np.random.default_rng(KINDS.index(kind))
+    for delta in (0.0, 1e-9, 1e-7, 1e-5):
+        q = singular_q(arm, kind, rng)
+        q[CROSSING[kind]] += delta * rng.choice([-1, 1])
+        T = arm.fk(q)
+        res = arm.ik(T, near=q) if delta == 0 else arm.ik(T)
+        if {1, 2} & set(res.free_joints):  # on the axis to within the tolerance: q1 or q2 free
+            res = arm.ik(T, near=q)
+        assert_all_reach(arm, res, T)
+        assert_distinct(res)
+        if kind in ("stretched", "folded") and delta <= 1e-7:
+            # a pose within ~1e-16 of a fold fixes the joints only to ~1e-8 along it, more
+            # where (Puma, folded) the wrist centre passes 0.5 mm from axis 2: the generating
+            # joints must then be indistinguishable from a solution by the pose
+            assert indistinguishable(arm, T, q, res.q) or near_axis2(arm, q, res.q)
+        else:
+            assert distance_to(res, q, arm) < SAME_Q, (kind, delta, distance_to(res, q, arm))
+
+
+# The Puma's shoulder offset keeps its wrist centre 0.15 m from axis 1: onto_axis1 (a
+# least-squares minimum) does not land on that fold exactly enough to be one, so that
+# combination is left to the near-singular test above.
+@pytest.mark.parametrize(("make", "kind"), [
+    (make, kind) for make in GENERAL for kind in KINDS if not (make is puma560 and kind == "shoulder")
+])
+def test_singular_poses_flagged_with_free_joints_that_are_free(make, kind):
+    """On the singularity: flagged; each free joint takes any value from near (and the pose
+    still holds); a singularity without free joints is a fold (Jacobian rank-deficient)."""
+    arm = make()
+    rng = np.random.default_rng(10 + KINDS.index(kind))
+    q = singular_q(arm, kind, rng)
+    T = arm.fk(q)
+    res = arm.ik(T, near=q)
+    on_axis1 = np.linalg.norm(off_axis(arm, q, 1)) < 1e-9 * arm.scale
+    if kind.startswith("wrist"):
+        assert res.singular and {4, 6} <= set(res.free_joints)
+    elif kind == "shoulder" and on_axis1:
+        assert res.singular and 1 in res.free_joints
+    elif not res.singular and near_axis2(arm, q, res.q):
+        assert_all_reach(arm, res, T)
+        return
+    elif not res.singular:
+        # a fold (elbow stretched or folded; the Puma's wrist centre nearest axis 1): built
+        # to ~1e-8 rad, where the pose is at the fold to rounding but the two coinciding
+        # branches can still differ by ~1e-5 rad in a joint the fold amplifies. Unflagged,
+        # both must be there: two solutions that close, both at a singular Jacobian
+        d = np.abs(rikin.wrap_angle(res.q[:, None] - res.q[None])).max(-1)
+        d[np.eye(len(res), dtype=bool)] = np.inf
+        i, j = np.unravel_index(int(np.argmin(d)), d.shape)
+        assert d[i, j] < 1e-4, d[i, j]
+        assert max(sigma_ratio(arm, res.q[i]), sigma_ratio(arm, res.q[j])) < 1e-4
+        return
+    # joint 4 of the pair (4, 6), whose sum or difference alone the pose fixes, 1 and 2 alone
+    for j in {4 if j == 6 else j for j in res.free_joints}:
+        near = q.copy()
+        near[j - 1] += 0.7
+        moved = arm.ik(T, near=near)
+        assert_all_reach(arm, moved, T)
+        # from near, up to the polish of a centre ~1e-12 off the axis (q1 then moves ~1e-8)
+        assert np.abs(rikin.wrap_angle(moved.q[:, j - 1] - near[j - 1])).min() < SAME_Q
+    if not res.free_joints:
+        assert "edge" in res.singularity
+        assert min(sigma_ratio(arm, row) for row in res.q) < 1e-6
+
+
+@pytest.mark.parametrize("twists", [(60, -45), (60, -60), (60, 60), (-70, 110)])
+def test_non_orthogonal_wrist_singularities_flagged(twists):
+    """q5 = 0 or pi on a wrist with twists other than 90 deg: axes 4 and 6 line up only when
+    the twists cancel (q4, q6 free); otherwise axes 4, 5, 6 lie in one plane, the tilt of
+    the tool is at this wrist's least or most and its two branches coincide: flagged, no
+    free joint, a rank-deficient Jacobian. Just off it both branches come back."""
+    b1, b2 = np.radians(twists)
+    arm = SerialArm(puma560().links[:3] + (
+        Link(d=0.4318, alpha=b1), Link(alpha=b2), Link(d=0.05),
+    ), name="tilted wrist", units="m")
+    rng = np.random.default_rng(31)
+    for th5 in (0.0, pi):
+        q = rng.uniform(-pi, pi, 6)
+        q[4] = th5
+        T = arm.fk(q)
+        res = arm.ik(T, near=q)
+        _, z = arm.joint_axes(q)
+        aligned = np.linalg.norm(np.cross(z[3], z[5])) < 1e-9
+        assert_all_reach(arm, res, T)
+        assert distance_to(res, q, arm) < SAME_Q
+        assert res.singular
+        if aligned:
+            assert {4, 6} <= set(res.free_joints)
+            near = q.copy()
+            near[3] += 0.7
+            moved = arm.ik(T, near=near)
+            assert_all_reach(arm, moved, T)
+            assert np.abs(rikin.wrap_angle(moved.q[:, 3] - near[3])).min() < SAME_Q
+        else:
+            assert res.free_joints == () and "one plane" in res.singularity
+            j = int(np.argmin(np.abs(rikin.wrap_angle(res.q - q)).max(axis=1)))
+            assert sigma_ratio(arm, res.q[j]) < 1e-6
+        # just off the singularity: not flagged there, both wrist branches (+-q5) back
+        q[4] = th5 + 1e-3
+        T = arm.fk(q)
+        off = arm.ik(T)
+        assert_all_reach(arm, off, T)
+        assert distance_to(off, q) < SAME_Q
+        if not off.singular:
+            assert len(off) % 2 == 0

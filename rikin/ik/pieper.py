@@ -75,6 +75,14 @@ SAME_ROOT_TOL = 1e-7
 
 POSITION_SLOTS = 4
 
+#: |sin q5| below this on a wrist whose axes 4 and 6 do not line up: the wrist is at
+#: its fold (axes 4, 5, 6 coplanar), known only to ~sqrt(rounding) there.
+WRIST_FOLD_TOL = 1e-6
+
+#: A wrist centre closer than this to axis 1 (relative to the arm's size) may hide
+#: its second shoulder in a rounded double root (see ``_split_near_axis``).
+NEAR_AXIS = 1e-6
+
 #: Polishing stops once every pose error (relative) is below this: rounding level.
 POLISHED = 1e-14
 
@@ -92,6 +100,13 @@ WRIST = Singularity(
     "wrist singularity: axes 4 and 6 line up, so only q4 + q6 (or q4 - q6) is fixed",
     (4, 6),
     drop_flip=True,
+)
+
+WRIST_FOLD = Singularity(
+    "wrist singularity: axes 4, 5 and 6 lie in one plane (q5 = 0 or pi on a wrist whose "
+    "twists are not 90 deg), so the tool is at the least or most tilt this wrist reaches "
+    "and its two branches coincide",
+    (),
 )
 
 
@@ -462,6 +477,7 @@ class Pieper6RSolver:
         "upper_arm": UPPER_ARM,
         "elbow": ELBOW,
         "wrist": WRIST,
+        "wrist_fold": WRIST_FOLD,
     }
 
     def __init__(self, arm: SerialArm) -> None:
@@ -509,7 +525,7 @@ class Pieper6RSolver:
         return B, A
 
     def _position(
-        self, p: FloatArray, hint_th1: float
+        self, p: FloatArray, hint_th1: float, hint_th2: float = 0.0
     ) -> tuple[FloatArray, np.ndarray, dict[str, np.ndarray]]:
         """Joints 1-3 (as theta, offsets included) putting the wrist centre at ``p'`` (N, 3).
 
@@ -533,7 +549,7 @@ class Pieper6RSolver:
             gx, gy = g3[..., 0], g3[..., 1]
             th2 = np.arctan2(gx * Y - gy * X, gx * X + gy * Y)
             upper = gx * gx + gy * gy <= (SINGULAR_TOL * self.model.scale) ** 2
-            th[..., 1], th[..., 2], valid = th2, th3, real
+            th[..., 1], th[..., 2], valid = np.where(upper, hint_th2, th2), th3, real
         else:
             # one equation in th3 alone: (k0 + kc cos + ks sin) = 0, fitted from 3 samples
             samples = np.array([0.0, np.pi / 2, np.pi])
@@ -555,7 +571,7 @@ class Pieper6RSolver:
                 free = deg | (gx * gx + gy * gy <= (SINGULAR_TOL * self.model.scale) ** 2)
                 for n_, t2 in enumerate((t2p, t2m)):
                     s = 2 * m + n_
-                    th[:, s, 1] = np.where(free, 0.0, t2)
+                    th[:, s, 1] = np.where(free, hint_th2, t2)  # on axis 2: q2 from near
                     th[:, s, 2] = th3
                     valid[:, s] = ok & (ok2 | free)
                     upper[:, s] = free
@@ -565,8 +581,32 @@ class Pieper6RSolver:
         on_axis = rho_p <= SINGULAR_TOL * self.model.scale
         th1 = np.arctan2(p[:, 1], p[:, 0])[:, None] - np.arctan2(r[..., 1], r[..., 0])
         th[..., 0] = np.where(on_axis, hint_th1, th1)
+        self._split_near_axis(th, valid, rho_p[:, 0], on_axis[:, 0])
         shoulder = np.broadcast_to(on_axis, valid.shape) & valid
         return th, valid, {"shoulder": shoulder, "upper_arm": upper & valid}
+
+    def _split_near_axis(
+        self, th: FloatArray, valid: np.ndarray, rho_p: FloatArray, on_axis: np.ndarray
+    ) -> None:
+        """Give back the second shoulder of a wrist centre just off axis 1 (in place).
+
+        A centre ``rho`` from axis 1 is reached by two joint-2 values whose points sit
+        ``+-rho`` across the axis, with joint 1 half a turn apart. For ``rho`` near
+        rounding those two joint-2 values agree to within ``SAME_ROOT_TOL`` (the sinusoid's
+        discriminant rounds to 0), both slots get the same joint 1, and the other
+        shoulder would be lost. The second slot of such a pair starts from joint 1 + pi
+        instead: within ``2 rho`` of its solution, which the polish then reaches (and the
+        FK check confirms). Exactly on the axis joint 1 is free and comes from the hint.
+        """
+        near = (rho_p <= NEAR_AXIS * self.model.scale) & ~on_axis
+        if not near.any():
+            return
+        for i in range(POSITION_SLOTS):
+            for j in range(i + 1, POSITION_SLOTS):
+                d = np.abs(np.angle(np.exp(1j * (th[:, i, 1:] - th[:, j, 1:])))).max(-1)
+                same = near & valid[:, i] & valid[:, j] & (d < SAME_ROOT_TOL)
+                same &= np.abs(np.angle(np.exp(1j * (th[:, i, 0] - th[:, j, 0])))) < SAME_ROOT_TOL
+                th[same, j, 0] += np.pi
 
     def _arm_point(self, th2: FloatArray, th3: FloatArray) -> FloatArray:
         """``r = M1 Rz(th2) M2 Rz(th3) v``: the wrist centre after ``Rz(th1)``, shape (..., 3)."""
@@ -578,28 +618,36 @@ class Pieper6RSolver:
     # -------------------------------------------------------------- orientation
     def _wrist(
         self, R_w: FloatArray, hint_th4: float
-    ) -> tuple[FloatArray, np.ndarray, np.ndarray]:
-        """``th4, th5, th6`` of both wrist slots: ``(..., 2, 3)``, ``ok (..., 2)``, singular."""
+    ) -> tuple[FloatArray, np.ndarray, np.ndarray, np.ndarray]:
+        """``th4, th5, th6`` of both wrist slots: ``(..., 2, 3)``, ``ok (..., 2)``, and the
+        masks (axes 4 and 6 aligned, the wrist at a fold), ``(..., 2)``."""
         if self.orthogonal:
             C = np.eye(3) if self.kappa > 0 else np.diag([1.0, -1.0, -1.0])
             M = R_w @ C.T
             phi, theta, psi, sing = spherical_wrist(M, hint_th4)
             out = np.stack([phi, -self.sigma * theta, self.kappa * psi], axis=-1)
             ok = np.ones(out.shape[:-1], dtype=bool)
-            return out, ok, np.broadcast_to(sing[..., None], ok.shape)
+            return out, ok, np.broadcast_to(sing[..., None], ok.shape), np.zeros_like(ok)
         b1, b2 = self.wrist.b1, self.wrist.b2
         sb1, cb1, sb2, cb2 = math.sin(b1), math.cos(b1), math.sin(b2), math.cos(b2)
         c5_raw = (cb1 * cb2 - R_w[..., 2, 2]) / (sb1 * sb2)
         ok = np.abs(c5_raw) <= 1.0 + math.sqrt(REACH_TOL)
         c5 = np.clip(c5_raw, -1.0, 1.0)
         s5_abs = np.sqrt(1.0 - c5 * c5)
+        # q5 = 0 or pi to within what the pose fixes there: a fold of the wrist, or (when
+        # the twists cancel at that q5: b1 + b2 = 0 or pi for q5 = 0, b1 - b2 for q5 = pi)
+        # axes 4 and 6 in line
+        near5 = s5_abs < WRIST_FOLD_TOL
+        in_line = near5 & np.where(
+            c5 > 0, abs(math.sin(b1 + b2)) <= GEOMETRY_TOL, abs(math.sin(b1 - b2)) <= GEOMETRY_TOL
+        )
         outs = []
         sing = None
         for sgn in (1.0, -1.0):
             s5 = sgn * s5_abs
             th5 = np.arctan2(s5, c5)
             ax, ay = sb2 * s5, -cb1 * sb2 * c5 - sb1 * cb2
-            sing_k = np.hypot(ax, ay) < SINGULAR_TOL
+            sing_k = (np.hypot(ax, ay) < SINGULAR_TOL) | in_line
             th4 = np.arctan2(R_w[..., 1, 2], R_w[..., 0, 2]) - np.arctan2(ay, ax)
             th4 = np.where(sing_k, hint_th4, th4)
             # th6 from what is left, Rz(th6) = (Rz(th4) Rx(b1) Rz(th5) Rx(b2))^T R_w: consistent
@@ -614,7 +662,12 @@ class Pieper6RSolver:
             sing = sing_k if sing is None else sing | sing_k
         assert sing is not None
         both = np.stack([ok, ok], axis=-1)
-        return np.stack(outs, axis=-2), both, np.broadcast_to(sing[..., None], both.shape)
+        # q5 = 0 or pi with axes 4 and 6 not aligned: the three axes in one plane, the tilt
+        # between axes 4 and 6 at its least or most, and the two branches (+-q5) one. A
+        # fold fixes q5 only to ~ the square root of the pose's rounding (1e-8..1e-7 here)
+        fold = near5 & ~sing & ok
+        return (np.stack(outs, axis=-2), both, np.broadcast_to(sing[..., None], both.shape),
+                np.broadcast_to(fold[..., None], both.shape))
 
     # -------------------------------------------------------------- polish
     def _fk_frames(self, th: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -686,7 +739,8 @@ class Pieper6RSolver:
         c = np.append(self.wrist.c_flange, 1.0)
         p_w = (T_0_n @ c)[:, :3]
         p = (self.M0_inv @ np.append(p_w, np.ones((N, 1)), axis=1)[..., None])[:, :3, 0]
-        th123, valid_pos, sing = self._position(p, h1)
+        h2 = (0.0 if hint is None else float(hint[1])) + off[1]
+        th123, valid_pos, sing = self._position(p, h1, h2)
         # wrist: R_w = R_F4^T R_0_6 R_M6^T
         M = self.model.M
         R_F4 = (
@@ -695,7 +749,7 @@ class Pieper6RSolver:
             @ _rz4(th123[..., 2])[..., :3, :3] @ M[3, :3, :3]
         )
         R_w = np.swapaxes(R_F4, -1, -2) @ T_0_n[:, None, :3, :3] @ M[6, :3, :3].T
-        th456, ok_w, wsing = self._wrist(R_w, h4)  # (N, 4, 2, 3)
+        th456, ok_w, wsing, wfold = self._wrist(R_w, h4)  # (N, 4, 2, 3)
         th = np.empty((N, POSITION_SLOTS, 2, 6))
         th[..., :3] = th123[:, :, None, :]
         th[..., 3:] = th456
@@ -730,6 +784,7 @@ class Pieper6RSolver:
                 "upper_arm": per_slot(sing["upper_arm"]),
                 "elbow": per_slot(elbow),
                 "wrist": wsing.reshape(N, -1) & valid,
+                "wrist_fold": wfold.reshape(N, -1) & valid,
             },
         )
 
