@@ -1,23 +1,41 @@
 """All-solution IK of industrial 6R arms from their DH tables: rikin against roboticstoolbox.
 
-For each arm (Puma 560, KUKA KR5 and IRB 140 from roboticstoolbox's own models; a KR6-like
-and an IRB 120-like table; the Epson C4's modified table rewritten as standard DH), the
-same seeded poses (FK of random joints, plus poses near the wrist singularity and near
-full reach) are solved by
+The arms (DH numbers in ``ROBOTS`` below, each with its source): the Puma 560, KUKA KR5,
+KUKA KR6/2, ABB IRB 120 and the Epson C4 of the lab (rikin's modified-DH table, rewritten
+as standard DH for roboticstoolbox; both FK are compared first). The Epson C4 is solved
+twice by rikin: by ``robots.epson_c4()`` (the lesson's decoupling solver) and by the same
+table given to ``SerialArm`` alone (the general closed form of :mod:`rikin.ik.pieper`).
 
-* rikin: ``arm.ik(T)`` of a ``SerialArm`` built from the DH table alone (the general
-  closed form of :mod:`rikin.ik.pieper`; no derivation step), and
-* roboticstoolbox 1.5: ``robot.analytic_ik()`` (a sympy derivation, timed apart) then
-  ``.solve(T, joint_limits=False)`` per pose.
+Poses, seeded: FK of ``--poses`` uniform random joint vectors per arm, and ``--singular``
+poses of each kind near a singularity (a fifth of them exactly on it, the rest
+``10**U(-9, -5)`` rad away): wrist (theta5 = 0 and pi), shoulder (the wrist centre on
+axis 1, or as near as the arm's offsets let it come), elbow stretched and folded
+(distance of the wrist centre from axis 2 at its largest and smallest).
 
-Printed per arm: solution sets of the regular poses compared modulo 2 pi (solutions one
-finds that the other lacks, at 1e-9 rad, and both ways at 1e-6), the largest FK residual of
-each over all poses (near-singular ones included), and poses/s of both with
-their ratio, from one run. roboticstoolbox is optional (``pip install
-"roboticstoolbox-python[ik]"``); without it only rikin's figures are printed.
+Both sides solve every pose: rikin ``arm.ik(T)`` (no derivation step), roboticstoolbox 1.5
+``robot.analytic_ik()`` (a sympy derivation, timed apart) then ``.solve(T_flange,
+joint_limits=False)`` per pose. Printed per arm:
 
-    python benchmarks/bench_ik6r.py            # 1,000 poses per arm
-    python benchmarks/bench_ik6r.py --poses 50 # a smoke run
+* ``equal``: poses whose solution sets are equal modulo 2 pi to 1e-9 rad (every solution
+  of each side has one of the other within 1e-9), regular and near-singular poses apart;
+* ``miss``: real solutions (FK residual <= 1e-9) one side lacks: no solution of its own
+  within 1e-6 rad, nor one that Newton's method in 40-digit arithmetic takes to the same
+  exact root (near a singularity the pose fixes some joints only to ~1e-4 rad, and both
+  sides hold one solution that far apart), nor one of the same singular family (at a
+  wrist singularity only q4 + q6 or q4 - q6 is fixed; with the wrist centre on axis 1,
+  q1 is free). The notes say, for those ill-conditioned pairs, which side was nearer the
+  exact root;
+* ``wrong``: solutions whose FK misses the pose by more than 1e-9 (relative to the arm's
+  size for positions);
+* ``res``: the largest FK residual of a side over all its solutions and poses;
+* ``us/pose``: wall time per pose on the regular poses, rikin one pose at a time, rikin's
+  ``ik_batch`` of all of them, and roboticstoolbox's ``solve``; the derivation apart.
+
+    python benchmarks/bench_ik6r.py                          # 1,000 + 5 x 50 poses per arm
+    python benchmarks/bench_ik6r.py --poses 50 --singular 10 # a smoke run
+
+roboticstoolbox is optional (``pip install "roboticstoolbox-python[ik]"``); without it
+only rikin's figures (FK residuals, time) are printed.
 """
 
 from __future__ import annotations
@@ -25,100 +43,396 @@ from __future__ import annotations
 import argparse
 import os
 import time
+from dataclasses import dataclass, field
 
 import numpy as np
 
 import rikin
 from rikin import Link, SerialArm, robots
 
-SEED = 20261201
+SEED = 20261202
 pi = np.pi
+SAME = 1e-9  # rad: the same solution
+LOOSE = 1e-6  # rad: the same solution, ill-conditioned near a singularity
+REAL = 1e-9  # FK residual (relative) of a real solution
 
 
-def tables() -> dict[str, tuple[list[tuple[float, float, float, float]], np.ndarray]]:
-    """DH rows ``(d, a, alpha, offset)`` (standard DH) and a tool, per arm not in rtb."""
-    c4 = robots.epson_c4()
-    # modified (alpha_{i-1}, a_{i-1}, d_i) -> standard (d_i, a_i, alpha_i) with a_i, alpha_i
-    # read from link i+1: the same product of factors, grouped differently (base alpha0 = a0 = 0)
+# (name, source, standard-DH rows (d, a, alpha, offset) in metres)
+ROBOTS = [
+    ("Puma 560",
+     "roboticstoolbox 1.5 models.DH.Puma560 (Corke & Armstrong-Helouvry, ICRA 1994)",
+     [(0.67183, 0, pi / 2, 0), (0, 0.4318, 0, 0), (0.15005, 0.0203, -pi / 2, 0),
+      (0.4318, 0, pi / 2, 0), (0, 0, -pi / 2, 0), (0, 0, 0, 0)]),
+    ("KUKA KR5",
+     "roboticstoolbox 1.5 models.DH.KR5 (from ARTE robots/KUKA/KR5_arc/parameters.m)",
+     [(0.4, 0.18, -pi / 2, 0), (0, 0.6, 0, 0), (0, 0.12, pi / 2, 0),
+      (-0.62, 0, -pi / 2, 0), (0, 0, pi / 2, 0), (-0.115, 0, pi, 0)]),
+    ("KUKA KR6",
+     "ARTE (A. Gil, UMH) robots/KUKA/KR6_2/parameters.m",
+     [(0.675, 0.26, -pi / 2, 0), (0, 0.68, 0, -pi / 2), (0, -0.035, pi / 2, 0),
+      (-0.67, 0, -pi / 2, 0), (0, 0, pi / 2, 0), (-0.115, 0, pi, 0)]),
+    ("ABB IRB 120",
+     "ARTE (A. Gil, UMH) robots/ABB/IRB120/parameters.m",
+     [(0.29, 0, -pi / 2, 0), (0, 0.27, 0, -pi / 2), (0, 0.07, -pi / 2, 0),
+      (0.302, 0, pi / 2, 0), (0, 0, -pi / 2, 0), (0.072, 0, 0, pi)]),
+]
+EPSON_SOURCE = "rikin.robots.epson_c4(): the lab's modified-DH table (mm), rewritten as standard DH"
+
+
+def epson_standard_rows(c4: SerialArm) -> list[tuple[float, float, float, float]]:
+    """The modified table as standard DH: the same factors of the FK grouped differently.
+
+    Modified link i is ``Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i) Tz(d_i)``; standard link i
+    is ``Rz(theta_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``; ``Tx`` and ``Rx`` commute, so standard
+    row i takes ``d_i`` and the offset of modified row i and ``a, alpha`` of row i + 1 (the
+    C4's row 1 has ``a_0 = alpha_0 = 0``, and nothing follows row 6).
+    """
     mod = c4.links
+    assert float(mod[0].a) == 0.0 and float(mod[0].alpha) == 0.0
     rows = []
     for i in range(6):
         nxt = mod[i + 1] if i < 5 else Link()
         rows.append((float(mod[i].d), float(nxt.a), float(nxt.alpha), float(mod[i].offset)))
-    return {
-        "KR6-like": ([(0.675, 0.26, -pi / 2, 0), (0, 0.68, 0, 0), (0, -0.035, pi / 2, -pi / 2),
-                      (-0.67, 0, -pi / 2, 0), (0, 0, pi / 2, 0), (-0.115, 0, pi, 0)], np.eye(4)),
-        "IRB 120-like": ([(0.29, 0, -pi / 2, 0), (0, 0.27, 0, -pi / 2), (0, 0.07, -pi / 2, 0),
-                          (0.302, 0, pi / 2, 0), (0, 0, -pi / 2, 0), (0.072, 0, 0, pi)],
-                         np.eye(4)),
-        "Epson C4 (as standard DH)": (rows, np.asarray(c4.tool)),
-    }
+    return rows
 
 
-def arms(with_rtb: bool):
-    """(name, rikin arm, rtb robot without base/tool or None)."""
+@dataclass
+class Case:
+    name: str
+    source: str
+    arm: SerialArm  # what rikin solves
+    rows: list  # standard DH for roboticstoolbox
+    base: np.ndarray
+    tool: np.ndarray
+    rtb: object = None
+    ik: object = None
+    derive_s: float = float("nan")
+    fk_agreement: float = float("nan")
+
+
+def cases() -> list[Case]:
     out = []
-    if with_rtb:
-        import roboticstoolbox as rtb
-
-        for name, model in (("Puma 560", rtb.models.DH.Puma560()),
-                            ("KUKA KR5", rtb.models.DH.KR5()),
-                            ("ABB IRB 140", rtb.models.DH.IRB140())):
-            links = tuple(Link(d=float(lk.d), a=float(lk.a), alpha=float(lk.alpha),
-                               offset=float(lk.offset)) for lk in model.links)
-            arm = SerialArm(links, base=model.base.A, tool=model.tool.A, name=name, units="m")
-            bare = rtb.DHRobot([rtb.RevoluteDH(d=lk.d, a=lk.a, alpha=lk.alpha, offset=lk.offset)
-                                for lk in model.links], name=name)
-            out.append((name, arm, bare))
-    for name, (rows, tool) in tables().items():
-        links = tuple(Link(d=d, a=a, alpha=al, offset=o) for d, a, al, o in rows)
-        arm = SerialArm(links, tool=tool, name=name)
-        bare = None
-        if with_rtb:
-            import roboticstoolbox as rtb
-
-            bare = rtb.DHRobot([rtb.RevoluteDH(d=d, a=a, alpha=al, offset=o)
-                                for d, a, al, o in rows], name=name)
-        out.append((name, arm, bare))
+    for name, source, rows in ROBOTS:
+        arm = SerialArm(tuple(Link(d=d, a=a, alpha=al, offset=o) for d, a, al, o in rows),
+                        name=name, units="m")
+        out.append(Case(name, source, arm, rows, np.eye(4), np.eye(4)))
+    c4 = robots.epson_c4()
+    rows = epson_standard_rows(c4)
+    out.append(Case("Epson C4 (lesson solver)", EPSON_SOURCE, c4, rows, c4.base, c4.tool))
+    table = SerialArm(c4.links, convention="modified", base=c4.base, tool=c4.tool,
+                      units=c4.units, name="Epson C4 (table)")
+    out.append(Case("Epson C4 (from its table)", EPSON_SOURCE, table, rows, c4.base, c4.tool))
     return out
 
 
-def poses(arm: SerialArm, n: int, rng: np.random.Generator) -> np.ndarray:
-    """FK of random joints; a tenth each near the wrist singularity and near full reach."""
-    q = rng.uniform(-pi, pi, (n, 6))
-    k = n // 10
-    q[:k, 4] = rng.choice([-1, 1], k) * 10.0 ** rng.uniform(-9, -4, k)  # q5 near 0
-    # near full reach: joint 3 at the value that stretches the arm, found by search
-    grid = np.linspace(-pi, pi, 3601)
-    Q = np.zeros((grid.size, 6))
-    Q[:, 2] = grid
-    F = arm.fk(Q, frames=True)
-    far = np.linalg.norm(F[:, 4, :3, 3] - F[:, 2, :3, 3], axis=1)
-    q[k:2 * k, 2] = grid[int(np.argmax(far))] + rng.uniform(-1e-6, 1e-6, k)
-    return arm.fk(q)
+def attach_rtb(case: Case, rng: np.random.Generator) -> None:
+    """roboticstoolbox's arm of the same standard-DH rows, its FK agreement, and its IK."""
+    import roboticstoolbox as rtb
+
+    case.rtb = rtb.DHRobot([rtb.RevoluteDH(d=d, a=a, alpha=al, offset=o)
+                            for d, a, al, o in case.rows], name=case.name)
+    q = rng.uniform(-pi, pi, (200, 6))
+    ours = case.arm.fk(q)
+    theirs = np.array([case.base @ case.rtb.fkine(qi).A @ case.tool for qi in q])
+    case.fk_agreement = float(np.abs(ours - theirs).max() / case.arm.scale)
+    assert case.fk_agreement < 1e-12, (case.name, case.fk_agreement)
+    t0 = time.perf_counter()
+    case.ik = case.rtb.analytic_ik()
+    case.derive_s = time.perf_counter() - t0
 
 
-def missing(A: np.ndarray, B: np.ndarray, tol: float) -> int:
-    """How many rows of A have no row of B within ``tol`` (max abs, modulo 2 pi)."""
-    if len(A) == 0:
-        return 0
-    if len(B) == 0:
-        return len(A)
-    d = np.abs(rikin.wrap_angle(A[:, None, :] - B[None, :, :])).max(-1)
-    return int((d.min(axis=1) > tol).sum())
+# ------------------------------------------------------------------ poses near singularities
+def _axis(arm: SerialArm, F: np.ndarray, i: int) -> tuple[np.ndarray, np.ndarray]:
+    """Point and direction of joint axis ``i`` (1-based) from ``fk(q, frames=True)``."""
+    k = i - 1 if arm.convention == "standard" else i
+    return F[..., k, :3, 3], F[..., k, :3, 2]
 
 
-def residual(arm: SerialArm, q: np.ndarray, T: np.ndarray) -> float:
+def wrist_centre(arm: SerialArm, q: np.ndarray) -> np.ndarray:
+    """Where axes 4 and 5 meet (closest points of the two lines), world frame."""
+    F = arm.fk(q, frames=True)
+    p4, z4 = _axis(arm, F, 4)
+    p5, z5 = _axis(arm, F, 5)
+    w = p4 - p5
+    b = (z4 * z5).sum(-1)
+    d, e = (z4 * w).sum(-1), (z5 * w).sum(-1)
+    s = (b * e - d) / (1 - b * b)
+    return p4 + s[..., None] * z4
+
+
+def _off_axis(arm: SerialArm, q: np.ndarray, i: int) -> np.ndarray:
+    """The wrist centre's offset from axis ``i``, perpendicular to it (3-vector)."""
+    F = arm.fk(q, frames=True)
+    p, z = _axis(arm, F, i)
+    v = wrist_centre(arm, q) - p
+    return v - (v * z).sum(-1, keepdims=True) * z
+
+
+def _extreme(f, lo: float = -pi, hi: float = pi, largest: bool = True) -> float:
+    """Where the 1-D function ``f`` (vectorised) is largest (or smallest) on [lo, hi]."""
+    sign = 1.0 if largest else -1.0
+    x = np.linspace(lo, hi, 3601)
+    for _ in range(6):
+        y = sign * f(x)
+        i = int(np.argmax(y))
+        h = x[1] - x[0]
+        x = np.linspace(x[i] - 2 * h, x[i] + 2 * h, 41)
+    return float(x[int(np.argmax(sign * f(x)))])
+
+
+def singular_joints(arm: SerialArm, kind: str, rng: np.random.Generator) -> np.ndarray:
+    """Joints exactly at a singularity of ``kind`` (wrist0, wrist_pi, shoulder, stretched,
+    folded), the others random."""
+    q = rng.uniform(-pi, pi, 6)
+    off = np.array([float(lk.offset) for lk in arm.links])
+    if kind in ("wrist0", "wrist_pi"):
+        q[4] = (0.0 if kind == "wrist0" else pi) - off[4]
+    elif kind in ("stretched", "folded"):
+        def dist2(t):
+            Q = np.tile(q, (len(t), 1))
+            Q[:, 2] = t
+            return np.linalg.norm(_off_axis(arm, Q, 2), axis=-1)
+        q[2] = _extreme(dist2, largest=kind == "stretched")
+    else:  # shoulder: a grid, then Gauss-Newton on joints 2, 3 towards axis 1
+        g = np.linspace(-pi, pi, 121)[:-1]
+        Q = np.tile(q, (g.size**2, 1))
+        Q[:, 1], Q[:, 2] = np.repeat(g, g.size), np.tile(g, g.size)
+        q = Q[int(np.argmin(np.linalg.norm(_off_axis(arm, Q, 1), axis=-1)))]
+        for _ in range(60):
+            r = _off_axis(arm, q, 1)
+            J = np.empty((3, 2))
+            for c, j in enumerate((1, 2)):
+                dq = np.zeros(6)
+                dq[j] = 1e-7
+                J[:, c] = (_off_axis(arm, q + dq, 1) - _off_axis(arm, q - dq, 1)) / 2e-7
+            step = np.linalg.lstsq(J, -r, rcond=None)[0]
+            q[1:3] += np.clip(step, -0.3, 0.3)
+            if np.linalg.norm(step) < 1e-15:
+                break
+    return q
+
+
+SINGULAR_KINDS = ("wrist0", "wrist_pi", "shoulder", "stretched", "folded")
+
+
+def singular_poses(arm: SerialArm, n: int, rng: np.random.Generator):
+    """``n`` joints per kind near it: a fifth exactly on it, the rest 1e-9..1e-5 rad off
+    along the joint that crosses it (q5; q2 for the shoulder; q3 for the elbow)."""
+    qs, kinds = [], []
+    move = {"wrist0": 4, "wrist_pi": 4, "shoulder": 1, "stretched": 2, "folded": 2}
+    for kind in SINGULAR_KINDS:
+        for m in range(n):
+            q = singular_joints(arm, kind, rng)
+            if m >= n // 5:
+                q[move[kind]] += rng.choice([-1, 1]) * 10.0 ** rng.uniform(-9, -5)
+            qs.append(q)
+            kinds.append(kind)
+    return np.array(qs), kinds
+
+
+# ------------------------------------------------------------------ comparing solution sets
+def residuals(arm: SerialArm, q: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """FK residual of each row: position error / arm size, and rotation entries."""
     if len(q) == 0:
-        return 0.0
+        return np.zeros(0)
     F = arm.fk(q, check_degrees=False)
-    pos = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1).max() / arm.scale
-    return float(max(pos, np.abs(F[:, :3, :3] - T[:3, :3]).max()))
+    pos = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=1) / arm.scale
+    return np.maximum(pos, np.abs(F[:, :3, :3] - T[:3, :3]).max(axis=(1, 2)))
+
+
+def _wrapped(x: np.ndarray) -> np.ndarray:
+    return np.abs(np.angle(np.exp(1j * x)))
+
+
+def nearest(A: np.ndarray, B: np.ndarray) -> np.ndarray:
+    """Distance (max abs, modulo 2 pi) from each row of A to the nearest row of B."""
+    if len(B) == 0:
+        return np.full(len(A), np.inf)
+    return _wrapped(A[:, None, :] - B[None, :, :]).max(-1).min(axis=1) if len(A) else np.zeros(0)
+
+
+def _mp_fk(case: "Case", q) -> "mpmath.matrix":
+    """FK of the standard-DH rows in 40-digit arithmetic (base and tool included)."""
+    import mpmath as mp
+
+    T = mp.matrix(case.base.tolist())
+    for (d, a, al, off), qi in zip(case.rows, q, strict=True):
+        th = qi + mp.mpf(off)
+        ct, st, ca, sa = mp.cos(th), mp.sin(th), mp.cos(mp.mpf(al)), mp.sin(mp.mpf(al))
+        if abs(al) in (pi / 2, pi):  # the table's exact twists, not their float values
+            ca, sa = (mp.mpf(0), mp.mpf(np.sign(al))) if abs(al) == pi / 2 else (mp.mpf(-1), 0)
+        T = T * mp.matrix([[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st],
+                           [0, sa, ca, d], [0, 0, 0, 1]])
+    return T * mp.matrix(case.tool.tolist())
+
+
+def _mp_error(case: "Case", q, T) -> "mpmath.matrix":
+    import mpmath as mp
+
+    F = _mp_fk(case, q)
+    R = F[:3, :3].T * mp.matrix(T[:3, :3].tolist())
+    e = [(mp.mpf(T[i, 3]) - F[i, 3]) / case.arm.scale for i in range(3)]
+    e += [(R[2, 1] - R[1, 2]) / 2, (R[0, 2] - R[2, 0]) / 2, (R[1, 0] - R[0, 1]) / 2]
+    return mp.matrix(e)
+
+
+def refine(case: "Case", q: np.ndarray, T: np.ndarray):
+    """Newton's method on the pose in 40-digit arithmetic from ``q``: the exact solution
+    near it (float64 array), or None when it does not converge (a double root of a pose at
+    a fold to rounding, or a family at an exact singularity)."""
+    import mpmath as mp
+
+    with mp.workdps(40):
+        x = [mp.mpf(float(v)) for v in q]
+        for _ in range(14):  # quadratic from a float solution; a double root stalls
+            e = _mp_error(case, x, T)
+            if mp.norm(e) < mp.mpf(10) ** -30:
+                return np.array([float(v) for v in x])
+            h = mp.mpf(10) ** -25
+            J = mp.matrix(6, 6)
+            for j in range(6):
+                xp = list(x)
+                xp[j] += h
+                col = (_mp_error(case, xp, T) - e) / h
+                for i in range(6):
+                    J[i, j] = col[i]
+            try:
+                dx = mp.lu_solve(J, e)
+            except ZeroDivisionError:
+                return None
+            x = [xi + dxi for xi, dxi in zip(x, dx, strict=True)]
+    return None
+
+
+def in_family(row: np.ndarray, B: np.ndarray, free: tuple[int, ...]) -> bool:
+    """``row`` belongs to the singular family of a row of B: equal in what the pose fixes."""
+    for b in B:
+        d = _wrapped(row - b)
+        if 4 in free and 6 in free:  # only q4 + q6 (theta5 = 0) or q4 - q6 (pi) fixed
+            fixed = max(d[[0, 1, 2, 4]].max(initial=0.0) if 1 not in free else d[[1, 2, 4]].max(),
+                        min(_wrapped((row[3] + row[5]) - (b[3] + b[5])),
+                            _wrapped((row[3] - row[5]) - (b[3] - b[5]))))
+            if fixed < LOOSE:
+                return True
+        if 1 in free and d[[1, 2]].max() < LOOSE:  # q1 free: the wrist follows it
+            return True
+        if 2 in free and d[[0, 2]].max() < LOOSE:
+            return True
+    return False
+
+
+def covers(case: Case, T: np.ndarray, row: np.ndarray, Y: np.ndarray,
+           free: tuple[int, ...]) -> bool:
+    """One of the solutions ``Y`` is ``row`` (to 1e-9, or refined to the same exact root),
+    or ``row`` is in the singular family of one of them."""
+    if len(Y) and nearest(row[None], Y)[0] <= LOOSE:
+        return True
+    if free and in_family(row, Y, free):
+        return True
+    exact = refine(case, row, T)
+    near = [y for y in Y if _wrapped(y - row).max() < 1e-3]
+    if exact is None:
+        return bool(near)
+    return any((e := refine(case, y, T)) is not None and _wrapped(e - exact).max() < 1e-12
+               for y in near)
+
+
+@dataclass
+class Tally:
+    poses: int = 0
+    equal: int = 0
+    miss: list = field(default_factory=lambda: [0, 0])  # rikin, rtb
+    wrong: list = field(default_factory=lambda: [0, 0])
+    res: list = field(default_factory=lambda: [0.0, 0.0])
+    none: list = field(default_factory=lambda: [0, 0])  # poses with no solution at all
+    missed: list = field(default_factory=lambda: [0, 0])  # notes of misses written
+    nearer: list = field(default_factory=lambda: [0, 0])  # ill-conditioned: rikin/rtb nearer
+    unresolved: int = 0  # no isolated exact root near the solution
+    family: int = 0  # solutions matched only through a singular family
+    loose: int = 0  # matched only to 1e-6
+    notes: list = field(default_factory=list)
+
+
+def compare(case: Case, T: np.ndarray, A: np.ndarray, free: tuple[int, ...],
+            B: np.ndarray, tally: Tally, label: str, regular: bool = False) -> None:
+    """Fold one pose's two solution sets into ``tally`` (A: rikin, B: roboticstoolbox)."""
+    arm = case.arm
+    tally.poses += 1
+    rA, rB = residuals(arm, A, T), residuals(arm, B, T)
+    for side, (X, rX, Y) in enumerate(((A, rA, B), (B, rB, A))):
+        if len(X):
+            tally.res[side] = max(tally.res[side], float(rX.max()))
+        else:
+            tally.none[side] += 1
+        tally.wrong[side] += int((rX > REAL).sum())
+    dAB, dBA = nearest(A, B), nearest(B, A)
+    if (dAB <= SAME).all() and (dBA <= SAME).all():
+        tally.equal += 1
+        return
+    if regular and len(tally.notes) < 4:
+        far = max(dAB[np.isfinite(dAB)].max(initial=0.0), dBA[np.isfinite(dBA)].max(initial=0.0))
+        tally.notes.append(f"{label}: {len(A)}/{len(B)} solutions, farthest pair {far:.1e} rad "
+                           f"apart; largest FK residual rikin {rA.max(initial=0):.1e}, "
+                           f"rtb {rB.max(initial=0):.1e}")
+    # a real solution of one side, absent from the other: a miss of the other side
+    for side, (X, rX, dX, Y) in enumerate(((B, rB, dBA, A), (A, rA, dAB, B))):
+        for row, r, dist in zip(X, rX, dX, strict=True):
+            if dist <= SAME or r > REAL:
+                continue
+            if free and in_family(row, Y, free):
+                tally.family += 1
+                continue
+            if dist <= LOOSE:  # one solution, ill-conditioned (near a singularity)
+                tally.loose += 1
+                continue
+            exact = refine(case, row, T)
+            if exact is None:  # no isolated root there: a fold or family to rounding
+                tally.unresolved += 1
+                continue
+            own = [y for y in Y if _wrapped(y - row).max() < 1e-3]
+            same = [y for y in own if (e := refine(case, y, T)) is not None
+                    and _wrapped(e - exact).max() < 1e-12]
+            if same:  # one solution, ill-conditioned: who is nearer the exact one?
+                tally.loose += 1
+                err_own = min(_wrapped(y - exact).max() for y in same)
+                err_other = _wrapped(row - exact).max()
+                tally.nearer[side if err_own < err_other else 1 - side] += 1
+            else:
+                tally.miss[side] += 1
+                tally.missed[side] += 1
+                if tally.missed[side] <= (8 if side == 0 else 2):
+                    who = "rikin" if side == 0 else "rtb"
+                    tally.notes.append(f"{label}: {who} misses q={np.round(row, 9).tolist()} "
+                                       f"(FK residual {r:.1e}, nearest of its own {dist:.1e} rad)")
+
+
+# ------------------------------------------------------------------ running both sides
+def solve_rikin(arm: SerialArm, Ts: np.ndarray):
+    sols, free = [], []
+    t0 = time.perf_counter()
+    for T in Ts:
+        try:
+            res = arm.ik(T)
+        except rikin.UnreachableError:
+            sols.append(np.zeros((0, 6)))
+            free.append(())
+            continue
+        sols.append(res.q)
+        free.append(res.free_joints)
+    return sols, free, time.perf_counter() - t0
+
+
+def solve_rtb(case: Case, Ts: np.ndarray):
+    flange = np.linalg.inv(case.base) @ Ts @ np.linalg.inv(case.tool)
+    t0 = time.perf_counter()
+    out = [np.atleast_2d(case.ik.solve(F, joint_limits=False).q).reshape(-1, 6) for F in flange]
+    return out, time.perf_counter() - t0
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--poses", type=int, default=1000)
+    ap.add_argument("--poses", type=int, default=1000, help="random poses per arm")
+    ap.add_argument("--singular", type=int, default=50, help="poses per singularity kind")
     args = ap.parse_args()
     try:
         import roboticstoolbox  # noqa: F401
@@ -127,46 +441,69 @@ def main() -> None:
     except ImportError:
         with_rtb = False
         print("roboticstoolbox not installed: rikin's figures only")
-    print(f"load average {os.getloadavg()[0]:.1f}, {os.cpu_count()} CPUs, {args.poses} poses/arm")
-    head = (f"{'arm':<27}{'rtb derive s':>13}{'rikin/s':>9}{'rtb/s':>8}{'ratio':>7}"
-            f"{'rikin-only':>11}{'rtb-only':>9}{'(1e-6)':>8}{'rikin res':>10}{'rtb res':>9}")
-    print(head)
     rng = np.random.default_rng(SEED)
-    for name, arm, bare in arms(with_rtb):
-        Ts = poses(arm, args.poses, rng)
+    print(f"load average {os.getloadavg()[0]:.1f} {os.getloadavg()[1]:.1f}, {os.cpu_count()} "
+          f"CPUs; seed {SEED}; per arm {args.poses} random poses + "
+          f"{len(SINGULAR_KINDS)} x {args.singular} near singularities")
+    head = (f"{'arm':<26}{'equal reg':>10}{'equal sing':>11}{'miss rikin/rtb':>15}"
+            f"{'wrong':>7}{'res rikin':>10}{'res rtb':>9}{'rikin us':>9}{'batch us':>9}"
+            f"{'rtb us':>8}{'ratio':>7}{'derive s':>9}")
+    rows, notes = [], []
+    for case in cases():
+        arm = case.arm
+        q_reg = rng.uniform(-pi, pi, (args.poses, 6))
+        q_sing, kinds = singular_poses(arm, args.singular, rng)
+        T_reg, T_sing = arm.fk(q_reg), arm.fk(q_sing)
+        sols_r, free_r, t_r = solve_rikin(arm, T_reg)
+        sols_s, free_s, _ = solve_rikin(arm, T_sing)
         t0 = time.perf_counter()
-        sols = []
-        for T in Ts:
-            try:
-                sols.append(arm.ik(T).q)
-            except rikin.UnreachableError:
-                sols.append(np.zeros((0, 6)))
-        t_rikin = time.perf_counter() - t0
-        res_r = max(residual(arm, q, T) for q, T in zip(sols, Ts, strict=True))
-        line = f"{name:<27}"
-        if bare is None:
-            print(line + f"{'':>13}{args.poses / t_rikin:>9.0f}{'':>8}{'':>7}{'':>11}{'':>9}"
-                  f"{'':>8}{res_r:>10.1e}")
+        arm.ik_batch(T_reg)
+        t_b = time.perf_counter() - t0
+        # rikin alone: the generating q among the solutions (or in their singular family)
+        lost = sum(
+            not covers(case, T, q, sols, free)
+            for q, T, sols, free in zip(np.vstack([q_reg, q_sing]), np.vstack([T_reg, T_sing]),
+                                        sols_r + sols_s, free_r + free_s, strict=True))
+        us = 1e6 / args.poses
+        if not with_rtb:
+            res = max(residuals(arm, s, T).max(initial=0) for s, T in
+                      zip(sols_r + sols_s, np.vstack([T_reg, T_sing]), strict=True))
+            rows.append(f"{case.name:<26}{'':>10}{'':>11}{'':>15}{'':>7}{res:>10.1e}{'':>9}"
+                        f"{t_r * us:>9.0f}{t_b * us:>9.1f}")
+            notes.append(f"{case.name}: generating q not among rikin's solutions: {lost}")
             continue
-        t0 = time.perf_counter()
-        ik = bare.analytic_ik()
-        t_derive = time.perf_counter() - t0
-        base_inv, tool_inv = np.linalg.inv(arm.base), np.linalg.inv(arm.tool)
-        flange = base_inv @ Ts @ tool_inv
-        t0 = time.perf_counter()
-        rtb_sols = [np.atleast_2d(ik.solve(F, joint_limits=False).q).reshape(-1, 6) for F in flange]
-        t_rtb = time.perf_counter() - t0
-        # the regular poses only (the first fifth are near a singularity by construction,
-        # where the pose fixes some joints only loosely and the sets are not comparable)
-        k = args.poses // 5
-        pairs = list(zip(sols[k:], rtb_sols[k:], strict=True))
-        only_r = sum(missing(a, b, 1e-9) for a, b in pairs)
-        only_t = sum(missing(b, a, 1e-9) for a, b in pairs)
-        loose = sum(missing(a, b, 1e-6) + missing(b, a, 1e-6) for a, b in pairs)
-        res_t = max(residual(arm, q, T) for q, T in zip(rtb_sols, Ts, strict=True))
-        r_rate, t_rate = args.poses / t_rikin, args.poses / t_rtb
-        print(line + f"{t_derive:>13.1f}{r_rate:>9.0f}{t_rate:>8.0f}{r_rate / t_rate:>7.2f}"
-              f"{only_r:>11}{only_t:>9}{loose:>8}{res_r:>10.1e}{res_t:>9.1e}")
+        attach_rtb(case, rng)
+        rtb_r, t_t = solve_rtb(case, T_reg)
+        rtb_s, _ = solve_rtb(case, T_sing)
+        reg, sing = Tally(), Tally()
+        for i, T in enumerate(T_reg):
+            compare(case, T, sols_r[i], free_r[i], rtb_r[i], reg, f"{case.name} random #{i}",
+                    regular=True)
+        for i, T in enumerate(T_sing):
+            compare(case, T, sols_s[i], free_s[i], rtb_s[i], sing,
+                    f"{case.name} {kinds[i]} #{i}")
+        miss = [reg.miss[s] + sing.miss[s] for s in (0, 1)]
+        wrong = [reg.wrong[s] + sing.wrong[s] for s in (0, 1)]
+        res = [max(reg.res[s], sing.res[s]) for s in (0, 1)]
+        rows.append(
+            f"{case.name:<26}{f'{reg.equal}/{reg.poses}':>10}{f'{sing.equal}/{sing.poses}':>11}"
+            f"{f'{miss[0]}/{miss[1]}':>15}{f'{wrong[0]}/{wrong[1]}':>7}{res[0]:>10.1e}"
+            f"{res[1]:>9.1e}{t_r * us:>9.0f}{t_b * us:>9.1f}{t_t * us:>8.0f}"
+            f"{t_t / t_r:>7.2f}{case.derive_s:>9.1f}")
+        notes.append(
+            f"{case.name}: FK of rikin and roboticstoolbox agree to {case.fk_agreement:.1e}; "
+            f"generating q not among rikin's solutions: {lost}; "
+            f"solutions the sides hold only up to conditioning: {sing.loose + reg.loose}, only "
+            f"within a singular family: {sing.family + reg.family}; of the ill-conditioned, "
+            f"nearer the 40-digit root rikin/rtb: {reg.nearer[0] + sing.nearer[0]}/"
+            f"{reg.nearer[1] + sing.nearer[1]}; no isolated root near: "
+            f"{reg.unresolved + sing.unresolved}; poses without any "
+            f"solution rikin/rtb: {reg.none[0] + sing.none[0]}/{reg.none[1] + sing.none[1]}")
+        notes += reg.notes + sing.notes
+    print(head)
+    print("\n".join(rows))
+    print("\n".join(notes))
+    print("sources: " + "; ".join(f"{n}: {s}" for n, s, _ in ROBOTS) + f"; Epson C4: {EPSON_SOURCE}")
 
 
 if __name__ == "__main__":
