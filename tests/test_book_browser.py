@@ -253,10 +253,13 @@ return article.innerText.split('\n').filter(l => /^\s*(`{3,}|:{3,}|~{3,})\{[a-z-
 
 
 #: Output text a reader should never see: 0.30000000000000004 or 0.4999999999999999 (a
-#: float printed unformatted), np.float64(...) / np.int64(...) (a numpy scalar's repr).
+#: float printed unformatted), np.float64(...) / np.int64(...) (a numpy scalar's repr),
+#: a negative zero (-0.0, -0.).
 _NOISY_NUMBERS = r"""
 const out = [];
-const noise = /\d\.\d*(?:0{9,}[1-9]|9{9,}\d)|np\.(?:float|int)\d+\(/;
+const noise = new RegExp([String.raw`\d\.\d*(?:0{9,}[1-9]|9{9,}\d)`,
+                          String.raw`np\.(?:float|int)\d+\(`,
+                          String.raw`(?:^|[\s,(\[/])-0(?:\.0*)?(?=$|[\s,)\]/°])`].join('|'));
 for (const el of document.querySelectorAll('.cell_output, .output')) {
   for (const line of el.innerText.split('\n')) {
     if (noise.test(line)) out.push(line.trim().slice(0, 80));
