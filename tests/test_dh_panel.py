@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from test_widgets_kernel import kernel  # noqa: F401  (the live-kernel fixture)
 
 import rikin
 from rikin import InputError, Link, SerialArm, widgets
@@ -213,3 +214,35 @@ def test_tool_as_position_or_pose():
     panel.set(tool="0 0")
     msg = panel.state.message
     assert msg.startswith("The table cannot be read") and "tool" in msg
+
+
+# ------------------------------------------------------------------ in a live kernel
+@pytest.mark.slow
+def test_dh_panel_in_a_live_kernel_types_a_table_and_solves(kernel):  # noqa: F811
+    """As a browser does it: type a table into the text area (a comm 'update'), press
+    Solve (a comm 'custom' click); the kernel sends the verdict, the table and a drawing."""
+    from test_widgets_kernel import _iopub_until_idle, _models, _run, _said
+
+    msgs = _run(kernel, "from rikin import widgets\npanel = widgets.dh_panel()\npanel")
+    models = _models(msgs)
+    by_kind = {}
+    for cid, s in models.items():
+        by_kind.setdefault(s.get("_model_name"), []).append((cid, s))
+    (area,) = [cid for cid, s in by_kind["TextareaModel"] if s["description"] == "DH table"]
+    (target,) = [cid for cid, s in by_kind["TextModel"] if s["description"] == "target"]
+    (solve,) = [cid for cid, s in by_kind["ButtonModel"] if s["description"] == "Solve"]
+    (image,) = [cid for cid, _ in by_kind["ImageModel"]]
+    for cid, value in ((area, UR5_TABLE), (target, "30 -60 80 -110 -90 20")):
+        msg = kernel.session.msg("comm_msg", {"comm_id": cid, "data": {
+            "method": "update", "state": {"value": value}, "buffer_paths": []}})
+        kernel.shell_channel.send(msg)
+        _iopub_until_idle(kernel, msg["header"]["msg_id"])
+    click = kernel.session.msg("comm_msg", {"comm_id": solve, "data": {
+        "method": "custom", "content": {"event": "click"}}})
+    kernel.shell_channel.send(click)
+    answer = _iopub_until_idle(kernel, click["header"]["msg_id"])
+    said = _said(answer)
+    assert "axis 6 passes 0.09465 m" in said and "ik_numerical" in said, said
+    drawn = [m for m in answer if m["msg_type"] == "comm_msg"
+             and m["content"]["comm_id"] == image and m.get("buffers")]
+    assert drawn and bytes(drawn[-1]["buffers"][0])[:4] == b"\x89PNG"
