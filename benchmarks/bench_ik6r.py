@@ -298,7 +298,7 @@ def refine(case: "Case", q: np.ndarray, T: np.ndarray):
                     J[i, j] = col[i]
             try:
                 dx = mp.lu_solve(J, e)
-            except ZeroDivisionError:
+            except (ZeroDivisionError, TypeError):  # singular J: mpmath's LU finds no pivot
                 return None
             x = [xi + dxi for xi, dxi in zip(x, dx, strict=True)]
     return None
