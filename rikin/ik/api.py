@@ -266,28 +266,12 @@ def _solve_regular(arm: SerialArm, kernel: Any, target: FloatArray) -> IKResult 
     np.subtract(D, target, out=D)
     # positions relative to the arm's size (or the target's distance), times sqrt(3) so
     # that a max-abs bound on the entries bounds the norm as the general check does
-    np.multiply(D, _check_weights(_SQRT3 / max(arm.scale, far)), out=D)
+    D[:, :3, 3] *= _SQRT3 / max(arm.scale, far)
     np.abs(D, out=D)
-    if not float(_max_reduce(D, axis=None)) <= FK_CHECK_TOL:
+    if not float(D.max()) <= FK_CHECK_TOL:
         return None  # the general path checks again and reports
     labels = _branch_labels(kernel.slots)
     return IKResult._regular(q, tuple([labels[key] for key in keys]), target, arm)
-
-
-_max_reduce = np.maximum.reduce
-_WEIGHTS: dict[float, FloatArray] = {}
-
-
-def _check_weights(position_scale: float) -> FloatArray:
-    """(4, 4) weights of the FK check: 1 on the rotation, ``position_scale`` on the position."""
-    w = _WEIGHTS.get(position_scale)
-    if w is None:
-        if len(_WEIGHTS) > 256:  # targets farther than the arm's size: one entry each
-            _WEIGHTS.clear()
-        w = np.ones((4, 4))
-        w[:3, 3] = position_scale
-        _WEIGHTS[position_scale] = w
-    return w
 
 
 _SQRT3 = math.sqrt(3.0)

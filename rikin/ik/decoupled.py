@@ -545,29 +545,9 @@ class SingleKernel:
         self.sus_sin, self.sus_edge = batch.SUSPECT_SIN, batch.SUSPECT_EDGE
         self.plain = bool(np.array_equal(batch.G, np.eye(3)) and np.array_equal(batch.H, np.eye(3)))
 
-    def _GRH(
-        self, r00: float, r01: float, r02: float, r10: float, r11: float, r12: float,
-        r20: float, r21: float, r22: float,
-    ) -> tuple[tuple[float, float, float], ...]:
+    def _GRH(self, R: list[list[float]]) -> list[list[float]]:
         """Rows of ``S = G R H`` (see :class:`BatchKernel`)."""
-        (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = self.G
-        a00 = g00 * r00 + g01 * r10 + g02 * r20
-        a01 = g00 * r01 + g01 * r11 + g02 * r21
-        a02 = g00 * r02 + g01 * r12 + g02 * r22
-        a10 = g10 * r00 + g11 * r10 + g12 * r20
-        a11 = g10 * r01 + g11 * r11 + g12 * r21
-        a12 = g10 * r02 + g11 * r12 + g12 * r22
-        a20 = g20 * r00 + g21 * r10 + g22 * r20
-        a21 = g20 * r01 + g21 * r11 + g22 * r21
-        a22 = g20 * r02 + g21 * r12 + g22 * r22
-        (h00, h01, h02), (h10, h11, h12), (h20, h21, h22) = self.H
-        S0 = (a00 * h00 + a01 * h10 + a02 * h20, a00 * h01 + a01 * h11 + a02 * h21,
-              a00 * h02 + a01 * h12 + a02 * h22)
-        S1 = (a10 * h00 + a11 * h10 + a12 * h20, a10 * h01 + a11 * h11 + a12 * h21,
-              a10 * h02 + a11 * h12 + a12 * h22)
-        S2 = (a20 * h00 + a21 * h10 + a22 * h20, a20 * h01 + a21 * h11 + a22 * h21,
-              a20 * h02 + a21 * h12 + a22 * h22)
-        return S0, S1, S2
+        return _mul3(_mul3(self.G, R), self.H)
 
     def solve(self, T: list[list[float]]) -> tuple[list[float], list[tuple[int, bool, bool]]] | None:
         """Joint values of the valid slots (wrapped to (-pi, pi]), as one flat list of
@@ -581,7 +561,7 @@ class SingleKernel:
         if self.plain:  # G and H are the identity (no base rotation, no tool twist)
             S0, S1, S2 = (r00, r01, r02), (r10, r11, r12), (r20, r21, r22)
         else:
-            S0, S1, S2 = self._GRH(r00, r01, r02, r10, r11, r12, r20, r21, r22)
+            S0, S1, S2 = self._GRH([[r00, r01, r02], [r10, r11, r12], [r20, r21, r22]])
         c0, c1_, c2 = self.c
         v0 = r00 * c0 + r01 * c1_ + r02 * c2 + px
         v1 = r10 * c0 + r11 * c1_ + r12 * c2 + py
@@ -672,3 +652,9 @@ class SingleKernel:
         if -pi in q_out:  # remainder's range is [-pi, pi]; wrap_angle's is (-pi, pi]
             q_out = [pi if v == -pi else v for v in q_out]
         return q_out, keys
+
+
+def _mul3(A: list[list[float]], B: list[list[float]]) -> list[list[float]]:
+    """The product of two 3x3 matrices given as nested lists, in plain floats."""
+    cols = list(zip(*B))
+    return [[a0 * b0 + a1 * b1 + a2 * b2 for b0, b1, b2 in cols] for a0, a1, a2 in A]
