@@ -270,24 +270,11 @@ def _solve_regular(arm: SerialArm, kernel: Any, target: FloatArray) -> IKResult 
     np.abs(D, out=D)
     if not float(D.max()) <= FK_CHECK_TOL:
         return None  # the general path checks again and reports
-    labels = _branch_labels(kernel.slots)
+    labels = kernel.labels
     return IKResult._regular(q, tuple([labels[key] for key in keys]), target, arm)
 
 
 _SQRT3 = math.sqrt(3.0)
-_LABELS: dict[tuple[Branch, ...], dict[tuple[int, bool, bool], Branch]] = {}
-
-
-def _branch_labels(slots: tuple[Branch, ...]) -> dict[tuple[int, bool, bool], Branch]:
-    """Every Branch a slot can carry: (slot, elbow up, sin(q_mid) >= 0) -> Branch."""
-    if slots not in _LABELS:
-        _LABELS[slots] = {
-            (i, u, nf): Branch(b.shoulder, "up" if u else "down", "no-flip" if nf else "flip")
-            for i, b in enumerate(slots)
-            for u in (False, True)
-            for nf in (False, True)
-        }
-    return _LABELS[slots]
 
 
 def _finish(

@@ -542,6 +542,13 @@ class SingleKernel:
         self.sigma, self.s = batch.sigma, batch.wrist_s
         self.offsets = batch.offsets
         self.slots = batch.slots
+        #: branch key of :meth:`solve` -> its Branch (the one-pose path's interface)
+        self.labels = {
+            (i, up, nf): Branch(b.shoulder, "up" if up else "down", "no-flip" if nf else "flip")
+            for i, b in enumerate(batch.slots)
+            for up in (False, True)
+            for nf in (False, True)
+        }
         self.sus_sin, self.sus_edge = batch.SUSPECT_SIN, batch.SUSPECT_EDGE
         self.plain = bool(np.array_equal(batch.G, np.eye(3)) and np.array_equal(batch.H, np.eye(3)))
 
@@ -552,7 +559,7 @@ class SingleKernel:
     def solve(self, T: list[list[float]]) -> tuple[list[float], list[tuple[int, bool, bool]]] | None:
         """Joint values of the valid slots (wrapped to (-pi, pi]), as one flat list of
         6 per solution, and per solution its branch key ``(slot 0-7, elbow up,
-        sin(q5) >= 0)`` (see ``rikin.ik.api._branch_labels``).
+        sin(q5) >= 0)``, whose Branch :attr:`labels` gives.
 
         ``T`` is the validated world pose as nested lists. None: near a singularity,
         or nothing reachable (let the general solver decide and explain).
