@@ -432,28 +432,30 @@ class SerialArm:
         ``Rz(theta) [Tz(d) Tx(a) Rx(alpha)]``; modified: ``[Rx(alpha) Tx(a) Tz(d)] Rz(theta)``,
         as Rz and Tz commute), and ``Rz(theta) = cos(theta) P + sin(theta) Q + E`` with
         constant ``P, Q, E``. So link i is ``cos * C1_i + sin * C2_i + C3_i`` with constants
-        (base folded into the first link, tool into the last): one matmul with a block-diagonal
-        constant gives every link of every row, and neighbours are multiplied pairwise, about
-        ten array operations for the whole chain instead of a dozen per link. The IK of one pose checks with it.
+        (base folded into the first link, tool into the last): one ``sin`` (``cos(t) =
+        sin(t + pi/2)``) and one matmul with a block-diagonal constant give every link of
+        every row, and neighbours are multiplied pairwise: eight array operations for the
+        whole chain, whatever ``k``. For one pose numpy's cost per call, not the
+        arithmetic, is what counts; the IK of one pose checks its solutions with this.
         """
         consts = self.__dict__.get("_fk_consts")
         if consts is None:
             C1, C2, C3, offsets = self._link_constants()
             n = self.n
-            # link i = [cos, sin, 1] @ C[i], all links in ONE matmul with a block-diagonal C
-            C = np.zeros((3 * n, 16 * n))
-            for i, Ci in enumerate((C1, C2, C3)):
-                for j in range(n):
-                    C[3 * j + i, 16 * j : 16 * j + 16] = Ci[j].ravel()
-            consts = (C, offsets)
+            # links = [cos_0, sin_0, cos_1, ...] @ C + C3: one matmul, block-diagonal C
+            C = np.zeros((2 * n, 16 * n))
+            for j in range(n):
+                C[2 * j, 16 * j : 16 * j + 16] = C1[j].ravel()
+                C[2 * j + 1, 16 * j : 16 * j + 16] = C2[j].ravel()
+            shift = np.stack([offsets + np.pi / 2, offsets], axis=1)  # (n, 2)
+            consts = (C, C3.ravel(), shift)
             object.__setattr__(self, "_fk_consts", consts)
-        C, offsets = consts
+        C, C3, shift = consts
         k, n = q.shape
-        th = q + offsets
-        X = np.ones((k, n, 3))
-        np.cos(th, out=X[..., 0])
-        np.sin(th, out=X[..., 1])
-        M = (X.reshape(k, 3 * n) @ C).reshape(k, n, 4, 4)  # M[:, i] is link i
+        cs = np.sin(q.reshape(k, n, 1) + shift)  # (k, n, 2): cos, sin of every theta
+        M = cs.reshape(k, 2 * n) @ C
+        M += C3
+        M = M.reshape(k, n, 4, 4)
         while M.shape[1] > 3 and M.shape[1] % 2 == 0:  # neighbours pairwise: fewer matmuls
             M = M[:, 0::2] @ M[:, 1::2]
         T = M[:, 0]

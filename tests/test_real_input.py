@@ -434,12 +434,34 @@ def test_far_but_representable_targets_of_a_prismatic_arm_are_solved():
 
 
 # ---------------------------------------------------------------- the one-pose fast path
+def _rigid(rng):
+    """A random rigid transform (rotation from a normalised quaternion)."""
+    q = rng.normal(size=4)
+    w, x, y, z = q / np.linalg.norm(q)
+    R = np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ])
+    return rikin.homogeneous(R, rng.uniform(-50, 50, 3))
+
+
+FRAMED = {
+    name: robots.LESSON_ROBOTS[name](
+        base=_rigid(np.random.default_rng(i)), tool=_rigid(np.random.default_rng(10 + i))
+    )
+    for i, name in enumerate(SIX_DOF)
+}
+
+
+@pytest.mark.parametrize("framed", [False, True], ids=["bare", "base+tool"])
 @pytest.mark.parametrize("name", SIX_DOF)
 @given(seed=st.integers(0, 2**32 - 1))
-def test_one_pose_fast_path_equals_the_general_solver(name, seed):
+def test_one_pose_fast_path_equals_the_general_solver(name, framed, seed):
     """arm.ik of a float64 4x4 array takes the plain-float kernel; a list takes the general
     path: same solutions, same order, same labels, same flags."""
-    arm = ARMS[name]
+    arm = FRAMED[name] if framed else ARMS[name]
+    assert arm.solver.single_kernel(arm) is not None  # every lesson 6R has the fast path
     rng = np.random.default_rng(seed)
     q = random_q(arm, rng)
     if rng.uniform() < 0.3:
@@ -459,6 +481,21 @@ def test_one_pose_fast_path_equals_the_general_solver(name, seed):
         general.discarded, general.rotation_distance, general.arm_name
     )
     assert np.isin(fast.q, [-np.pi]).sum() == 0  # wrapped to (-pi, pi]
+
+
+@pytest.mark.parametrize("framed", [False, True], ids=["bare", "base+tool"])
+@pytest.mark.parametrize("name", SIX_DOF)
+def test_regular_poses_take_the_fast_path(name, framed):
+    """Random poses are regular: the plain-float path answers (not the fallback)."""
+    from rikin.ik import api
+
+    arm = FRAMED[name] if framed else ARMS[name]
+    arm.ik(arm.fk(np.zeros(6) + 0.3))
+    fast_path = arm.__dict__["_single_kernel"]
+    rng = np.random.default_rng(3)
+    T = arm.fk(np.array([random_q(arm, rng) for _ in range(200)]))
+    answered = sum(api._solve_regular(arm, *fast_path, t) is not None for t in T)
+    assert answered >= 190
 
 
 @pytest.mark.parametrize("name", sorted(ARMS))

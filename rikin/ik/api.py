@@ -208,13 +208,14 @@ def solve(
     """
     solver = _solver(arm)
     if near is None and within_limits is False and type(target) is np.ndarray:
-        kernel = arm.__dict__.get("_single_kernel", False)
-        if kernel is False:  # look it up once per arm (arms are immutable)
+        fast_path = arm.__dict__.get("_single_kernel", False)
+        if fast_path is False:  # look it up once per arm (arms are immutable)
             single = getattr(solver, "single_kernel", None)
             kernel = single(arm) if single is not None else None
-            object.__setattr__(arm, "_single_kernel", kernel)
-        if kernel is not None:
-            fast = _solve_regular(arm, kernel, target)
+            fast_path = None if kernel is None else (kernel, _check_weight(arm.scale))
+            object.__setattr__(arm, "_single_kernel", fast_path)
+        if fast_path is not None:
+            fast = _solve_regular(arm, *fast_path, target)
             if fast is not None:
                 return fast
     kind = solver.target_kind
@@ -237,7 +238,9 @@ def solve(
     return _finish(arm, solver, raw, T_world, kind, hint, within_limits, rot_dist)
 
 
-def _solve_regular(arm: SerialArm, kernel: Any, target: FloatArray) -> IKResult | None:
+def _solve_regular(
+    arm: SerialArm, kernel: Any, weight: FloatArray, target: FloatArray
+) -> IKResult | None:
     """The whole of :func:`solve` for one regular pose, with the plain-float kernel.
 
     Returns None (the caller takes the general path, which validates, explains and
@@ -261,12 +264,12 @@ def _solve_regular(arm: SerialArm, kernel: Any, target: FloatArray) -> IKResult 
     if out is None:
         return None
     flat, keys = out
-    q = np.array(flat).reshape(-1, 6)
+    q = np.fromiter(flat, np.float64, len(flat)).reshape(-1, 6)  # no type inference
     D = arm._fk_revolute(q)
     np.subtract(D, target, out=D)
     # positions relative to the arm's size (or the target's distance), times sqrt(3) so
     # that a max-abs bound on the entries bounds the norm as the general check does
-    D[:, :3, 3] *= _SQRT3 / max(arm.scale, far)
+    np.multiply(D, weight if far <= arm.scale else _check_weight(far), out=D)
     np.abs(D, out=D)
     if not float(D.max()) <= FK_CHECK_TOL:
         return None  # the general path checks again and reports
@@ -275,6 +278,14 @@ def _solve_regular(arm: SerialArm, kernel: Any, target: FloatArray) -> IKResult 
 
 
 _SQRT3 = math.sqrt(3.0)
+
+
+def _check_weight(length: float) -> FloatArray:
+    """Weights of the one-pose FK check's pose difference: 1 on the rotation block,
+    ``sqrt(3) / length`` on the position column (a max-abs bound then bounds the norm)."""
+    W = np.ones((4, 4))
+    W[:3, 3] = _SQRT3 / length
+    return W
 
 
 def _finish(

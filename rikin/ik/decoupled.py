@@ -18,6 +18,7 @@ Eight slots: arm slot ``a`` (see ``ARM_SLOTS``) times wrist slot ``b`` -> ``2 a 
 
 from __future__ import annotations
 
+import math
 import weakref
 from math import atan2, cos, hypot, pi, remainder, sin, sqrt
 from typing import TYPE_CHECKING, Any
@@ -213,7 +214,10 @@ class Decoupled6RSolver(ClosedForm):
         cache = self.__dict__.setdefault("_single", weakref.WeakKeyDictionary())
         if arm not in cache:
             batch = self.batch_kernel(arm)
-            cache[arm] = None if batch is None else SingleKernel(batch)
+            kernel = None if batch is None else SingleKernel(batch)
+            if kernel is not None and math.isnan(sum(kernel.twists)):
+                kernel = None  # twists other than the lesson arms' +-90 deg: numpy path
+            cache[arm] = kernel
         return cache[arm]
 
     def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
@@ -550,6 +554,9 @@ class SingleKernel:
             for nf in (False, True)
         }
         self.sus_sin, self.sus_edge = batch.SUSPECT_SIN, batch.SUSPECT_EDGE
+        #: (e1, k6) with E1^T = Rx(-e1 pi/2) and K = Rx(-k6 pi/2): the twists of the arms
+        #: this kernel takes (``single_kernel`` gives None for others)
+        self.twists = (_rx_quarter(batch.E1t), _rx_quarter(batch.K))
         self.plain = bool(np.array_equal(batch.G, np.eye(3)) and np.array_equal(batch.H, np.eye(3)))
 
     def _GRH(self, R: list[list[float]]) -> list[list[float]]:
@@ -587,9 +594,10 @@ class SingleKernel:
         tol = REACH_TOL * Lp
         edge = self.sus_edge * Lp
         o1, o2, o3, o4, o5, o6 = self.offsets
-        (k00, k01, k02), (k10, k11, k12), (k20, k21, k22) = self.K
-        (e00, e01, e02), (e10, e11, e12), (e20, e21, e22) = self.E1t
+        e1, k6 = self.twists
+        ek = -e1 * k6
         sig, s_w, sus_sin = self.sigma, self.s, self.sus_sin
+        nf_q5 = None if o5 else (s_w < 0, s_w > 0)
         q_out: list[float] = []
         keys: list[tuple[int, bool, bool]] = []
         vertical_tol = SINGULAR_TOL * L2
@@ -608,33 +616,24 @@ class SingleKernel:
             else:
                 beta = 2.0 * atan2(sqrt(sm * dp), sqrt(sp * dm))
             base = atan2(w, u)
+            vertical = abs(u) <= vertical_tol
             th1 = q1 + pi if side else q1
             a1 = rem(th1, tau)
             ct, st = cos(th1 + o1), sin(th1 + o1)
             # U = Rz(-th1) S (rows 0, 1), then V = E1^T U
             u00, u01, u02 = ct * S0[0] + st * S1[0], ct * S0[1] + st * S1[1], ct * S0[2] + st * S1[2]
             u10, u11, u12 = ct * S1[0] - st * S0[0], ct * S1[1] - st * S0[1], ct * S1[2] - st * S0[2]
-            u20, u21, u22 = S2
-            V0 = (e00 * u00 + e01 * u10 + e02 * u20, e00 * u01 + e01 * u11 + e02 * u21,
-                  e00 * u02 + e01 * u12 + e02 * u22)
-            V1 = (e10 * u00 + e11 * u10 + e12 * u20, e10 * u01 + e11 * u11 + e12 * u21,
-                  e10 * u02 + e11 * u12 + e12 * u22)
-            V2 = (e20 * u00 + e21 * u10 + e22 * u20, e20 * u01 + e21 * u11 + e22 * u21,
-                  e20 * u02 + e21 * u12 + e22 * u22)
+            # V = E1^T U with E1^T = [[1, 0, 0], [0, 0, e1], [0, -e1, 0]]; M = K W likewise,
+            # so M's row 1 is -e1 k6 U's row 1 whatever the elbow
+            V00, V01, V02 = u00, u01, u02
+            V10, V11, V12 = e1 * S2[0], e1 * S2[1], e1 * S2[2]
+            m10, m11, m12 = ek * u10, ek * u11, ek * u12
             for elbow, (A, Bv) in enumerate(((base - beta, B0), (base + beta, -B0))):
                 q2, q3 = A - phi2, Bv - phi3
                 ph = (q2 + o2) + sig * (q3 + o3)
                 cp, sq = cos(ph), sin(ph)
-                w00, w01, w02 = cp * V0[0] + sq * V1[0], cp * V0[1] + sq * V1[1], cp * V0[2] + sq * V1[2]
-                w10, w11, w12 = cp * V1[0] - sq * V0[0], cp * V1[1] - sq * V0[1], cp * V1[2] - sq * V0[2]
-                w20, w21, w22 = V2
-                m00 = k00 * w00 + k01 * w10 + k02 * w20
-                m01 = k00 * w01 + k01 * w11 + k02 * w21
-                m02 = k00 * w02 + k01 * w12 + k02 * w22
-                m10 = k10 * w00 + k11 * w10 + k12 * w20
-                m11 = k10 * w01 + k11 * w11 + k12 * w21
-                m12 = k10 * w02 + k11 * w12 + k12 * w22
-                m22 = k20 * w02 + k21 * w12 + k22 * w22
+                m00, m01, m02 = cp * V00 + sq * V10, cp * V01 + sq * V11, cp * V02 + sq * V12
+                m22 = -k6 * (cp * V12 - sq * V02)
                 sw = sqrt(m02 * m02 + m12 * m12)
                 if sw < sus_sin:
                     return None
@@ -642,23 +641,33 @@ class SingleKernel:
                 phw = atan2(m12, m02)
                 cph, sph = m02 / sw, m12 / sw
                 psi = atan2(cph * m10 - sph * m00, cph * m11 - sph * m01)
-                eu, ew = L2 * cos(A), L2 * sin(A)
-                if abs(u) <= vertical_tol:
-                    is_up = eu > 0
-                else:
-                    is_up = (u * ew - w * eu) * (1.0 if u > 0 else -1.0) > 0
+                # elbow up: the elbow (L2 along A) lies on the upper side of the line from
+                # the shoulder to the wrist centre (direction ``base``): sign(sin(A - base))
+                # = sign(-+beta), beta in (0, pi) here; a vertical line compares heights
+                is_up = cos(A) > 0 if vertical else (u > 0) == (elbow == 1)
                 t5 = s_w * theta
                 q5a, q5b = rem(-t5 - o5, tau), rem(t5 - o5, tau)
                 a2, a3 = rem(q2, tau), rem(q3, tau)
                 q_out += (a1, a2, a3, rem(phw - o4, tau), q5a, rem(psi - o6, tau))
                 q_out += (a1, a2, a3, rem(phw + pi - o4, tau), q5b, rem(psi + pi - o6, tau))
                 slot = 4 * side + 2 * elbow
-                keys += ((slot, is_up, sin(q5a) >= 0.0), (slot + 1, is_up, sin(q5b) >= 0.0))
+                if nf_q5 is None:  # sin(q5) of each flip: its label
+                    keys += ((slot, is_up, sin(q5a) >= 0.0), (slot + 1, is_up, sin(q5b) >= 0.0))
+                else:  # no offset on joint 5: sin(q5) = -+s_w sin(theta), theta in (0, pi)
+                    keys += ((slot, is_up, nf_q5[0]), (slot + 1, is_up, nf_q5[1]))
         if not q_out:
             return None
         if -pi in q_out:  # remainder's range is [-pi, pi]; wrap_angle's is (-pi, pi]
             q_out = [pi if v == -pi else v for v in q_out]
         return q_out, keys
+
+
+def _rx_quarter(A: FloatArray) -> float:
+    """``e`` if ``A`` is exactly ``[[1, 0, 0], [0, 0, e], [0, -e, 0]]`` (e = +-1), else NaN."""
+    for e in (1.0, -1.0):
+        if np.array_equal(A, [[1.0, 0, 0], [0, 0, e], [0, -e, 0]]):
+            return e
+    return math.nan
 
 
 def _mul3(A: list[list[float]], B: list[list[float]]) -> list[list[float]]:
