@@ -434,30 +434,36 @@ class SerialArm:
         constant ``P, Q, E``. So link i is ``cos * C1_i + sin * C2_i + C3_i`` with constants
         (base folded into the first link, tool into the last): one ``sin`` (``cos(t) =
         sin(t + pi/2)``) and one matmul with a block-diagonal constant give every link of
-        every row, and neighbours are multiplied pairwise: eight array operations for the
-        whole chain, whatever ``k``. For one pose numpy's cost per call, not the
+        every row, and neighbours are multiplied pairwise: eight array operations for a 6R
+        chain, whatever ``k``. For one pose numpy's cost per call, not the
         arithmetic, is what counts; the IK of one pose checks its solutions with this.
         """
         consts = self.__dict__.get("_fk_consts")
         if consts is None:
             C1, C2, C3, offsets = self._link_constants()
             n = self.n
-            # links = [cos_0, sin_0, cos_1, ...] @ C + C3: one matmul, block-diagonal C
+            # links = [cos_0, sin_0, cos_1, ...] @ C + C3: one matmul, block-diagonal C; with
+            # n even the links come out as (even links, odd links), so that one matmul
+            # multiplies every neighbouring pair
+            order = list(range(0, n, 2)) + list(range(1, n, 2)) if n % 2 == 0 else range(n)
             C = np.zeros((2 * n, 16 * n))
-            for j in range(n):
-                C[2 * j, 16 * j : 16 * j + 16] = C1[j].ravel()
-                C[2 * j + 1, 16 * j : 16 * j + 16] = C2[j].ravel()
+            for pos, j in enumerate(order):
+                C[2 * j, 16 * pos : 16 * pos + 16] = C1[j].ravel()
+                C[2 * j + 1, 16 * pos : 16 * pos + 16] = C2[j].ravel()
+            C3 = np.concatenate([C3[j].ravel() for j in order])
             shift = np.stack([offsets + np.pi / 2, offsets], axis=1)  # (n, 2)
-            consts = (C, C3.ravel(), shift)
+            consts = (C, C3, shift)
             object.__setattr__(self, "_fk_consts", consts)
         C, C3, shift = consts
         k, n = q.shape
         cs = np.sin(q.reshape(k, n, 1) + shift)  # (k, n, 2): cos, sin of every theta
         M = cs.reshape(k, 2 * n) @ C
         M += C3
-        M = M.reshape(k, n, 4, 4)
-        while M.shape[1] > 3 and M.shape[1] % 2 == 0:  # neighbours pairwise: fewer matmuls
-            M = M[:, 0::2] @ M[:, 1::2]
+        if n % 2 == 0:
+            M = M.reshape(k, 2, n // 2, 4, 4)
+            M = M[:, 0] @ M[:, 1]  # links (0 1), (2 3), ...
+        else:
+            M = M.reshape(k, n, 4, 4)
         T = M[:, 0]
         for i in range(1, M.shape[1]):
             T = T @ M[:, i]
