@@ -419,7 +419,8 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
     -------
     theta : ndarray, shape (N, 4)
     real : ndarray of bool, shape (N, 4)
-        The root is real (on the unit circle), after Newton polishing.
+        The root is real (on the unit circle), after Newton polishing. Real roots come
+        first, by angle (of the unpolished root, in (-pi, pi]).
     """
     j = np.arange(5)
     ang = 2 * np.pi * j / 5
@@ -444,8 +445,12 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
         C[:, 0, 2] = -np.conj(c1[quartic]) / lead
         C[:, 0, 3] = -np.conj(lead) / lead
         z = np.linalg.eigvals(C)
-        theta[quartic] = np.angle(z)
-        real[quartic] = np.abs(np.abs(z) - 1.0) < ROOT_TOL
+        th_q, real_q = np.angle(z), np.abs(np.abs(z) - 1.0) < ROOT_TOL
+        # eigvals' order is LAPACK's: sort (real roots first, by angle) so that the slots,
+        # and the solutions of arm.ik, come in an order the one-pose kernel can reproduce
+        order = np.lexsort((th_q, ~real_q))
+        theta[quartic] = np.take_along_axis(th_q, order, axis=1)
+        real[quartic] = np.take_along_axis(real_q, order, axis=1)
     lin = ~quartic
     if lin.any():  # degree 1: a0 + a1 cos + b1 sin = 0
         xp, xm, ok, _ = _solve_sinusoid(a[0][lin], b[0][lin], -a0[lin])
@@ -509,6 +514,13 @@ class Pieper6RSolver:
 
     def check(self, arm: SerialArm) -> None:  # noqa: D102 - the Solver protocol
         _ = arm
+
+    def single_kernel(self, arm: SerialArm) -> object | None:
+        """The plain-float kernel for one regular pose (:mod:`rikin.ik.pieper_kernel`), or
+        None; :func:`rikin.ik.api.solve` looks it up once per arm."""
+        from .pieper_kernel import single_kernel
+
+        return single_kernel(self, arm)
 
     # -------------------------------------------------------------- position
     def _g(self, th3: FloatArray) -> FloatArray:

@@ -1,0 +1,527 @@
+"""One regular pose of the general 6R solver (:mod:`rikin.ik.pieper`), in plain floats.
+
+:meth:`Pieper6RSolver.solve` works on stacks of poses with numpy: sampled Fourier
+coefficients, a 4x4 companion matrix and its eigenvalues, 8 slots of 4x4 products and two
+Gauss-Newton passes on the whole pose. For ONE pose numpy's per-call overhead is most of
+the time, so :class:`PieperKernel` does the same decoupling on Python floats, with every
+per-arm constant read once from the solver:
+
+1. the wrist centre ``p'`` in the frame of axis 1 (base, tool and ``M0`` folded into one
+   affine map), and ``S``, the target's rotation with the constant factors folded in, so
+   that the wrist's rotation is ``R_w = Rx(-al3) Rz(-th3) Rx(-al2) Rz(-th2) Rx(-al1)
+   Rz(-th1) S``;
+2. joints 1-3: when axes 1 and 2 meet or are parallel, two sinusoids (``th3``, then two
+   ``th2`` each); when they are skew, the degree-2 trigonometric polynomial in ``th3`` of
+   :func:`rikin.ik.pieper._trig2_roots`, whose Fourier coefficients are closed forms in
+   ``|p'|^2`` and ``p'_z`` here, as the quartic in ``z = exp(i th3)`` solved by Ferrari's
+   method, each root polished once by Newton's method on the complex quartic and the
+   real ones once more on the trigonometric equation; ``th2`` and ``th1`` then follow;
+3. the wrist's two solutions (orthogonal wrist: ZYZ angles; other twists: ``q5`` from
+   the ``(3, 3)`` entry), and the branch labels of :meth:`Pieper6RSolver._labels`.
+
+The slots come in the general solver's order (position roots as
+:func:`~rikin.ik.pieper._trig2_roots` sorts them, real ones by angle; wrist slot 0 before
+1), so that the fast path returns the general path's solutions in the same order.
+
+:meth:`PieperKernel.solve` returns None, and the caller takes the general path, for a pose
+near anything the general solver decides with a tolerance: the wrist centre near axis 1 or
+axis 2, two position roots near each other (the elbow near its reach edge or fold, a double
+root), a root of the quartic near the unit circle without being on it, a wrist near q5 = 0
+or pi (or near its fold), a branch label near its boundary, a joint value near +-pi (where
+the two paths could wrap it to different ends), or nothing reachable. Away from those, the
+solutions are distinct by far more than the de-duplication tolerance, and every decision
+(real or complex, reachable or not, front or back, up or down, flip or not) is the general
+solver's with margins of several orders of magnitude.
+"""
+
+from __future__ import annotations
+
+from math import acos, atan2, cos, hypot, pi, remainder, sin, sqrt
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..tolerances import REACH_TOL, SINGULAR_TOL
+from .result import Branch
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..dh import SerialArm
+    from .pieper import Pieper6RSolver
+
+__all__ = ["PieperKernel", "single_kernel"]
+
+#: Relative distances below this send the pose to the general path: the wrist centre
+#: from axis 1 or 2 (times the arm's size), |sin q5| (and what the wrist formulas divide
+#: by). Not the general solver's own thresholds (1e-9 to 1e-6) but where the pose starts
+#: to fix the joints loosely: there the Jacobian's smallest singular value (relative)
+#: falls below ~1e-6, the general solver's Gauss-Newton polish moves the joints by
+#: ~1e-16 / sigma along the ill-conditioned direction, and the two paths could then
+#: differ by more than 1e-9 rad while both reproduce the pose to rounding.
+NEAR = 1e-3
+
+#: Position roots closer than this (rad) send the pose to the general path (the elbow
+#: near its reach edge or fold, a double root); the same conditioning argument.
+ROOT_SEP = 1e-3
+
+#: For a sinusoid ``cos(x) = ratio``: roots closer than ROOT_SEP when |ratio| is above
+#: ``1 - EDGE``; no root at all (for the general solver too, whose slack is
+#: ``sqrt(REACH_TOL)``) when |ratio| is above ``1 + OUT``.
+EDGE = ROOT_SEP * ROOT_SEP / 2
+OUT = 10.0 * sqrt(REACH_TOL)
+
+#: A root ``z`` of the quartic is real when ``||z| - 1|`` is below REAL_IN and complex
+#: when it is above REAL_OUT (the general solver's line is ``ROOT_TOL = 1e-5``); between
+#: them the pose goes to the general path.
+REAL_IN, REAL_OUT = 1e-9, 1e-3
+
+#: A label decided by a sign (front/back, elbow up/down, flip) whose quantity is this
+#: close to its boundary (relative) sends the pose to the general path.
+LABEL = 1e-7
+
+#: Joint values this close to +-pi could wrap to either end in the two paths.
+WRAP_EDGE = pi - 1e-10
+
+_TAU = 2.0 * pi
+
+#: A solution's branch key: (front, elbow up, sin(q5) >= 0).
+Key = tuple[bool, bool, bool]
+
+
+def single_kernel(solver: Pieper6RSolver, arm: SerialArm) -> PieperKernel | None:
+    """The plain-float kernel of ``solver`` for ``arm``, or None when the arm's position
+    problem is of a degree the kernel does not take (a skew arm whose quartic has no
+    z^4 term: the general solver's degree-1 branch)."""
+    kernel = PieperKernel(solver, arm)
+    return kernel if kernel.usable else None
+
+
+def _rows(M: np.ndarray) -> list[list[float]]:
+    return [[float(v) for v in row] for row in M]
+
+
+class PieperKernel:
+    """:meth:`Pieper6RSolver.solve` for one regular pose, on Python floats (see the
+    module docstring). Built once per arm; :meth:`solve` is the one-pose interface of
+    :func:`rikin.ik.api.solve` (``labels`` maps its branch keys to Branches)."""
+
+    def __init__(self, solver: Pieper6RSolver, arm: SerialArm) -> None:
+        from ..transforms import _inv_transform
+
+        model, wg = solver.model, solver.wrist
+        M = [_rows(m) for m in model.M]
+        self.L = float(model.scale)
+        self.case = solver.case
+        base_inv, tool_inv = _inv_transform(arm.base), _inv_transform(arm.tool)
+        # wrist centre: p' = G (T c_tcp); rotation S = G_R R H
+        G = solver.M0_inv @ base_inv
+        self.G = _rows(G[:3, :3])
+        self.Gt = [float(v) for v in G[:3, 3]]
+        self.c_tcp = [float(v) for v in (tool_inv @ np.append(wg.c_flange, 1.0))[:3]]
+        H = tool_inv[:3, :3] @ model.M[6, :3, :3].T
+        self.Hcols = [[float(H[i, j]) for i in range(3)] for j in range(3)]
+        # the constant twists Rx(alpha_i) of M1, M2, M3 (exact zeros kept) and M1, M2 shifts
+        self.x1 = (M[1][1][1], M[1][2][1])
+        self.x2 = (M[2][1][1], M[2][2][1])
+        self.x3 = (M[3][1][1], M[3][2][1])
+        self.t1 = (M[1][0][3], M[1][1][3], M[1][2][3])
+        self.t2 = (M[2][0][3], M[2][1][3], M[2][2][3])
+        self.up1 = (M[1][2][0], M[1][2][1])  # axis 1 in frame 2's xy plane
+        # g(th3) = M2 Rz(th3) v = g0 + cos(th3) gc + sin(th3) gs
+        vx, vy, vz = (float(x) for x in wg.v)
+        R2 = model.M[2, :3, :3]
+        g0 = R2 @ np.array([0.0, 0.0, vz]) + model.M[2, :3, 3]
+        gc = R2 @ np.array([vx, vy, 0.0])
+        gs = R2 @ np.array([-vy, vx, 0.0])
+        self.v = (vx, vy, vz)
+        self.g0 = [float(x) for x in g0]
+        self.gc = [float(x) for x in gc]
+        self.gs = [float(x) for x in gs]
+        # |g|^2 = n0 + nc cos + ns sin; g_z = z0 + zc cos + zs sin
+        n0 = float(g0 @ g0 + vx * vx + vy * vy)
+        nc, ns = float(2 * g0 @ gc), float(2 * g0 @ gs)
+        z0, zc, zs = float(g0[2]), float(gc[2]), float(gs[2])
+        self.n = (n0, nc, ns)
+        self.z = (z0, zc, zs)
+        a1, d1, ca1, sa1 = solver.a1, solver.d1, solver.ca1, solver.sa1
+        self.a1, self.d1, self.ca1, self.sa1 = a1, d1, ca1, sa1
+        # skew: F(th3) = sa1^2 B^2 + 4 a1^2 A^2 - 4 a1^2 sa1^2 (gx^2 + gy^2), with
+        # B = Pb - (nc cos + ns sin), A = Hb - ca1 (zc cos + zs sin), Pb = P - n0,
+        # Hb = H - ca1 z0 (P, H from the pose, see solve); its Fourier coefficients:
+        s2, a2_, one = sa1 * sa1, 4.0 * a1 * a1, ca1 * ca1 + sa1 * sa1
+        self.K0 = (s2 * (nc * nc + ns * ns) / 2 + a2_ / 2 * one * (zc * zc + zs * zs)
+                   - a2_ * s2 * (n0 - z0 * z0))
+        self.F1 = (s2, a2_)
+        # a1c = -2 s2 nc Pb - 2 a2_ ca1 zc Hb - a2_ s2 (nc - 2 z0 zc) (and b1s with ns, zs)
+        self.kP = (-2.0 * s2 * nc, -2.0 * s2 * ns)
+        self.kH = (-2.0 * a2_ * ca1 * zc, -2.0 * a2_ * ca1 * zs)
+        self.k1 = (-a2_ * s2 * (nc - 2 * z0 * zc), -a2_ * s2 * (ns - 2 * z0 * zs))
+        a2c = s2 * (nc * nc - ns * ns) / 2 + a2_ / 2 * one * (zc * zc - zs * zs)
+        b2s = s2 * nc * ns + a2_ * one * zc * zs
+        self.a2c, self.b2s = a2c, b2s
+        c2 = complex(a2c, -b2s) / 2
+        self.c2abs = abs(c2)
+        self.usable = self.case != "skew" or self.c2abs > 0.0
+        if self.usable and self.case == "skew":
+            self.inv_c2 = 1.0 / c2
+            self.D = c2.conjugate() / c2
+        # wrist
+        self.orthogonal = solver.orthogonal
+        self.sigma, self.kappa = solver.sigma, solver.kappa
+        b1, b2 = wg.b1, wg.b2
+        self.wb = (sin(b1), cos(b1), sin(b2), cos(b2))
+        R4, R5 = model.M[4, :3, :3], model.M[5, :3, :3]  # Rx(b1), Rx(b2), exact zeros kept
+        self.wbx = (float(R4[1, 1]), float(R4[2, 1]), float(R5[1, 1]), float(R5[2, 1]))
+        self.b_sum = abs(sin(b1 + b2)) <= 1e-9, abs(sin(b1 - b2)) <= 1e-9
+        self.offsets = tuple(float(o) for o in model.offsets)
+        #: branch key (front, elbow up, sin(q5) >= 0) -> its Branch
+        self.labels = {
+            (f, u, w): Branch("front" if f else "back", "up" if u else "down",
+                              "no-flip" if w else "flip")
+            for f in (False, True) for u in (False, True) for w in (False, True)
+        }
+
+    # ------------------------------------------------------------------ position
+    def _th3_skew(self, px: float, py: float, pz: float) -> list[float] | None:
+        """The real roots ``th3`` of the quartic, sorted by angle, or None (near a
+        double root, a root near the unit circle, or the degree dropping)."""
+        d1, a1, ca1 = self.d1, self.a1, self.ca1
+        P = px * px + py * py + pz * pz - a1 * a1 + d1 * d1 - 2.0 * d1 * pz
+        H = pz - d1
+        n0, _, _ = self.n
+        z0 = self.z[0]
+        Pb, Hb = P - n0, H - ca1 * z0
+        s2, a2_ = self.F1
+        a0 = s2 * Pb * Pb + a2_ * Hb * Hb + self.K0
+        kP, kH, k1 = self.kP, self.kH, self.k1
+        a1c = kP[0] * Pb + kH[0] * Hb + k1[0]
+        b1s = kP[1] * Pb + kH[1] * Hb + k1[1]
+        c1 = complex(a1c, -b1s) * 0.5
+        big = max(self.c2abs, abs(c1), abs(a0))
+        if self.c2abs <= 1e-8 * big:
+            return None
+        # monic quartic z^4 + A z^3 + B z^2 + C z + D (z^2 F(theta), F real on |z| = 1)
+        ic2 = self.inv_c2
+        A = c1 * ic2
+        B = a0 * ic2
+        C = c1.conjugate() * ic2
+        D = self.D
+        roots = _quartic(A, B, C, D)
+        if roots is None:
+            return None
+        a2c, b2s = self.a2c, self.b2s
+        out = []
+        for z in roots:
+            m = abs(z)
+            gap = abs(m - 1.0)
+            if gap >= REAL_OUT:
+                continue
+            if gap > REAL_IN:
+                return None
+            c, s = z.real / m, z.imag / m
+            th = atan2(s, c)
+            if abs(th) > pi - 1e-8:  # the general solver sorts by angle in (-pi, pi]
+                return None
+            # one Newton step on F(theta) = a0 + a1c cos + b1s sin + a2c cos 2 + b2s sin 2
+            cc, ss = c * c - s * s, 2.0 * c * s
+            f = a0 + a1c * c + b1s * s + a2c * cc + b2s * ss
+            df = b1s * c - a1c * s + 2.0 * (b2s * cc - a2c * ss)
+            if df == 0.0:
+                return None
+            out.append((th, th - f / df))
+        out.sort()
+        for i in range(1, len(out)):
+            if out[i][0] - out[i - 1][0] < ROOT_SEP:
+                return None
+        if len(out) > 1 and out[0][0] + _TAU - out[-1][0] < ROOT_SEP:
+            return None
+        return [t for _, t in out]
+
+    def _sinusoid_th3(self, px: float, py: float, pz: float) -> list[float] | None:
+        """``th3`` of the one equation in ``th3`` (axes 1 and 2 meet or are parallel),
+        in the general solver's order, or None (near a double root or the reach edge)."""
+        n0, nc, ns = self.n
+        z0, zc, zs = self.z
+        if self.case == "meet":  # B = P - |g|^2 = 0
+            d1 = self.d1
+            P = px * px + py * py + pz * pz - self.a1 * self.a1 + d1 * d1 - 2.0 * d1 * pz
+            k0, kc, ks = P - n0, -nc, -ns
+        else:  # A = pz - d1 - ca1 g_z = 0
+            ca1 = self.ca1
+            k0, kc, ks = pz - self.d1 - ca1 * z0, -ca1 * zc, -ca1 * zs
+        rho = hypot(kc, ks)
+        if rho <= 1e-300:
+            return None
+        ratio = -k0 / rho
+        if abs(ratio) > 1.0 + OUT:
+            return []
+        if abs(ratio) > 1.0 - EDGE:
+            return None
+        phi, delta = atan2(ks, kc), acos(ratio)
+        return [phi + delta, phi - delta]
+
+    # ------------------------------------------------------------------ solve
+    def solve(self, T: list[list[float]]) -> tuple[list[float], list[Key]] | None:
+        """Joint values of every solution (wrapped to (-pi, pi]) as one flat list of 6 per
+        solution, and per solution its branch key ``(front, elbow up, sin(q5) >= 0)``
+        (see :attr:`labels`); None for the general path (module docstring).
+
+        ``T`` is the validated world pose as nested lists.
+        """
+        (r00, r01, r02, tx), (r10, r11, r12, ty), (r20, r21, r22, tz) = T[0], T[1], T[2]
+        cx, cy, cz = self.c_tcp
+        wx = r00 * cx + r01 * cy + r02 * cz + tx
+        wy = r10 * cx + r11 * cy + r12 * cz + ty
+        wz = r20 * cx + r21 * cy + r22 * cz + tz
+        (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = self.G
+        gt = self.Gt
+        px = g00 * wx + g01 * wy + g02 * wz + gt[0]
+        py = g10 * wx + g11 * wy + g12 * wz + gt[1]
+        pz = g20 * wx + g21 * wy + g22 * wz + gt[2]
+        L = self.L
+        rho_p = hypot(px, py)
+        if rho_p < NEAR * L:  # near axis 1: the shoulder singularity
+            return None
+        # positions: (th2, th3, cos, sin of both, g)
+        case = self.case
+        g0, gc, gs = self.g0, self.gc, self.gs
+        near2 = (NEAR * L) ** 2
+        skew, meet = case == "skew", case == "meet"
+        roots = self._th3_skew(px, py, pz) if skew else self._sinusoid_th3(px, py, pz)
+        if roots is None:
+            return None
+        d1, a1, ca1, sa1 = self.d1, self.a1, self.ca1, self.sa1
+        P = px * px + py * py + pz * pz - a1 * a1 + d1 * d1 - 2.0 * d1 * pz
+        positions = []
+        for th3 in roots:
+            c3, s3 = cos(th3), sin(th3)
+            gx = g0[0] + c3 * gc[0] + s3 * gs[0]
+            gy = g0[1] + c3 * gc[1] + s3 * gs[1]
+            gz = g0[2] + c3 * gc[2] + s3 * gs[2]
+            gxy = gx * gx + gy * gy
+            if gxy < near2:  # near axis 2 (q2 free on it)
+                return None
+            if skew:  # th2 from both equations
+                X = (P - (gxy + gz * gz)) / (2.0 * a1)
+                Y = (pz - d1 - ca1 * gz) / sa1
+                sn, cs = gx * Y - gy * X, gx * X + gy * Y
+                h = hypot(sn, cs)
+                positions.append((atan2(sn, cs), cs / h, sn / h, th3, c3, s3, gx, gy, gz))
+                continue
+            rho2 = sqrt(gxy)
+            if meet:  # gy cos2 + gx sin2 = A / sa1
+                ratio = (pz - d1 - ca1 * gz) / sa1 / rho2
+                phi = atan2(gx, gy)
+            else:  # gx cos2 - gy sin2 = B / (2 a1)
+                ratio = (P - (gxy + gz * gz)) / (2.0 * a1) / rho2
+                phi = atan2(-gy, gx)
+            if abs(ratio) > 1.0 + OUT:
+                continue
+            if abs(ratio) > 1.0 - EDGE:
+                return None
+            delta = acos(ratio)
+            for th2 in (phi + delta, phi - delta):
+                positions.append((th2, cos(th2), sin(th2), th3, c3, s3, gx, gy, gz))
+        if not positions:
+            return None
+        return self._finish(positions, px, py, r00, r01, r02, r10, r11, r12, r20, r21, r22)
+
+    def _finish(self, positions, px, py, r00, r01, r02, r10, r11, r12, r20, r21, r22):
+        """Joint 1, the wrist and the labels of every position (see :meth:`solve`)."""
+        L = self.L
+        ca1s, sa1s = self.x1
+        ca2, sa2 = self.x2
+        ca3, sa3 = self.x3
+        t1x, t1y, _ = self.t1
+        t2x, t2y, _ = self.t2
+        ux, uy = self.up1
+        o1, o2, o3, o4, o5, o6 = self.offsets
+        phi_p = atan2(py, px)
+        rem, tau = remainder, _TAU
+        orth = self.orthogonal
+        Hc = self.Hcols
+        # columns of S = G_R R H (0 and 2; all three for a non-orthogonal wrist)
+        (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = self.G
+        cols = []
+        for j in ((0, 2) if orth else (0, 1, 2)):
+            h0, h1, h2 = Hc[j]
+            x = r00 * h0 + r01 * h1 + r02 * h2
+            y = r10 * h0 + r11 * h1 + r12 * h2
+            z = r20 * h0 + r21 * h1 + r22 * h2
+            cols.append((g00 * x + g01 * y + g02 * z, g10 * x + g11 * y + g12 * z,
+                         g20 * x + g21 * y + g22 * z))
+        q_out: list[float] = []
+        keys: list[Key] = []
+        label_tol = LABEL * L
+        for th2, c2, s2, th3, c3, s3, gx, gy, gz in positions:
+            # joint 1 turns r = M1 Rz(th2) g onto p'
+            xp, yp = c2 * gx - s2 * gy, s2 * gx + c2 * gy
+            rx, ry = xp + t1x, ca1s * yp - sa1s * gz + t1y
+            th1 = phi_p - atan2(ry, rx)
+            c1, s1 = cos(th1), sin(th1)
+            # labels: front (p' ahead of axis 1 along the turned x axis), elbow up
+            fr = px * c1 + py * s1
+            if abs(fr) < label_tol:
+                return None
+            front = fr >= 0.0
+            ex, ey = c2 * t2x - s2 * t2y, s2 * t2x + c2 * t2y
+            nl = xp * xp + yp * yp
+            el = ex * xp + ey * yp
+            across = abs(xp * uy - yp * ux)
+            span = sqrt(nl) + L
+            if across <= SINGULAR_TOL * span:
+                hu = ex - el / nl * xp  # h . (1, 0)
+                hn = 1.0
+            elif across < 1e-7 * span:
+                return None
+            else:
+                hu = ex * ux + ey * uy - el * (xp * ux + yp * uy) / nl
+                hn = hypot(ux, uy)
+            if abs(hu) < label_tol * hn:
+                return None
+            up = hu > 0.0
+            # R_w columns: Rx(-al3) Rz(-th3) Rx(-al2) Rz(-th2) Rx(-al1) Rz(-th1) S
+            rw = []
+            for x, y, z in cols:
+                x1 = c1 * x + s1 * y
+                y1 = c1 * y - s1 * x
+                y2 = ca1s * y1 + sa1s * z
+                z2 = ca1s * z - sa1s * y1
+                x3 = c2 * x1 + s2 * y2
+                y3 = c2 * y2 - s2 * x1
+                y4 = ca2 * y3 + sa2 * z2
+                z4 = ca2 * z2 - sa2 * y3
+                x5 = c3 * x3 + s3 * y4
+                y5 = c3 * y4 - s3 * x3
+                rw.append((x5, ca3 * y5 + sa3 * z4, ca3 * z4 - sa3 * y5))
+            a1 = rem(th1 - o1, tau)
+            a2 = rem(th2 - o2, tau)
+            a3 = rem(th3 - o3, tau)
+            if orth:
+                wrist = self._wrist_orthogonal(rw)
+            else:
+                wrist = self._wrist_general(rw)
+            if wrist is None:
+                return None
+            for th4, th5, th6 in wrist:
+                q5 = rem(th5 - o5, tau)
+                sq5 = sin(q5)
+                if abs(sq5) < LABEL:
+                    return None
+                q_out += (a1, a2, a3, rem(th4 - o4, tau), q5, rem(th6 - o6, tau))
+                keys.append((front, up, sq5 >= 0.0))
+        if not q_out:
+            return None
+        if max(map(abs, q_out)) > WRAP_EDGE:
+            return None
+        return q_out, keys
+
+    def _wrist_orthogonal(self, rw):
+        """Both wrist slots of an orthogonal wrist (:meth:`Pieper6RSolver._wrist`): ZYZ
+        angles of ``R_w C^T``; ``rw`` holds columns 0 and 2 of ``R_w``."""
+        (m00, m10, m20), (m02, m12, m22) = rw
+        if self.kappa < 0:  # C = diag(1, -1, -1)
+            m02, m12, m22 = -m02, -m12, -m22
+        s = hypot(m02, m12)
+        if s < NEAR:
+            return None
+        theta = atan2(s, m22)
+        phi = atan2(m12, m02)
+        cp, sp = m02 / s, m12 / s
+        a00 = cp * m00 + sp * m10
+        a10 = cp * m10 - sp * m00
+        psi = atan2(a10, m22 * a00 - s * m20)
+        sig, kap = self.sigma, self.kappa
+        return ((phi, -sig * theta, kap * psi), (phi + pi, sig * theta, kap * (psi + pi)))
+
+    def _wrist_general(self, rw):
+        """Both wrist slots of a wrist with any twists (:meth:`Pieper6RSolver._wrist`);
+        ``rw`` holds the three columns of ``R_w``. ``[]``: the orientation is out of reach."""
+        (w00, w10, w20), (w01, w11, w21), (w02, w12, w22) = rw
+        sb1, cb1, sb2, cb2 = self.wb
+        c5 = (cb1 * cb2 - w22) / (sb1 * sb2)
+        if abs(c5) > 1.0 + OUT:
+            return []
+        s5 = 1.0 - c5 * c5
+        if s5 < NEAR * NEAR:  # q5 near 0 or pi: a fold, or axes 4 and 6 in line
+            return None
+        s5 = sqrt(s5)
+        c1b, s1b, c2b, s2b = self.wbx
+        phi_w = atan2(w12, w02)
+        out = []
+        for s in (s5, -s5):
+            ax, ay = sb2 * s, -cb1 * sb2 * c5 - sb1 * cb2
+            if hypot(ax, ay) < NEAR:
+                return None
+            th4 = phi_w - atan2(ay, ax)
+            c4, s4 = cos(th4), sin(th4)
+            # th6 from rest = Rx(-b2) Rz(-th5) Rx(-b1) Rz(-th4) R_w, columns 0 and 1
+            rest = []
+            for x, y, z in ((w00, w10, w20), (w01, w11, w21)):
+                x1 = c4 * x + s4 * y
+                y1 = c4 * y - s4 * x
+                y2 = c1b * y1 + s1b * z
+                z2 = c1b * z - s1b * y1
+                x3 = c5 * x1 + s * y2
+                y3 = c5 * y2 - s * x1
+                rest.append((x3, c2b * y3 + s2b * z2))
+            (r00, r10), (r01, r11) = rest
+            out.append((th4, atan2(s, c5), atan2(r10 - r01, r00 + r11)))
+        return out
+
+
+def _quartic(A: complex, B: complex, C: complex, D: complex) -> list[complex] | None:
+    """The four roots of ``z^4 + A z^3 + B z^2 + C z + D`` (Ferrari), each polished by one
+    Newton step; None when the polish does not confirm them (a multiple root or worse)."""
+    a = A * 0.25
+    aa = a * a
+    p = B - 6.0 * aa
+    q = C - 2.0 * B * a + 8.0 * aa * a
+    r = D - C * a + B * aa - 3.0 * aa * aa
+    # resolvent cubic m^3 + p m^2 + (p^2/4 - r) m - q^2/8 = 0, depressed with m = x - p/3
+    P = -p * p / 12.0 - r
+    Q = -p * p * p / 108.0 + p * r / 3.0 - q * q / 8.0
+    disc = (Q * Q / 4.0 + P * P * P / 27.0) ** 0.5
+    u3 = -Q / 2.0 + disc
+    u3b = -Q / 2.0 - disc
+    if abs(u3b) > abs(u3):
+        u3 = u3b
+    if u3 == 0:
+        ms = [-p / 3.0]
+    else:
+        u = u3 ** (1.0 / 3.0)
+        ms = []
+        w = complex(-0.5, 0.8660254037844386)
+        for _ in range(3):
+            ms.append(u - P / (3.0 * u) - p / 3.0)
+            u *= w
+    m = max(ms, key=abs)
+    if m == 0:
+        return None
+    s = (2.0 * m) ** 0.5
+    qs = q / (2.0 * s)
+    half = p * 0.5 + m
+    roots: list[complex] = []
+    for b, c in ((-s, half + qs), (s, half - qs)):  # y^2 + b y + c
+        d = (b * b - 4.0 * c) ** 0.5
+        if (b.conjugate() * d).real < 0:
+            d = -d
+        t = -(b + d) * 0.5
+        if t == 0:
+            return None
+        roots += (t - a, c / t - a)
+    out = []
+    total = 0j
+    for z in roots:
+        f = (((z + A) * z + B) * z + C) * z + D
+        df = ((4.0 * z + 3.0 * A) * z + 2.0 * B) * z + C
+        if df == 0:
+            return None
+        step = f / df
+        if abs(step) > 1e-6 * (1.0 + abs(z)):
+            return None
+        z -= step
+        out.append(z)
+        total += z
+    if abs(total + A) > 1e-9 * (abs(A) + 4.0 * max(map(abs, out))):
+        return None  # two roots found twice, one lost: not four distinct roots
+    return out
