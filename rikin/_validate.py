@@ -347,3 +347,101 @@ def check_radians(
             f"(any angle, read modulo 2*pi). Convert with numpy.radians({value:g}) = "
             f"{np.radians(value):.6g}"
         )
+
+
+# ---------------------------------------------------------------- non-numeric arguments
+def as_flag(x: Any, name: str) -> bool:
+    """A yes/no argument: ``True`` or ``False`` (numpy's too), or InputError.
+
+    Text such as ``"no"`` is refused rather than read as true, and so are 0 and 1:
+    a flag given as a number is usually an argument in the wrong place.
+    """
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    raise InputError(f"{name} must be True or False, got {_describe(x)}")
+
+
+def as_text(x: Any, name: str, *, optional: bool = False) -> str | None:
+    """A text argument (a title, a name, a unit), or None when ``optional``; else InputError."""
+    if x is None and optional:
+        return None
+    if isinstance(x, str):
+        return x
+    raise InputError(
+        f"{name} must be text (a str){' or None' if optional else ''}, got {_describe(x)}"
+    )
+
+
+def as_choice(x: Any, name: str, choices: tuple[str, ...]) -> str:
+    """One of ``choices`` (exact text), or InputError listing them."""
+    if isinstance(x, str) and x in choices:
+        return x
+    listed = ", ".join(repr(c) for c in choices)
+    raise InputError(f"{name} must be one of {listed}, got {_describe(x)}")
+
+
+def as_count(x: Any, name: str, *, minimum: int = 0, maximum: int | None = None,
+             what: str = "") -> int:
+    """A whole number (Python or numpy int, not a bool or a float) within the bounds;
+    ``what`` says what it counts, in messages."""
+    of = f" ({what})" if what else ""
+    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (int, np.integer)):
+        raise InputError(f"{name} must be a whole number{of}, got {_describe(x)}")
+    v = int(x)
+    if v < minimum or (maximum is not None and v > maximum):
+        bound = f"from {minimum} to {maximum}" if maximum is not None else f">= {minimum}"
+        raise InputError(f"{name} must be a whole number {bound}{of}, got {v}")
+    return v
+
+
+def as_positive(x: Any, name: str, *, optional: bool = False) -> float | None:
+    """A finite real number > 0 (None when ``optional``), or InputError saying by how much."""
+    if x is None and optional:
+        return None
+    if isinstance(x, (bool, np.bool_)):
+        raise InputError(f"{name} must be a positive number, got the boolean {x!r}")
+    v = as_real(x, name)
+    if not v > 0:
+        raise InputError(f"{name} must be a positive number, got {v:g}")
+    return v
+
+
+def as_texts(x: Any, name: str, count: int) -> tuple[str, ...]:
+    """Exactly ``count`` texts (a list or tuple of str), or InputError."""
+    if isinstance(x, (list, tuple)) and len(x) == count and all(isinstance(e, str) for e in x):
+        return tuple(x)
+    raise InputError(f"{name} must be {count} texts (a tuple of str), got {_describe(x)}")
+
+
+def check_arm(arm: Any, name: str = "arm") -> Any:
+    """``arm`` if it is a :class:`rikin.SerialArm`, else InputError."""
+    from .dh import SerialArm  # dh imports this module: import on first use
+
+    if not isinstance(arm, SerialArm):
+        raise InputError(f"{name} must be a rikin.SerialArm, got {_describe(arm)}")
+    return arm
+
+
+def check_instance(x: Any, cls: type, name: str, what: str) -> Any:
+    """``x`` if it is a ``cls``, else InputError saying ``what`` was expected."""
+    if not isinstance(x, cls):
+        raise InputError(f"{name} must be {what}, got {_describe(x)}")
+    return x
+
+
+def as_dh_value(x: Any, name: str, *, angle: bool = False) -> Any:
+    """One entry of a DH table: a sympy expression (a symbolic table) as it is, else a finite
+    real number (a length within the range rikin handles, or an angle in radians below
+    ``MAX_ANGLE``), or InputError naming ``name``."""
+    if type(x).__module__.startswith("sympy"):
+        import sympy
+
+        if not isinstance(x, sympy.Expr):
+            raise InputError(f"{name} must be a number or a sympy expression, got {_describe(x)}")
+        return x
+    v = as_real(x, name)
+    if angle:
+        check_radians(np.array(v), name, degrees_hint=False)
+    else:
+        check_length_range(abs(v), name, lower=True)
+    return v

@@ -24,6 +24,7 @@ import numpy as np
 
 from ._validate import (
     FloatArray,
+    as_flag,
     as_float_array,
     as_pose,
     as_real,
@@ -89,6 +90,9 @@ class Link:
         for fname in ("d", "a", "alpha", "offset", "theta"):
             value = getattr(self, fname)
             if type(value).__module__.startswith("sympy"):
+                if getattr(value, "is_Matrix", False):
+                    raise InputError(f"{fname} must be one number or sympy expression, got a "
+                                     f"Matrix {value!r:.60}")
                 continue  # a symbolic table (rikin.symbolic); numeric arms check again
             number = as_real(value, fname)
             object.__setattr__(self, fname, number)
@@ -98,6 +102,8 @@ class Link:
                 check_radians(np.array(number), fname, degrees_hint=False)
         if self.qlim is not None:
             try:
+                if getattr(self.qlim, "shape", (2,)) != (2,):
+                    raise ValueError
                 lo, hi = self.qlim
             except (TypeError, ValueError):
                 raise InputError(
@@ -278,6 +284,10 @@ class SerialArm:
                     ) from exc
                 if not math.isfinite(fval):
                     raise InputError(f"link {i} field {fname} is {fval}")
+        if self.solver is not None and not (hasattr(self.solver, "ik")
+                                            and hasattr(self.solver, "check")):
+            raise InputError(f"solver must be a closed-form IK solver of rikin.ik (or None), "
+                             f"got {self.solver!r:.60}")
         object.__setattr__(self, "links", links)
         revolute = np.array([lk.is_revolute for lk in links])
         revolute.setflags(write=False)
@@ -365,6 +375,10 @@ class SerialArm:
         ``check_degrees`` (the default) values that are degrees beyond
         reasonable doubt raise (see :func:`rikin._validate.check_radians`).
         """
+        if not isinstance(name, str):
+            raise InputError(f"name must be text (the argument's name in messages), got {name!r:.60}")
+        if check_degrees is not True and check_degrees is not False:
+            as_flag(check_degrees, "check_degrees")
         arr = as_float_array(q, name)
         if arr.ndim not in (1, 2) or arr.shape[-1] != self.n:
             raise InputError(
@@ -410,6 +424,8 @@ class SerialArm:
             Any other angle is read modulo 2*pi: ``fk(q + 2*pi*k) == fk(q)``.
         """
         qv = self.check_q(q, check_degrees=check_degrees)
+        if frames is not False and frames is not True:
+            frames = as_flag(frames, "frames")
         return self._fk(qv, frames)
 
     def _fk(self, q: FloatArray, frames: bool = False) -> FloatArray:

@@ -37,7 +37,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import FloatArray, as_float_array
+from ._validate import FloatArray, as_count, as_flag, as_float_array, as_text, as_texts
 from .dh import SerialArm
 from .errors import InputError, RikinError
 from .ik.result import IKResult
@@ -46,12 +46,12 @@ from .plot import (
     FRAME_FRACTION,
     MARKER_KEY,
     _check_arm,
+    _joint_points,
+    _link_path,
     _q_text,
     _square_limits,
     gripper_path,
     is_planar,
-    joint_points,
-    link_path,
 )
 
 __all__ = ["InteractiveFigure", "PLOTLY_JS", "arm_figure", "path_figure", "plotly_js",
@@ -213,7 +213,7 @@ def _arm_geometry(arm: SerialArm, q: FloatArray | None, fs: float, dims: int,
     if q is None:
         return [_empty(dims) for _ in range(TRACES_PER_ARM)]
     F = arm._fk(q, frames=True)
-    geo = [_xyz(link_path(arm, F), dims), _xyz(joint_points(arm, F), dims),
+    geo = [_xyz(_link_path(arm, F), dims), _xyz(_joint_points(arm, F), dims),
            _xyz(gripper_path(F[-1], (0.9 if dims == 3 else 0.55) * fs, planar=dims == 2), dims),
            _xyz(F[-1:, :3, 3], dims)]
     for k in range(3):
@@ -358,10 +358,10 @@ def solutions_figure(arm: SerialArm, result: Any, *, frames: bool = True, height
         raise InputError("there are no solutions to draw (the IK result is empty)")
     Q = arm.check_q(Q, "result.q")
     k = len(Q)
-    if isinstance(selected, bool) or not isinstance(selected, (int, np.integer)) \
-            or not 1 <= selected <= k:
-        raise InputError(f"selected must be a solution number 1..{k}, got {selected!r}")
+    selected = as_count(selected, "selected", minimum=1, maximum=k, what="a solution number")
     height = _check_height(height)
+    frames = as_flag(frames, "frames")
+    title = as_text(title, "title", optional=True)
     dims = 2 if is_planar(arm) else 3
     F = arm._fk(Q, frames=True)
     pts = F[:, :, :3, 3].reshape(-1, 3)
@@ -429,6 +429,8 @@ def arm_figure(arm: SerialArm, q: Any, *, frames: bool = True, height: int = 520
         raise InputError(f"q must be one configuration of shape ({arm.n},), got {qv.shape}; "
                          "use solutions_figure for several")
     height = _check_height(height)
+    frames = as_flag(frames, "frames")
+    title = as_text(title, "title", optional=True)
     dims = 2 if is_planar(arm) else 3
     F = arm._fk(qv, frames=True)
     lim = _limits(arm, F[:, :3, 3], dims)
@@ -474,14 +476,18 @@ def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: i
     """
     _check_arm(arm)
     go = _plotly()
+    if isinstance(targets, (str, bytes)) or not hasattr(targets, "__len__") or (
+            isinstance(targets, np.ndarray) and targets.ndim == 0):
+        raise InputError(f"targets must be a sequence of targets (e.g. an array (m, 4, 4)), "
+                         f"got {type(targets).__name__}")
     steps = list(targets)
     m = len(steps)
     if m < 2:
         raise InputError(f"a path needs at least 2 targets, got {m}")
-    labels_given = None if step_labels is None else [str(s) for s in step_labels]
-    if labels_given is not None and len(labels_given) != m:
-        raise InputError(f"step_labels has {len(labels_given)} entries for {m} targets")
+    labels_given = None if step_labels is None else list(as_texts(step_labels, "step_labels", m))
     height = _check_height(height)
+    frames = as_flag(frames, "frames")
+    title = as_text(title, "title", optional=True)
     dims = 2 if is_planar(arm) else 3
     results: list[IKResult | None] = []
     why: list[str] = []
@@ -489,8 +495,8 @@ def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: i
         try:
             results.append(arm.ik(t))
             why.append("")
-        except InputError:
-            raise
+        except InputError as exc:
+            raise InputError(f"targets[{len(results)}]: {exc}") from None
         except RikinError as exc:       # unreachable (or another IK error): say why
             results.append(None)
             why.append(str(exc))

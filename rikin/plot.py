@@ -26,6 +26,7 @@ import math
 from collections.abc import Sequence
 from typing import Any
 
+import matplotlib.colors
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
@@ -34,7 +35,19 @@ from matplotlib.patches import Arc, PathPatch
 from matplotlib.path import Path
 from matplotlib.ticker import MaxNLocator
 
-from ._validate import FloatArray, as_float_array
+from ._validate import (
+    FloatArray,
+    as_choice,
+    as_count,
+    as_flag,
+    as_float_array,
+    as_length,
+    as_pose,
+    as_positive,
+    as_text,
+    as_texts,
+    check_arm,
+)
 from .dh import SerialArm
 from .errors import InputError, UnreachableError
 from .ik.kernels import elbow_above, reach_excess, two_link
@@ -69,9 +82,40 @@ SAME_POINT_TOL = 1e-6
 
 # ------------------------------------------------------------------ helpers
 def _check_arm(arm: Any) -> SerialArm:
-    if not isinstance(arm, SerialArm):
-        raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
-    return arm
+    return check_arm(arm)
+
+
+def _check_ax(ax: Any) -> Axes | None:
+    """``ax``: None (a new figure) or a matplotlib Axes, else InputError."""
+    if ax is not None and not isinstance(ax, Axes):
+        raise InputError(f"ax must be a matplotlib Axes (e.g. fig.add_subplot()) or None, "
+                         f"got {type(ax).__name__}")
+    return ax
+
+
+def _check_colour(color: Any) -> Any:
+    if color is not None and not matplotlib.colors.is_color_like(color):
+        raise InputError(f"color must be a matplotlib colour (a name such as 'k' or 'tab:blue', "
+                         f"'#rrggbb', or an (r, g, b) of numbers 0..1), got {color!r:.80}")
+    return color
+
+
+def _check_view(view: Any) -> Any:
+    if view is None:
+        return None
+    v = as_float_array(view, "view")
+    if v.shape != (2,):
+        raise InputError(f"view must be (elevation, azimuth) in degrees, got shape {v.shape}")
+    return v
+
+
+def _check_frames(arm: SerialArm, F: Any) -> FloatArray:
+    """``F``: the frames ``arm.fk(q, frames=True)`` of one configuration, (n + 2, 4, 4)."""
+    Fv = as_pose(F, "F")
+    if Fv.shape != (arm.n + 2, 4, 4):
+        raise InputError(f"F must be the frames arm.fk(q, frames=True) of one configuration, "
+                         f"shape ({arm.n + 2}, 4, 4), got shape {Fv.shape}")
+    return Fv
 
 
 def is_planar(arm: SerialArm) -> bool:
@@ -203,6 +247,11 @@ def joint_points(arm: SerialArm, F: FloatArray) -> FloatArray:
     ndarray, shape (n, 3)
         World coordinates, length units.
     """
+    F = _check_frames(_check_arm(arm), F)
+    return _joint_points(arm, F)
+
+
+def _joint_points(arm: SerialArm, F: FloatArray) -> FloatArray:
     o = F[:, :3, 3]
     if arm.convention == "modified":
         return o[1:arm.n + 1].copy()
@@ -241,6 +290,11 @@ def link_path(arm: SerialArm, F: FloatArray) -> FloatArray:
         ``o_0, corner_1, o_1, ..., corner_n, o_n, TCP`` in world coordinates,
         length units (a corner equals an origin where a piece has length 0).
     """
+    F = _check_frames(_check_arm(arm), F)
+    return _link_path(arm, F)
+
+
+def _link_path(arm: SerialArm, F: FloatArray) -> FloatArray:
     o = F[:, :3, 3]
     n = arm.n
     path = np.empty((2 * n + 2, 3))
@@ -285,6 +339,11 @@ def gripper_path(T_tcp: FloatArray, size: float, planar: bool = False) -> FloatA
     ndarray, shape (7, 3)
         ``stub, palm centre, NaN, tip_a, palm_a, palm_b, tip_b`` (world, length units).
     """
+    T_tcp = as_pose(T_tcp, "T_tcp")
+    if T_tcp.shape != (4, 4):
+        raise InputError(f"T_tcp must be one pose of shape (4, 4), got shape {T_tcp.shape}")
+    size = as_length(size, "size", positive=True)
+    planar = as_flag(planar, "planar")
     p = T_tcp[:3, 3]
     approach = T_tcp[:3, 0] if planar else T_tcp[:3, 2]
     opening = T_tcp[:3, 1]
@@ -305,9 +364,9 @@ def _draw_arm(ax: Axes, arm: SerialArm, q: FloatArray, *, frames: bool, frame_sc
     F = arm._fk(q, frames=True)            # (n + 2, 4, 4): base, frames 1..n, TCP
     P = F[:, :3, 3]
     col = ARM_COLOUR if color is None else color
-    ax.plot(*link_path(arm, F)[:, :dims].T, "-", color=col, lw=3.0, solid_capstyle="round",
+    ax.plot(*_link_path(arm, F)[:, :dims].T, "-", color=col, lw=3.0, solid_capstyle="round",
             gid="arm", zorder=2)
-    origins = joint_points(arm, F)
+    origins = _joint_points(arm, F)
     rev = arm.revolute
     for mask, marker in ((rev, "o"), (~rev, "s")):
         if mask.any():
@@ -412,6 +471,13 @@ def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True
     """
     _check_arm(arm)
     qv = _check_q(arm, q)
+    _check_ax(ax)
+    frames, label_joints = as_flag(frames, "frames"), as_flag(label_joints, "label_joints")
+    gripper = as_flag(gripper, "gripper")
+    title = as_text(title, "title", optional=True)
+    color = _check_colour(color)
+    frame_scale = as_positive(frame_scale, "frame_scale", optional=True)
+    view = _check_view(view)
     three_d = not is_planar(arm) or (ax is not None and ax.name == "3d")
     ax = _make_axes(three_d, ax)
     dims = 3 if three_d else 2
@@ -427,8 +493,6 @@ def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True
         if lim.shape != (dims, 2):
             raise InputError(f"limits must have shape ({dims}, 2), got {lim.shape}")
     fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0])) if frame_scale is None else frame_scale
-    if not np.isfinite(fs) or fs <= 0:
-        raise InputError(f"frame_scale must be a positive length, got {frame_scale!r}")
     _draw_arm(ax, arm, qv, frames=frames, frame_scale=fs, color=color, label_joints=label_joints,
               gripper=gripper)
     _apply_limits(ax, lim, arm, azim, elev)
@@ -474,7 +538,7 @@ def same_joint_points(arm: SerialArm, Q: Any) -> list[list[int]]:
     Qv = arm.check_q(Q, "Q")
     Qv = Qv[None] if Qv.ndim == 1 else Qv
     F = arm._fk(Qv, frames=True)
-    shapes = np.stack([np.vstack([joint_points(arm, f), link_path(arm, f)]) for f in F])
+    shapes = np.stack([np.vstack([_joint_points(arm, f), _link_path(arm, f)]) for f in F])
     tol = SAME_POINT_TOL * arm.scale
     gap = np.abs(shapes[:, None] - shapes[None]).max(axis=(2, 3))
     return [[int(j) + 1 for j in np.flatnonzero(row <= tol) if j != i] for i, row in enumerate(gap)]
@@ -556,8 +620,16 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
     if Q.ndim != 2 or Q.shape[0] == 0:
         raise InputError("there are no solutions to draw (the IK result is empty)")
     Q = arm.check_q(Q, "result.q")
-    if isinstance(ncols, bool) or not isinstance(ncols, (int, np.integer)) or ncols < 1:
-        raise InputError(f"ncols must be a positive integer, got {ncols!r}")
+    ncols = as_count(ncols, "ncols", minimum=1)
+    frames, gripper = as_flag(frames, "frames"), as_flag(gripper, "gripper")
+    key = as_flag(key, "key")
+    view = _check_view(view)
+    if figsize is not None:
+        size = as_float_array(figsize, "figsize")
+        if size.shape != (2,) or not (size > 0).all() or size.max() > 100:
+            raise InputError(f"figsize must be (width, height) in inches, each 0 to 100, got "
+                             f"{figsize!r:.80}")
+        figsize = (float(size[0]), float(size[1]))
     T_target = None
     if tgt is not None:
         T_target = as_float_array(tgt, "target")
@@ -613,13 +685,7 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
 
 # ------------------------------------------------------------------ the geometric method
 def _positive_length(x: Any, name: str) -> float:
-    try:
-        v = float(x)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"{name} must be a positive length, got {x!r}") from exc
-    if not np.isfinite(v) or v <= 0:
-        raise InputError(f"{name} must be a positive length, got {x!r}")
-    return v
+    return as_length(x, name, positive=True)
 
 
 def _angle_arc(ax: Axes, centre: FloatArray, radius: float, a0: float, a1: float, label: str,
@@ -685,6 +751,10 @@ def plot_two_link_triangle(L1: float, L2: float, target_uv: Any, elbow: str = "b
     uv = as_float_array(target_uv, "target_uv")
     if uv.shape != (2,):
         raise InputError(f"target_uv must be a point (u, w) of shape (2,), got shape {uv.shape}")
+    elbow = as_choice(elbow, "elbow", ("both", "up", "down"))
+    _check_ax(ax)
+    as_texts(labels, "labels", 2)
+    as_texts(angle_labels, "angle_labels", 3)
     if elbow not in ("both", "up", "down"):
         raise InputError(f"elbow must be 'both', 'up' or 'down', got {elbow!r}")
     u, w = np.array(uv[0]), np.array(uv[1])
@@ -809,8 +879,8 @@ def plot_workspace_planar(arm: SerialArm, ax: Axes | None = None, n: int = 256) 
         raise InputError("the workspace plot needs at least 2 joints")
     if np.isfinite(arm.qlim).any():
         raise InputError("the workspace plot assumes joints without limits; this arm has limits")
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 16:
-        raise InputError(f"n must be an integer >= 16 (vertices per circle), got {n!r}")
+    n = as_count(n, "n", minimum=16, maximum=100_000, what="vertices per circle")
+    _check_ax(ax)
     lengths = [abs(float(lk.a)) for lk in arm.links]
     last = np.array([float(arm.links[-1].a), 0.0]) + arm.tool[:2, 3]
     lengths[-1] = float(np.linalg.norm(last))
@@ -880,13 +950,15 @@ def plot_workspace_3d(arm: SerialArm, ax: Axes | None = None, n: int = 4000, poi
         Bad ``n``/``point``/``q``, 2D axes, or a prismatic joint without limits.
     """
     _check_arm(arm)
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 100:
-        raise InputError(f"n must be an integer >= 100 (sampled configurations), got {n!r}")
-    if point not in ("tcp", "wrist"):
-        raise InputError(f"point must be 'tcp' or 'wrist', got {point!r}")
+    n = as_count(n, "n", minimum=100, maximum=10_000_000, what="sampled configurations")
+    point = as_choice(point, "point", ("tcp", "wrist"))
+    seed = as_count(seed, "seed")
+    _check_ax(ax)
+    if q is not None:
+        _check_q(arm, q)
     Q = _sample_joints(arm, int(n), int(seed))
     F = arm._fk(Q, frames=True)
-    pts = (np.stack([wrist_centre(arm, f) for f in F]) if point == "wrist"
+    pts = (np.stack([_wrist_centre(arm, f) for f in F]) if point == "wrist"
            else F[:, -1, :3, 3])
     ax = _make_axes(True, ax)
     sc = ax.scatter(*pts.T, c=pts[:, 2], cmap="viridis", s=2.0, alpha=0.35, depthshade=False,
@@ -924,8 +996,13 @@ def wrist_centre(arm: SerialArm, F: FloatArray) -> FloatArray:
     ndarray, shape (3,)
         World coordinates, length units.
     """
+    F = _check_frames(_check_arm(arm), F)
+    return _wrist_centre(arm, F)
+
+
+def _wrist_centre(arm: SerialArm, F: FloatArray) -> FloatArray:
     p, z = F[-1, :3, 3], F[-1, :3, 2]
-    last = joint_points(arm, F)[-1]
+    last = _joint_points(arm, F)[-1]
     return p - float(np.dot(p - last, z)) * z
 
 
@@ -954,8 +1031,10 @@ def plot_wrist_centre(arm: SerialArm, q: Any, ax: Axes | None = None,
     """
     _check_arm(arm)
     qv = _check_q(arm, q)
+    _check_ax(ax)
+    title = as_text(title, "title", optional=True)
     F = arm._fk(qv, frames=True)
-    w = wrist_centre(arm, F)
+    w = _wrist_centre(arm, F)
     p = F[-1, :3, 3]
     length = float(np.linalg.norm(p - w))
     ax = plot_arm(arm, qv, ax=ax, frames=False, label_joints=False,
@@ -1010,6 +1089,10 @@ def plot_dh_frames(arm: SerialArm, q: Any = None, ax: Axes | None = None,
     """
     _check_arm(arm)
     qv = _check_q(arm, np.zeros(arm.n) if q is None else q)
+    _check_ax(ax)
+    title = as_text(title, "title", optional=True)
+    frame_scale = as_positive(frame_scale, "frame_scale", optional=True)
+    view = _check_view(view)
     F = arm._fk(qv, frames=True)
     ax = plot_arm(arm, qv, ax=ax, frames=True, label_joints=False, gripper=False, view=view,
                   frame_scale=frame_scale, title=title if title is not None else

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import as_length, as_real
+from ._validate import as_dh_value, as_flag, as_length, as_real
 from .dh import Link, SerialArm
 from .errors import InputError
 from .ik.anthropomorphic import Angular3RSolver, RRRGeometry
@@ -89,6 +89,11 @@ def _arm(
     return arm
 
 
+def _dh_lengths(**lengths: Any) -> list[Any]:
+    """The lengths of a ``*_links`` table: numbers or sympy expressions, or InputError."""
+    return [as_dh_value(v, k) for k, v in lengths.items()]
+
+
 def _lengths(**lengths: Any) -> list[float]:
     """The lengths as floats, each a positive real number rikin handles, or InputError.
 
@@ -101,6 +106,7 @@ def _lengths(**lengths: Any) -> list[float]:
 # ---------------------------------------------------------------- planar (Aula 23)
 def planar_2r_links(l1: Any = 10.0, l2: Any = 10.0) -> list[Link]:
     """DH table of the planar 2R: two links of lengths ``l1``, ``l2`` in the xy plane."""
+    l1, l2 = _dh_lengths(l1=l1, l2=l2)
     return [Link(a=l1), Link(a=l2)]
 
 
@@ -121,6 +127,7 @@ def planar_2r(
 
 def planar_3r_links(l1: Any = 10.0, l2: Any = 10.0, l3: Any = 10.0) -> list[Link]:
     """DH table of the planar 3R of Aula 23."""
+    l1, l2, l3 = _dh_lengths(l1=l1, l2=l2, l3=l3)
     return [Link(a=l1), Link(a=l2), Link(a=l3)]
 
 
@@ -144,6 +151,7 @@ def planar_3r(
 # ---------------------------------------------------------------- angular 3R (Aula 23)
 def angular_3r_links(l1: Any = 10.0, l2: Any = 10.0, l3: Any = 10.0) -> list[Link]:
     """DH table of the angular (anthropomorphic) 3R of Aula 23."""
+    l1, l2, l3 = _dh_lengths(l1=l1, l2=l2, l3=l3)
     pi = _pi(l1, l2, l3)
     return [Link(d=l1, alpha=pi / 2), Link(a=l2), Link(a=l3)]
 
@@ -164,6 +172,7 @@ def aula10_6r_links(
     l1: Any = 12.0, l2: Any = 10.0, l3: Any = 10.0, l4: Any = 10.0, l5: Any = 10.0, l6: Any = 10.0
 ) -> list[Link]:
     """DH table of the Aula 10 6R (standard DH; d4 = l3 + l4, d6 = l5 + l6)."""
+    l1, l2, l3, l4, l5, l6 = _dh_lengths(l1=l1, l2=l2, l3=l3, l4=l4, l5=l5, l6=l6)
     pi = _pi(l1, l2, l3, l4, l5, l6)
     return [
         Link(d=l1, alpha=pi / 2),
@@ -203,6 +212,7 @@ def aula10_6r(
 
 def barrientos_6r_links(l1: Any = 8.0, l2: Any = 10.0, l3: Any = 12.0, l4: Any = 5.0) -> list[Link]:
     """DH table of the slides' 6R (Barrientos type): d1 = l1, a2 = l2, d4 = l3, d6 = l4."""
+    l1, l2, l3, l4 = _dh_lengths(l1=l1, l2=l2, l3=l3, l4=l4)
     pi = _pi(l1, l2, l3, l4)
     return [
         Link(d=l1, alpha=pi / 2),
@@ -254,6 +264,8 @@ def epson_c4_links(
     d1: Any = 320.0, a1: Any = 100.0, a2: Any = 250.0, d4: Any = -250.0, limits: bool = True
 ) -> list[Link]:
     """Modified-DH table of the Epson C4 (mm): rows ``(alpha_{i-1}, a_{i-1}, d_i, offset)``."""
+    d1, a1, a2, d4 = _dh_lengths(d1=d1, a1=a1, a2=a2, d4=d4)
+    limits = as_flag(limits, "limits")
     pi = _pi(d1, a1, a2, d4)
     lim = [
         (float(np.radians(lo)), float(np.radians(hi))) if limits else None
@@ -317,6 +329,8 @@ def epson_c4(
 def pprrr_links(a1: Any = 10.0, a2: Any = 5.0, a3: Any = 8.0, theta1: Any = None) -> list[Link]:
     """DH table of the notes' PPRRR; ``theta1`` is the fixed angle of joint 1 (default -pi/2,
     the table as written; +pi/2 reproduces the notes' 0T_EE, see the errata)."""
+    a1, a2, a3 = _dh_lengths(a1=a1, a2=a2, a3=a3)
+    theta1 = None if theta1 is None else as_dh_value(theta1, "theta1", angle=True)
     pi = _pi(a1, a2, a3)
     th1 = -pi / 2 if theta1 is None else theta1
     return [
@@ -343,12 +357,13 @@ def pprrr(
     ones of ERRATA.md.
     """
     a1, a2, a3 = _lengths(a1=a1, a2=a2, a3=a3)
-    theta1 = as_real(theta1, "theta1")
+    theta1 = as_dh_value(as_real(theta1, "theta1"), "theta1", angle=True)
     return _arm(pprrr_links(a1, a2, a3, theta1), PPRRRSolver(), name="PPRRR", base=base, tool=tool)
 
 
 def rprrr_links(a1: Any = 4.0, a2: Any = 3.0, a3: Any = 6.0, a4: Any = 8.0) -> list[Link]:
     """DH table of the notes' RPRRR (the prismatic joint's d is d2 + a1 + a3)."""
+    a1, a2, a3, a4 = _dh_lengths(a1=a1, a2=a2, a3=a3, a4=a4)
     pi = _pi(a1, a2, a3, a4)
     return [
         Link(a=a2, alpha=pi / 2, offset=pi / 2),

@@ -38,6 +38,7 @@ import numpy as np
 import sympy as sp
 from sympy.simplify.fu import TR10i
 
+from ._validate import as_choice, as_flag, as_real
 from .dh import Link, SerialArm
 from .errors import InputError
 
@@ -69,7 +70,7 @@ _CONVENTIONS = ("standard", "modified")
 
 
 # ------------------------------------------------------------------ exact values
-def _exact(x: Any, angle: bool = False) -> sp.Expr:
+def _exact(x: Any, angle: bool = False, name: str = "the value") -> sp.Expr:
     """``x`` as a sympy expression; floats made exact where that is safe.
 
     Integers stay integers; a float angle near ``k pi / 12`` becomes exactly
@@ -77,17 +78,12 @@ def _exact(x: Any, angle: bool = False) -> sp.Expr:
     short (``0.065`` -> ``13/200``) and a ``Float`` otherwise.
     """
     if isinstance(x, sp.Basic):
-        return x  # type: ignore[return-value]
-    if isinstance(x, (bool, np.bool_)):
-        raise InputError(f"expected a number or a sympy expression, got {x!r}")
-    if isinstance(x, (int, np.integer)):
+        if not isinstance(x, sp.Expr):
+            raise InputError(f"{name} must be a number or a sympy expression, got {x!r:.80}")
+        return x
+    if isinstance(x, (int, np.integer)) and not isinstance(x, (bool, np.bool_)):
         return sp.Integer(int(x))
-    try:
-        f = float(x)
-    except (TypeError, ValueError) as exc:
-        raise InputError(f"expected a number or a sympy expression, got {x!r}") from exc
-    if not np.isfinite(f):
-        raise InputError(f"expected a finite number, got {f}")
+    f = as_real(x, name)  # refuses text, booleans, complex numbers, None, NaN, infinity
     if angle:
         k = round(f / (np.pi / 12))
         if abs(f - k * np.pi / 12) <= EXACT_ANGLE_TOL:
@@ -100,10 +96,26 @@ def _exact(x: Any, angle: bool = False) -> sp.Expr:
     return sp.Float(f)
 
 
-def _check_convention(convention: str) -> str:
-    if convention not in _CONVENTIONS:
-        raise InputError(f"convention must be 'standard' or 'modified', got {convention!r}")
-    return convention
+def _check_convention(convention: Any) -> str:
+    return as_choice(convention, "convention", _CONVENTIONS)
+
+
+def _sympify(expr: Any, name: str) -> Any:
+    """A sympy expression or matrix from ``expr``: numbers and sympy objects, never text
+    (sympify would evaluate it as Python) nor booleans, None or arrays of objects."""
+    if isinstance(expr, sp.MatrixBase):
+        return expr
+    if expr is None or isinstance(expr, (str, bytes, bool, np.bool_)):
+        raise InputError(f"{name} must be a sympy expression or Matrix, got {expr!r:.80}")
+    try:
+        out = sp.sympify(expr, strict=True)
+    except (sp.SympifyError, TypeError, ValueError, AttributeError) as exc:
+        raise InputError(f"{name} must be a sympy expression or Matrix, got {expr!r:.80}") from exc
+    if not isinstance(out, (sp.Expr, sp.MatrixBase)):
+        raise InputError(f"{name} must be a sympy expression or Matrix, got {expr!r:.80}")
+    if out.has(sp.nan, sp.zoo, sp.oo, -sp.oo):
+        raise InputError(f"{name} holds NaN or infinity: {expr!r:.80}")
+    return out
 
 
 # ------------------------------------------------------------------ elementary matrices
@@ -152,8 +164,8 @@ def dh_matrix(theta: Any, d: Any, a: Any, alpha: Any, convention: str = "standar
     [      0, 1,        0]])
     """
     _check_convention(convention)
-    th, dd = _exact(theta, angle=True), _exact(d)
-    aa, al = _exact(a), _exact(alpha, angle=True)
+    th, dd = _exact(theta, angle=True, name="theta"), _exact(d, name="d")
+    aa, al = _exact(a, name="a"), _exact(alpha, angle=True, name="alpha")
     if convention == "standard":
         return _rotz(th) * _trans(z=dd) * _trans(x=aa) * _rotx(al)
     return _rotx(al) * _trans(x=aa) * _rotz(th) * _trans(z=dd)
@@ -162,17 +174,17 @@ def dh_matrix(theta: Any, d: Any, a: Any, alpha: Any, convention: str = "standar
 # ------------------------------------------------------------------ symbols and links
 def _links_of(links: Any, convention: str | None) -> tuple[tuple[Link, ...], str]:
     if isinstance(links, SerialArm):
-        return links.links, _check_convention(convention or links.convention)
-    try:
-        seq = tuple(links)
-    except TypeError as exc:
-        raise InputError(f"expected a list of rikin.Link or a SerialArm, got {links!r}") from exc
+        return links.links, _check_convention(links.convention if convention is None
+                                              else convention)
+    if not isinstance(links, (list, tuple)):
+        raise InputError(f"links must be a list of rikin.Link or a SerialArm, got {links!r:.80}")
+    seq = tuple(links)
     if not seq:
-        raise InputError("expected at least one link, got an empty list")
+        raise InputError("links is empty: give at least one rikin.Link")
     for i, lk in enumerate(seq, 1):
         if not isinstance(lk, Link):
-            raise InputError(f"link {i} must be a rikin.Link, got {type(lk).__name__}")
-    return seq, _check_convention(convention or "standard")
+            raise InputError(f"links[{i - 1}] must be a rikin.Link, got {type(lk).__name__}")
+    return seq, _check_convention("standard" if convention is None else convention)
 
 
 def joint_symbols(links: Any, revolute: str = "q", prismatic: str = "d") -> tuple[sp.Symbol, ...]:
@@ -198,7 +210,8 @@ def joint_symbols(links: Any, revolute: str = "q", prismatic: str = "d") -> tupl
     seq, _ = _links_of(links, None)
     for p in (revolute, prismatic):
         if not isinstance(p, str) or not re.fullmatch(r"[A-Za-z]+", p):
-            raise InputError(f"a symbol prefix must be letters only, got {p!r}")
+            which = "revolute" if p is revolute else "prismatic"
+            raise InputError(f"{which} (a symbol prefix) must be letters only, got {p!r:.80}")
     return tuple(sp.Symbol(f"{revolute if lk.is_revolute else prismatic}{i}", real=True)
                  for i, lk in enumerate(seq, 1))
 
@@ -223,8 +236,8 @@ def link_matrix(link: Link, q_symbol: Any, convention: str = "standard") -> sp.M
     """
     if not isinstance(link, Link):
         raise InputError(f"link must be a rikin.Link, got {type(link).__name__}")
-    q = _exact(q_symbol)
-    offset = _exact(link.offset, angle=link.is_revolute)
+    q = _exact(q_symbol, name="q_symbol")
+    offset = _exact(link.offset, angle=link.is_revolute, name="link.offset")
     if link.is_revolute:
         return dh_matrix(q + offset, link.d, link.a, link.alpha, convention)
     return dh_matrix(link.theta, _exact(link.d) + q + offset, link.a, link.alpha, convention)
@@ -243,7 +256,7 @@ def simplify_trig(expr: Any) -> Any:
 
     if isinstance(expr, sp.MatrixBase):
         return expr.applyfunc(one)
-    return one(sp.sympify(expr))
+    return one(_sympify(expr, "expr"))
 
 
 def _frames(links: Any, convention: str | None, start: int, end: int | None,
@@ -258,11 +271,12 @@ def _frames(links: Any, convention: str | None, start: int, end: int | None,
     if q is None:
         qs = joint_symbols(seq)
     else:
-        try:
-            qs = tuple(_exact(v) for v in q)
-        except TypeError as exc:
+        if not isinstance(q, (list, tuple, np.ndarray, sp.MatrixBase)) or (
+                isinstance(q, np.ndarray) and q.ndim != 1) or (
+                isinstance(q, sp.MatrixBase) and q.shape[1] != 1):
             raise InputError(f"q must be a sequence of {n} joint values or symbols, "
-                             f"got {q!r}") from exc
+                             f"got {q!r:.80}")
+        qs = tuple(_exact(v, name=f"q[{i}]") for i, v in enumerate(q))
         if len(qs) != n:
             raise InputError(f"q must have {n} entries (one per joint), got {len(qs)}")
     return seq, conv, int(start), int(end), qs
@@ -305,6 +319,7 @@ def transform(links: Any, convention: str | None = None, start: int = 0, end: in
     l1*cos(q1) + l2*cos(q1 + q2)
     """
     seq, conv, i0, i1, qs = _frames(links, convention, start, end, q)
+    simplify = as_flag(simplify, "simplify")
     lo, hi = min(i0, i1), max(i0, i1)
     T = sp.eye(4)
     for k in range(lo, hi):
@@ -337,6 +352,7 @@ def rotation(links: Any, convention: str | None = None, start: int = 0, end: int
     [      0, 1,        0]])
     """
     seq, conv, i0, i1, qs = _frames(links, convention, start, end, q)
+    simplify = as_flag(simplify, "simplify")
     lo, hi = min(i0, i1), max(i0, i1)
     R = sp.eye(3)
     for k in range(lo, hi):
@@ -380,6 +396,9 @@ def _short_name(arg: sp.Expr, joints: dict[sp.Symbol, int] | None) -> str | None
 def _joint_map(joints: Sequence[sp.Symbol] | None) -> dict[sp.Symbol, int] | None:
     if joints is None:
         return None
+    if not isinstance(joints, (list, tuple)) or not all(isinstance(s, sp.Symbol) for s in joints):
+        raise InputError(f"joints must be a sequence of sympy Symbols (q1, q2, ...) or None, "
+                         f"got {joints!r:.80}")
     return {s: i for i, s in enumerate(joints, 1)}
 
 
@@ -400,6 +419,7 @@ def abbreviate(expr: Any, joints: Sequence[sp.Symbol] | None = None) -> Any:
         ``2 q1``) are left as they are.
     """
     jm = _joint_map(joints)
+    expr = _sympify(expr, "expr")
 
     def repl(e: sp.Expr) -> sp.Expr:
         return e.replace(
@@ -409,7 +429,7 @@ def abbreviate(expr: Any, joints: Sequence[sp.Symbol] | None = None) -> Any:
 
     if isinstance(expr, sp.MatrixBase):
         return expr.applyfunc(repl)
-    return repl(sp.sympify(expr))
+    return repl(expr)
 
 
 def short_trig(expr: Any, joints: Sequence[sp.Symbol] | None = None) -> str:
@@ -468,8 +488,10 @@ def numeric(expr_or_matrix: Any, subs: dict[Any, Any]) -> Any:
     >>> numeric(sympy.cos(q1), {"q1": 0.0})
     np.float64(1.0)
     """
-    obj = (expr_or_matrix if isinstance(expr_or_matrix, sp.MatrixBase)
-           else sp.sympify(expr_or_matrix))
+    obj = _sympify(expr_or_matrix, "expr_or_matrix")
+    if not isinstance(subs, dict):
+        raise InputError(f"subs must be a dict of symbol (or its name) -> number, got "
+                         f"{subs!r:.80}")
     free = obj.free_symbols
     by_name = {s.name: s for s in free}
     values: dict[sp.Symbol, sp.Float] = {}
@@ -478,22 +500,21 @@ def numeric(expr_or_matrix: Any, subs: dict[Any, Any]) -> Any:
         if sym is None:
             continue  # a name that does not appear: nothing to substitute
         try:
-            f = float(v)
-        except (TypeError, ValueError) as exc:
-            raise InputError(f"the value of {k} must be a number, got {v!r}") from exc
-        if not np.isfinite(f):
-            raise InputError(f"the value of {k} is {f}")
-        values[sym] = sp.Float(f, 30)
+            values[sym] = sp.Float(as_real(v, str(k)), 30)
+        except InputError as exc:
+            raise InputError(f"the value of {k} must be a number ({exc})") from None
     missing = sorted(s.name for s in free if s not in values)
     if missing:
-        raise InputError(f"no value given for {', '.join(missing)}")
+        raise InputError(f"no value given for {', '.join(missing)} in subs (symbols of "
+                         "expr_or_matrix)")
     out = obj.xreplace(values).evalf(20)
     try:
         arr = np.array(out.tolist() if isinstance(out, sp.MatrixBase) else out, dtype=np.complex128)
     except TypeError as exc:
-        raise InputError(f"could not evaluate to numbers: {out}") from exc
+        raise InputError(f"expr_or_matrix does not evaluate to numbers: {out}") from exc
     if np.any(np.abs(arr.imag) > 0):
-        raise InputError("the result is complex: a square root or log of a negative value")
+        raise InputError("expr_or_matrix evaluates to a complex number with these subs: a "
+                         "square root or log of a negative value?")
     res = arr.real.astype(np.float64)
     return res if res.ndim else np.float64(res)
 
@@ -535,8 +556,9 @@ def lesson_arm(name: str, **options: Any) -> LessonArm:
     """
     from . import robots
 
-    if name not in LESSON_LENGTHS:
-        raise InputError(f"unknown lesson robot {name!r}; choose one of {sorted(LESSON_LENGTHS)}")
+    if not isinstance(name, str) or name not in LESSON_LENGTHS:
+        raise InputError(f"unknown lesson robot name {name!r:.80}; choose one of "
+                         f"{sorted(LESSON_LENGTHS)}")
     lengths = tuple(sp.Symbol(s, real=True) if (name, s) in _SIGNED_LENGTHS
                     else sp.Symbol(s, positive=True) for s in LESSON_LENGTHS[name])
     table = getattr(robots, f"{name}_links")

@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import as_count, as_text
 from .errors import InputError
 from .ik.result import IKResult
 
@@ -40,7 +41,8 @@ def _cell(v: Any, decimals: int) -> str:
     if isinstance(v, (float, np.floating)):
         f = float(v)
         if not np.isfinite(f):
-            return str(f)
+            raise InputError(f"rows hold {f}: a table shows numbers, so the NaN or infinity "
+                             "must be dealt with before (or written as text)")
         text = f"{f:.{decimals}f}"
         return "0" + text[2:] if text.startswith("-0") and float(text) == 0 else text
     return str(v)
@@ -60,12 +62,21 @@ class Table:
 
     def __init__(self, header: Sequence[str], rows: Sequence[Sequence[Any]], decimals: int = 4,
                  caption: str | None = None) -> None:
-        self.header = [str(h) for h in header]
+        if not _is_sequence(header) or not all(isinstance(h, str) for h in header):
+            raise InputError(f"header must be a list of column names (str), got {header!r:.80}")
+        self.header = list(header)
+        decimals = _decimals(decimals)
+        if isinstance(rows, np.ndarray):
+            rows = rows.tolist() if rows.ndim == 2 else rows
+        if not _is_sequence(rows) or not all(_is_sequence(r) for r in rows):
+            raise InputError(f"rows must be a list of rows (each a list of cells), got "
+                             f"{rows!r:.80}")
         self.cells = [[_cell(v, decimals) for v in row] for row in rows]
         for i, row in enumerate(self.cells):
             if len(row) != len(self.header):
-                raise InputError(f"row {i + 1} has {len(row)} cells for {len(self.header)} columns")
-        self.caption = caption
+                raise InputError(f"rows: row {i + 1} has {len(row)} cells for the "
+                                 f"{len(self.header)} columns of header")
+        self.caption = as_text(caption, "caption", optional=True)
         self._numeric = [all(_is_number(r[j]) for r in self.cells) and bool(self.cells)
                          for j in range(len(self.header))]
 
@@ -103,6 +114,14 @@ class Table:
                 f"<tbody>{body}</tbody></table></div>")
 
 
+def _is_sequence(x: Any) -> bool:
+    return isinstance(x, (list, tuple)) or (isinstance(x, np.ndarray) and x.ndim == 1)
+
+
+def _decimals(decimals: Any) -> int:
+    return as_count(decimals, "decimals", minimum=0, maximum=15)
+
+
 def _is_number(text: str) -> bool:
     try:
         float(text)
@@ -113,6 +132,8 @@ def _is_number(text: str) -> bool:
 
 def table(header: Sequence[str], rows: Any, decimals: int = 4, caption: str | None = None) -> Table:
     """A :class:`Table` of any rows (lists, tuples or a 2-D array)."""
+    if isinstance(rows, np.ndarray) and rows.size == 0:
+        rows = []
     if isinstance(rows, np.ndarray):
         if rows.ndim != 2:
             raise InputError(f"rows must be 2-D, got shape {rows.shape}")
@@ -139,6 +160,9 @@ def solutions_table(result: IKResult, decimals: int = 4, caption: str | None = N
     """
     if not isinstance(result, IKResult):
         raise InputError(f"result must be an IKResult, got {type(result).__name__}")
+    decimals = _decimals(decimals)
+    as_text(units, "units")
+    caption = as_text(caption, "caption", optional=True)
     qd = result.degrees()
     n = qd.shape[1] if qd.ndim == 2 else len(result.revolute)
     suffix = f" ({units})" if units else ""
@@ -173,6 +197,7 @@ def dh_table(arm: Any, decimals: int = 4) -> Table:
     links = getattr(arm, "links", None)
     if links is None or not hasattr(arm, "convention"):
         raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
+    decimals = _decimals(decimals)
     unit = f" ({arm.units})" if getattr(arm, "units", "") else ""
 
     def deg(x: Any) -> str:

@@ -25,7 +25,7 @@ from ._validate import (
     check_radians,
 )
 from .errors import InputError
-from .tolerances import SINGULAR_TOL
+from .tolerances import MAX_LENGTH, SINGULAR_TOL
 
 __all__ = [
     "rotx",
@@ -149,8 +149,13 @@ def transl(x: Any, y: Any = None, z: Any = None) -> FloatArray:
         p = as_float_array(x, "x")
         if p.shape[-1:] != (3,):
             raise InputError(f"x must be [x, y, z], shape (..., 3), got shape {p.shape}")
+        if p.size and np.abs(p).max() > MAX_LENGTH:
+            check_length_range(float(np.abs(p).max()), "x")
         return homogeneous(None, p)
     xs = [as_float_array(v, n) for v, n in ((x, "x"), (y, "y"), (0.0 if z is None else z, "z"))]
+    for v, n in zip(xs, "xyz", strict=True):
+        if v.size and np.abs(v).max() > MAX_LENGTH:
+            check_length_range(float(np.abs(v).max()), n)
     shape = _broadcast("transl(x, y, z)", *(v.shape for v in xs))
     return homogeneous(None, np.stack([np.broadcast_to(v, shape) for v in xs], axis=-1))
 

@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import FloatArray
+from ._validate import FloatArray, as_pose, as_positive, as_real, as_text, check_length_range
 from .dh import SerialArm
 from .errors import InputError, RikinError, UnreachableError
 from .ik import classify
@@ -137,6 +137,13 @@ class IKState:
     labels: tuple[str, ...] = field(default_factory=tuple)
 
 
+def _slider_value(v: Any, name: str) -> float:
+    try:
+        return as_real(v, name)
+    except InputError as exc:
+        raise InputError(f"{name} must be a finite number, got {v!r:.60} ({exc})") from None
+
+
 class IKPanel:
     """The lab's pose panel: target sliders, every IK solution drawn live (see :func:`ik_panel`)."""
 
@@ -145,11 +152,17 @@ class IKPanel:
         _check_arm(arm)
         self.arm = arm
         self.spec = pose_sliders_for(arm)
-        self.width = float(width)
+        self.width = float(as_positive(width, "width"))  # type: ignore[arg-type]
         self.values = {name: 0.5 * (lo + hi) for name, _, lo, hi in self.spec}
         if values is None:
             values = self._home_values()
-        self.set(**values, redraw=False)
+        elif not isinstance(values, dict) or not all(isinstance(k, str) for k in values):
+            raise InputError(f"values must be a dict of target coordinates by name, e.g. "
+                             f"{{'x': 1.0}}, got {values!r:.80}")
+        try:
+            self.set(**values, redraw=False)
+        except InputError as exc:
+            raise InputError(f"values: {exc}") from None
         self.state = self.compute()
         self._widget: Any = None
 
@@ -164,7 +177,9 @@ class IKPanel:
 
     def values_of(self, T: Any) -> dict[str, float]:
         """Slider values of a world pose ``T`` (4, 4)."""
-        T = np.asarray(T, dtype=np.float64)
+        T = as_pose(T, "T")
+        if T.shape != (4, 4):
+            raise InputError(f"T must be one world pose of shape (4, 4), got shape {T.shape}")
         names = [s[0] for s in self.spec]
         out = {k: float(T[i, 3]) for i, k in enumerate("xyz") if k in names}
         if "roll" in names:
@@ -181,10 +196,9 @@ class IKPanel:
             if k not in names:
                 raise InputError(f"{self.arm.name!r} has no target coordinate {k!r}; it takes "
                                  + ", ".join(s[0] for s in self.spec))
-            fv = float(v)
-            if not np.isfinite(fv):
-                raise InputError(f"{k} must be a finite number, got {v!r}")
-            self.values[k] = fv
+            self.values[k] = _slider_value(v, k)
+            if k in ("x", "y", "z"):
+                check_length_range(abs(self.values[k]), k)
         if redraw:
             self.state = self.compute()
             self._refresh()
@@ -300,7 +314,7 @@ class TeachPanel:
     def __init__(self, arm: SerialArm, q: Any = None, width: float = 6.0) -> None:
         _check_arm(arm)
         self.arm = arm
-        self.width = float(width)
+        self.width = float(as_positive(width, "width"))  # type: ignore[arg-type]
         self.q = np.zeros(arm.n) if q is None else arm.check_q(q).astype(np.float64).copy()
         if self.q.shape != (arm.n,):
             raise InputError(f"q must be one configuration of shape ({arm.n},)")
@@ -327,9 +341,7 @@ class TeachPanel:
             if not (k.startswith("q") and k[1:].isdigit() and 1 <= int(k[1:]) <= self.arm.n):
                 raise InputError(f"no joint {k!r}: the joints are q1..q{self.arm.n}")
             i = int(k[1:]) - 1
-            fv = float(v)
-            if not np.isfinite(fv):
-                raise InputError(f"{k} must be a finite number, got {v!r}")
+            fv = _slider_value(v, k)
             self.q[i] = np.radians(fv) if self.arm.links[i].is_revolute else fv
         if redraw:
             self._refresh()
@@ -538,9 +550,10 @@ def arm_from_table(text: str, convention: str = "standard", units: str = "",
 
 def _numbers(text: Any, count: int, what: str) -> FloatArray:
     """``count`` numbers typed as text (or given as a sequence)."""
-    tokens = _row_tokens(text) if isinstance(text, str) else list(np.ravel(text))
     try:
-        values = np.array([float(t) for t in tokens])
+        tokens = _row_tokens(text) if isinstance(text, str) else list(np.ravel(
+            np.array(text, dtype=object)))
+        values = np.array([float(t) if isinstance(t, str) else as_real(t, what) for t in tokens])
     except (TypeError, ValueError):
         raise InputError(f"{what} must be {count} numbers, got {text!r}") from None
     if values.shape != (count,) or not np.isfinite(values).all():
@@ -550,7 +563,11 @@ def _numbers(text: Any, count: int, what: str) -> FloatArray:
 
 def _tool_pose(text: Any) -> FloatArray:
     """The tool ``T_n_tcp`` from "x y z" or "x y z roll pitch yaw" (degrees)."""
-    tokens = _row_tokens(text) if isinstance(text, str) else list(np.ravel(text))
+    try:
+        tokens = _row_tokens(text) if isinstance(text, str) else list(np.ravel(
+            np.array(text, dtype=object)))
+    except (TypeError, ValueError):
+        raise InputError(f"the tool must be 3 or 6 numbers, got {text!r:.80}") from None
     v = _numbers(tokens, 6 if len(tokens) == 6 else 3, "the tool (x y z, or x y z roll pitch yaw)")
     R = rpy_to_r(*v[3:], degrees=True) if len(v) == 6 else np.eye(3)
     return homogeneous(R, v[:3])
@@ -587,6 +604,14 @@ class DHState:
     typed_q: FloatArray | None = None
 
 
+def _check_inputs(inputs: dict[str, Any]) -> None:
+    """The panel's text inputs are text (what a user typed is read, and reported in the
+    panel's status when it cannot be); the target and the tool may also be numbers."""
+    for k in ("table", "convention", "units", "mode", "name"):
+        if k in inputs:
+            as_text(inputs[k], k)
+
+
 class DHPanel:
     """Type a DH table, get every IK solution of one pose, drawn (see :func:`dh_panel`)."""
 
@@ -598,7 +623,8 @@ class DHPanel:
         self.inputs: dict[str, Any] = {"table": table, "convention": convention,
                                        "units": units, "target": target, "mode": mode,
                                        "tool": tool, "name": name}
-        self.width = float(width)
+        _check_inputs(self.inputs)
+        self.width = float(as_positive(width, "width"))  # type: ignore[arg-type]
         self.state = self.compute()
         self._widget: Any = None
 
@@ -608,11 +634,12 @@ class DHPanel:
         ``mode`` ("joints": the target is FK of six joint values, degrees for revolute
         joints; "pose": x y z roll pitch yaw, degrees), ``tool`` (the TCP in the last
         frame: x y z, or x y z roll pitch yaw) and ``name``."""
-        for k, v in inputs.items():
+        for k in inputs:
             if k not in self.inputs:
                 raise InputError(f"the DH panel has no input {k!r}; it has "
                                  + ", ".join(self.inputs))
-            self.inputs[k] = v
+        _check_inputs(inputs)
+        self.inputs.update(inputs)
         if redraw:
             self.state = self.compute()
             self._refresh()
@@ -625,7 +652,11 @@ class DHPanel:
         try:
             if inp["mode"] not in self.MODES:
                 raise InputError(f"mode must be 'joints' or 'pose', got {inp['mode']!r}")
-            tool = _tool_pose(inp["tool"])
+            try:
+                tool = _tool_pose(inp["tool"])
+            except RikinError as exc:  # say it is the tool (not the rows) that is wrong
+                why = str(exc) if "tool" in str(exc) else f"the tool: {exc}"
+                return DHState(None, None, None, None, f"The table cannot be read: {why}")
             arm = arm_from_table(inp["table"], inp["convention"], inp["units"],
                                  name=str(inp["name"]), tool=tool)
         except RikinError as exc:
@@ -712,6 +743,7 @@ class DHPanel:
         solutions and the drawing (an embedded PNG), for a page built without one."""
         import base64
 
+        alt = str(as_text(alt, "alt"))
         inp = self.inputs
         rows = [f"<p><b>DH table</b> ({html.escape(str(inp['convention']))} DH, "
                 f"{html.escape(str(inp['units']) or 'no units')}; tool at "

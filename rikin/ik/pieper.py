@@ -44,7 +44,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .._validate import FloatArray
+from .._validate import FloatArray, check_arm
 from ..errors import InputError
 from ..tolerances import REACH_TOL, SINGULAR_TOL
 from .base import RawSolutions, Singularity
@@ -366,6 +366,7 @@ def general_solver(arm: SerialArm) -> Pieper6RSolver:
         The arm has no closed form; the message says why and points at the
         numerical IK.
     """
+    check_arm(arm)
     solver = _SOLVERS.get(arm)
     if solver is None:
         family, reason = _general_reason(arm)
@@ -486,6 +487,7 @@ class Pieper6RSolver:
     }
 
     def __init__(self, arm: SerialArm) -> None:
+        check_arm(arm)
         family, reason = _general_reason(arm)
         if reason:
             raise InputError(f"{arm.name}: {reason}")
