@@ -1091,6 +1091,13 @@ NOT_FUZZED = {
     "validated input (fuzzed through SerialArm.ik and ik_batch of an arm typed as a table)",
     "rikin.ik.pieper.Pieper6RSolver.solve": "solver protocol, as Pieper6RSolver.check",
     "rikin.ik.pieper.Pieper6RSolver.explain": "solver protocol, as Pieper6RSolver.check",
+    "rikin.ik.pieper.Pieper6RSolver.single_kernel": "solver protocol, as "
+    "Pieper6RSolver.check",
+    "rikin.ik.pieper_kernel.PieperKernel": "the one-pose kernel rikin.ik.solve builds from "
+    "a solver it made (fuzzed through SerialArm.ik of an arm typed as a table)",
+    "rikin.ik.pieper_kernel.PieperKernel.solve": "one-pose kernel on the validated pose, "
+    "as PieperKernel",
+    "rikin.ik.pieper_kernel.single_kernel": "builds the one-pose kernel, as PieperKernel",
     "rikin.dh.link_transform": "documented kernel on validated input, FK's and the IK "
     "solvers' inner loop; users call SerialArm.fk (fuzzed)",
 }
