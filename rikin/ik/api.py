@@ -228,6 +228,7 @@ def solve(
         T_world = homogeneous(None, T_world[:3, 3])
     T_0_n = arm._world_to_base(T_world)
     raw = solver.solve(arm, T_0_n[None], hint)
+    raw, T_solved, reach = _onto_reach(arm, solver, T_world[None], raw, hint)
     valid = raw.valid[0]
     if not valid.any():
         message, excess = solver.explain(arm, T_0_n)
@@ -235,7 +236,47 @@ def solve(
         raise UnreachableError(
             f"{arm.name}: target is unreachable: {message}", excess=excess, units=units
         )
-    return _finish(arm, solver, raw, T_world, kind, hint, within_limits, rot_dist)
+    return _finish(
+        arm, solver, raw, T_solved[0], kind, hint, within_limits, rot_dist, float(reach[0])
+    )
+
+
+def _onto_reach(
+    arm: SerialArm,
+    solver: Solver,
+    T_world: FloatArray,
+    raw: RawSolutions,
+    hint: FloatArray | None,
+) -> tuple[RawSolutions, FloatArray, FloatArray]:
+    """Solve again, for their nearest reachable pose, the poses ``T_world (N, 4, 4)`` with no
+    solution that a 5-DOF arm misses by rounding only (``ROUNDED_POSE_TOL``).
+
+    Returns ``raw`` (those poses' rows replaced), the poses solved ``(N, 4, 4)``, and how far
+    each given pose was from reachable ``(N,)`` (0 where it was solved as given). Arms that
+    reach every pose near their workspace (no ``nearest_reachable``) pass through unchanged.
+    """
+    reach = np.zeros(len(T_world))
+    nearest = getattr(solver, "nearest_reachable", None)
+    if nearest is None:
+        return raw, T_world, reach
+    miss = np.flatnonzero(~raw.valid.any(axis=1))
+    if not miss.size:
+        return raw, T_world, reach
+    T_near, dist, close = nearest(arm, T_world[miss])
+    fix = miss[close]
+    if not fix.size:
+        return raw, T_world, reach
+    again = solver.solve(arm, arm._world_to_base(T_near[close]), hint)
+    for name in ("q", "valid", "elbow_up", "shoulder_front"):
+        mine = getattr(raw, name)
+        if mine is not None:
+            mine[fix] = getattr(again, name)
+    for name, mask in raw.singular.items():
+        mask[fix] = again.singular[name]
+    T_solved = T_world.copy()
+    T_solved[fix] = T_near[close]
+    reach[fix] = dist[close]
+    return raw, T_solved, reach
 
 
 def _solve_regular(
@@ -297,6 +338,7 @@ def _finish(
     hint: FloatArray | None,
     within_limits: bool,
     rot_dist: float,
+    reach_dist: float = 0.0,
 ) -> IKResult:
     rev = arm.revolute
     slots = np.flatnonzero(raw.valid[0])
@@ -369,6 +411,7 @@ def _finish(
         arm_name=arm.name,
         revolute=rev,
         rotation_distance=rot_dist,
+        reach_distance=reach_dist,
     )
 
 
@@ -396,10 +439,12 @@ def solve_batch(
     -------
     BatchIKResult
         ``q (N, k, n)`` with NaN in invalid slots, ``valid (N, k)``,
-        ``singular (N,)``, ``rotation_distance (N,)``. No de-duplication, no
-        FK check, no labels beyond the slot's branch. A pose whose rotation
-        block is not a rotation to rounding (but within ``ORTHONORMAL_TOL``) is
-        solved for the nearest rotation, as :func:`solve` does.
+        ``singular (N,)``, ``rotation_distance (N,)``, ``reach_distance (N,)``.
+        No de-duplication, no FK check, no labels beyond the slot's branch. A
+        pose whose rotation block is not a rotation to rounding (but within
+        ``ORTHONORMAL_TOL``) is solved for the nearest rotation, and a pose a
+        5-DOF arm misses by rounding (within ``ROUNDED_POSE_TOL``) for the
+        nearest reachable pose, as :func:`solve` does.
 
     Raises
     ------
@@ -424,10 +469,13 @@ def solve_batch(
     valid_out = np.empty((N, k), dtype=bool)
     sing_out = np.zeros(N, dtype=bool)
     dist_out = np.zeros(N)
+    reach_out = np.zeros(N)
 
     def general(rows: slice | np.ndarray, T_chunk: FloatArray) -> None:
         """The general solver (every family; exact singular handling) for some poses."""
         raw = solver.solve(arm, arm._world_to_base(T_chunk), None)
+        raw, _, reach = _onto_reach(arm, solver, T_chunk, raw, None)
+        reach_out[rows] = reach
         qq = _wrap(raw.q, arm.revolute)
         qq[~raw.valid] = np.nan
         q_out[rows] = qq
@@ -470,7 +518,12 @@ def solve_batch(
         with ThreadPoolExecutor(n_workers) as pool:
             list(pool.map(run, starts))
     return BatchIKResult(
-        q=q_out, valid=valid_out, singular=sing_out, branches=slots, rotation_distance=dist_out
+        q=q_out,
+        valid=valid_out,
+        singular=sing_out,
+        branches=slots,
+        rotation_distance=dist_out,
+        reach_distance=reach_out,
     )
 
 

@@ -49,7 +49,12 @@ class Singularity:
 
 
 class Solver(Protocol):
-    """A closed-form IK of one arm family, working on ``T_0_n`` (no base, no tool)."""
+    """A closed-form IK of one arm family, working on ``T_0_n`` (no base, no tool).
+
+    A family that reaches only a subset of poses (the 5-DOF arms) may also offer
+    ``nearest_reachable(arm, T_world)``: the poses it solves instead of rounded ones
+    (see :func:`rikin.ik.prismatic.nearest_reachable`).
+    """
 
     target_kind: TargetKind
     #: index (0-based) of the middle wrist joint, for the flip label; None if no wrist

@@ -69,8 +69,18 @@ class IKResult:
         How far the rotation block of the given 4x4 target was from a rotation
         matrix (Frobenius norm of the difference, unitless): a target rounded to
         4 decimals is ~1e-4 off. IK solved for the nearest rotation, which is
-        ``target``'s; 0 when the block was a rotation to rounding (1e-12), or
+        ``target``'s (for a 5-DOF arm, then moved to the nearest reachable pose:
+        see ``reach_distance``); 0 when the block was a rotation to rounding (1e-12), or
         no 4x4 matrix was given.
+    reach_distance : float
+        For a 5-DOF arm (PPRRR, RPRRR), which reaches only a 5-dimensional set
+        of poses: how far the target's wrist centre was from where joints 1-2
+        can put it, in the arm's length units (the least TCP move, orientation
+        kept, that makes the pose reachable). A pose within
+        ``ROUNDED_POSE_TOL`` of that set (rounded, float32) is solved for the
+        nearest reachable pose, which is ``target``'s: the least sum of squared
+        changes of the entries of ``[R | p]``. 0 when the target was reachable
+        as given.
     """
 
     q: FloatArray
@@ -83,6 +93,7 @@ class IKResult:
     arm_name: str = ""
     revolute: FloatArray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     rotation_distance: float = 0.0
+    reach_distance: float = 0.0
 
     @classmethod
     def _regular(
@@ -102,6 +113,7 @@ class IKResult:
             arm_name=arm.name,
             revolute=arm.revolute,
             rotation_distance=0.0,
+            reach_distance=0.0,
         )
         return self
 
@@ -126,8 +138,9 @@ class IKResult:
     def table(self, decimals: int = 4) -> str:
         """The solutions as text, revolute joints in degrees, one row each.
 
-        A last line says when the target was singular, and when its rotation
-        block was replaced by the nearest rotation (``rotation_distance``).
+        A last line says when the target was singular, when its rotation
+        block was replaced by the nearest rotation (``rotation_distance``), and
+        when it was moved to the nearest reachable pose (``reach_distance``).
         """
         if isinstance(decimals, (bool, np.bool_)) or not isinstance(decimals, (int, np.integer)) or (
             not 0 <= decimals <= 15
@@ -147,6 +160,11 @@ class IKResult:
             rows.append(
                 f"target rotation block was {self.rotation_distance:.2g} from a rotation "
                 "(rounded?): solved for the nearest rotation"
+            )
+        if self.reach_distance > 0:
+            rows.append(
+                f"target {self.reach_distance:.2g} off the poses this arm reaches (rounded?): "
+                "solved for the nearest reachable pose"
             )
         return "\n".join(rows)
 
@@ -179,6 +197,10 @@ class BatchIKResult:
     rotation_distance : ndarray, shape (N,)
         Per pose, as :attr:`IKResult.rotation_distance`: how far its rotation
         block was from the rotation it was solved for (0 for most poses).
+    reach_distance : ndarray, shape (N,)
+        Per pose, as :attr:`IKResult.reach_distance`: how far (length units) a
+        5-DOF arm's pose was from reachable, when it was solved for the nearest
+        reachable pose (0 for every pose of every other arm).
     """
 
     q: FloatArray
@@ -186,6 +208,7 @@ class BatchIKResult:
     singular: Any
     branches: tuple[Branch, ...]
     rotation_distance: Any = None
+    reach_distance: Any = None
 
     @property
     def counts(self) -> Any:
