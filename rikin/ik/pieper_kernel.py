@@ -338,6 +338,8 @@ class PieperKernel:
         phi_p = atan2(py, px)
         rem, tau = remainder, _TAU
         orth = self.orthogonal
+        sig, kappa = self.sigma, self.kappa
+        kpi = kappa * pi
         Hc = self.Hcols
         # columns of S = G_R R H (0 and 2; all three for a non-orthogonal wrist)
         (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = self.G
@@ -390,18 +392,30 @@ class PieperKernel:
                 y3 = c2 * y2 - s2 * x1
                 y4 = ca2 * y3 + sa2 * z2
                 z4 = ca2 * z2 - sa2 * y3
-                x5 = c3 * x3 + s3 * y4
-                y5 = c3 * y4 - s3 * x3
-                rw.append((x5, ca3 * y5 + sa3 * z4, ca3 * z4 - sa3 * y5))
+                rw += (c3 * x3 + s3 * y4, c3 * y4 - s3 * x3, z4)
             a1 = rem(th1 - o1, tau)
             a2 = rem(th2 - o2, tau)
             a3 = rem(th3 - o3, tau)
-            if orth:
-                wrist = self._wrist_orthogonal(rw)
+            if orth:  # ZYZ angles of R_w C^T (Pieper6RSolver._wrist), columns 0 and 2
+                m00, y5, z4, m02, y5b, z4b = rw
+                m10, m20 = ca3 * y5 + sa3 * z4, ca3 * z4 - sa3 * y5
+                m12, m22 = ca3 * y5b + sa3 * z4b, ca3 * z4b - sa3 * y5b
+                if kappa < 0:  # C = diag(1, -1, -1)
+                    m02, m12, m22 = -m02, -m12, -m22
+                sw = hypot(m02, m12)
+                if sw < NEAR:
+                    return None
+                theta = sig * atan2(sw, m22)
+                phi = atan2(m12, m02)
+                cp, sp = m02 / sw, m12 / sw
+                psi = kappa * atan2(cp * m10 - sp * m00, m22 * (cp * m00 + sp * m10) - sw * m20)
+                wrist = ((phi, -theta, psi), (phi + pi, theta, psi + kpi))
             else:
-                wrist = self._wrist_general(rw)
-            if wrist is None:
-                return None
+                wrist = self._wrist_general(
+                    [(rw[i], ca3 * rw[i + 1] + sa3 * rw[i + 2], ca3 * rw[i + 2] - sa3 * rw[i + 1])
+                     for i in (0, 3, 6)])
+                if wrist is None:
+                    return None
             for th4, th5, th6 in wrist:
                 q5 = rem(th5 - o5, tau)
                 sq5 = sin(q5)
@@ -414,24 +428,6 @@ class PieperKernel:
         if max(map(abs, q_out)) > WRAP_EDGE:
             return None
         return q_out, keys
-
-    def _wrist_orthogonal(self, rw):
-        """Both wrist slots of an orthogonal wrist (:meth:`Pieper6RSolver._wrist`): ZYZ
-        angles of ``R_w C^T``; ``rw`` holds columns 0 and 2 of ``R_w``."""
-        (m00, m10, m20), (m02, m12, m22) = rw
-        if self.kappa < 0:  # C = diag(1, -1, -1)
-            m02, m12, m22 = -m02, -m12, -m22
-        s = hypot(m02, m12)
-        if s < NEAR:
-            return None
-        theta = atan2(s, m22)
-        phi = atan2(m12, m02)
-        cp, sp = m02 / s, m12 / s
-        a00 = cp * m00 + sp * m10
-        a10 = cp * m10 - sp * m00
-        psi = atan2(a10, m22 * a00 - s * m20)
-        sig, kap = self.sigma, self.kappa
-        return ((phi, -sig * theta, kap * psi), (phi + pi, sig * theta, kap * (psi + pi)))
 
     def _wrist_general(self, rw):
         """Both wrist slots of a wrist with any twists (:meth:`Pieper6RSolver._wrist`);
