@@ -38,7 +38,15 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import FloatArray, as_pose, as_positive, as_real, as_text, check_length_range
+from ._validate import (
+    FloatArray,
+    as_flag,
+    as_pose,
+    as_positive,
+    as_real,
+    as_text,
+    check_length_range,
+)
 from .dh import SerialArm
 from .errors import InputError, RikinError, UnreachableError
 from .ik import classify
@@ -191,6 +199,7 @@ class IKPanel:
 
     def set(self, redraw: bool = True, **values: float) -> None:
         """Set target coordinates by name (``x=..., yaw=...``); degrees for angles."""
+        redraw = as_flag(redraw, "redraw")
         names = {s[0] for s in self.spec}
         for k, v in values.items():
             if k not in names:
@@ -337,6 +346,7 @@ class TeachPanel:
 
     def set(self, redraw: bool = True, **values: float) -> None:
         """Set joints by name, ``q1=30`` (degrees for revolute joints, length units else)."""
+        redraw = as_flag(redraw, "redraw")
         for k, v in values.items():
             if not (k.startswith("q") and k[1:].isdigit() and 1 <= int(k[1:]) <= self.arm.n):
                 raise InputError(f"no joint {k!r}: the joints are q1..q{self.arm.n}")
@@ -634,6 +644,7 @@ class DHPanel:
         ``mode`` ("joints": the target is FK of six joint values, degrees for revolute
         joints; "pose": x y z roll pitch yaw, degrees), ``tool`` (the TCP in the last
         frame: x y z, or x y z roll pitch yaw) and ``name``."""
+        redraw = as_flag(redraw, "redraw")
         for k in inputs:
             if k not in self.inputs:
                 raise InputError(f"the DH panel has no input {k!r}; it has "

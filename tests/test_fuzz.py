@@ -239,6 +239,7 @@ class Case:
     numeric: bool = True  # False: the argument is not a number (an arm, a text, an Axes...)
     accept: Callable[[Any], bool] | None = None  # values that are documented input as they are
     slow: bool = False  # draws or builds a panel: fewer examples (see EXAMPLES_SLOW)
+    param: str | None = None  # the parameter fuzzed, when messages call it ``arg`` instead
 
 
 def _pose_of(arm: rikin.SerialArm) -> np.ndarray:
@@ -690,7 +691,7 @@ def _api_cases() -> list[Case]:
           accepts_none=True),
         # rikin.widgets
         C("widgets.arm_from_table text", "table", widgets.arm_from_table, "R 0 1 0\nR 0 1 0",
-          fn=widgets.arm_from_table, numeric=False,
+          fn=widgets.arm_from_table, numeric=False, param="text",
           accept=lambda v: isinstance(v, str) and v.strip() != ""),
         C("widgets.arm_from_table convention", "convention",
           lambda v: widgets.arm_from_table("R 0 1 0", convention=v), "modified",
@@ -714,15 +715,24 @@ def _api_cases() -> list[Case]:
           fn=[widgets.dh_panel, widgets.DHPanel], slow=True, numeric=False,
           accept=_one_of("standard", "modified")),
         C("widgets.dh_panel units", "units", lambda v: _panel(widgets.dh_panel(units=v)), "m",
-          fn=widgets.dh_panel, slow=True, **text),
+          fn=[widgets.dh_panel, widgets.DHPanel], slow=True, **text),
         C("widgets.dh_panel target", "target", lambda v: _panel(widgets.dh_panel(target=v)),
-          [20.0, -30.0, 40.0, 10.0, 50.0, 60.0], fn=widgets.dh_panel, slow=True, accept=_text),
+          [20.0, -30.0, 40.0, 10.0, 50.0, 60.0], fn=[widgets.dh_panel, widgets.DHPanel],
+          slow=True, accept=_text),
         C("widgets.dh_panel mode", "mode", lambda v: _panel(widgets.dh_panel(mode=v)), "pose",
-          fn=widgets.dh_panel, slow=True, numeric=False, accept=_one_of("joints", "pose")),
+          fn=[widgets.dh_panel, widgets.DHPanel], slow=True, numeric=False,
+          accept=_one_of("joints", "pose")),
         C("widgets.dh_panel tool", "tool", lambda v: _panel(widgets.dh_panel(tool=v)),
-          [0.0, 0.0, 0.1], fn=widgets.dh_panel, slow=True, accept=_text),
+          [0.0, 0.0, 0.1], fn=[widgets.dh_panel, widgets.DHPanel], slow=True, accept=_text),
         C("widgets.dh_panel name", "name", lambda v: _panel(widgets.dh_panel(name=v)), "mine",
-          fn=widgets.dh_panel, slow=True, **text),
+          fn=[widgets.dh_panel, widgets.DHPanel], slow=True, **text),
+        C("widgets.DHPanel.set redraw", "redraw", lambda v: widgets.DHPanel().set(redraw=v),
+          False, fn=widgets.DHPanel.set, slow=True, **flag),
+        C("widgets.IKPanel.set redraw", "redraw", lambda v: widgets.IKPanel(p2).set(redraw=v),
+          False, fn=widgets.IKPanel.set, slow=True, **flag),
+        C("widgets.TeachPanel.set redraw", "redraw",
+          lambda v: widgets.TeachPanel(p3).set(redraw=v), False, fn=widgets.TeachPanel.set,
+          **flag),
         C("widgets.DHPanel width", "width", lambda v: widgets.DHPanel(width=v), 10.0,
           fn=widgets.DHPanel, slow=True),
         C("widgets.DHPanel.set", "target", lambda v: _panel(_set(widgets.DHPanel(), target=v)),
@@ -833,6 +843,22 @@ def _api_cases() -> list[Case]:
         C("symbolic.rotation links", "links", lambda v: symbolic.rotation(v, simplify=False),
           links2, fn=symbolic.rotation, numeric=False,
           accept=_links),
+        C("symbolic.rotation convention", "convention",
+          lambda v: symbolic.rotation(links2, v, simplify=False), "modified",
+          fn=symbolic.rotation, accepts_none=True, numeric=False,
+          accept=_one_of("standard", "modified")),
+        C("symbolic.rotation start", "start",
+          lambda v: symbolic.rotation(links2, start=v, simplify=False), 1,
+          fn=symbolic.rotation),
+        C("symbolic.rotation q", "q", lambda v: symbolic.rotation(links2, q=v, simplify=False),
+          [0.3, 0.2], accepts_none=True, symbolic=True, fn=symbolic.rotation),
+        C("symbolic.rotation simplify", "simplify",
+          lambda v: symbolic.rotation(links2, simplify=v), False, fn=symbolic.rotation,
+          slow=True, **flag),
+        C("symbolic.latex_short joints", "joints", lambda v: symbolic.latex_short(expr, v),
+          (q_sym,), accepts_none=True, fn=symbolic.latex_short, numeric=False,
+          accept=lambda v: isinstance(v, (list, tuple)) and all(
+              isinstance(e, sympy.Symbol) for e in v)),
         C("symbolic.rotation end", "end",
           lambda v: symbolic.rotation(links2, end=v, simplify=False), 1, accepts_none=True,
           fn=symbolic.rotation),
@@ -859,7 +885,8 @@ def _api_cases() -> list[Case]:
           numeric=False, accept=lambda v: isinstance(v, dict) and set(map(str, v)) == {
               "l", "q1"} and all(float_equivalent(e) is not None for e in v.values())),
         C("symbolic.numeric subs value", "q1",
-          lambda v: symbolic.numeric(expr, {"l": 2.0, "q1": v}), 0.3, fn=symbolic.numeric),
+          lambda v: symbolic.numeric(expr, {"l": 2.0, "q1": v}), 0.3, fn=symbolic.numeric,
+          param="subs"),
         C("symbolic.lesson_arm", "name", symbolic.lesson_arm, "planar_2r",
           fn=symbolic.lesson_arm, numeric=False, accept=lambda v: v in robots.LESSON_ROBOTS),
         C("symbolic.lesson_arm options", "theta1",
@@ -873,6 +900,23 @@ def _api_cases() -> list[Case]:
           fn=pieper.Pieper6RSolver, **obj),
         C("puma (user-built).ik", "target", puma.ik, Tp, fn=SA.ik),
         C("puma (user-built).ik_batch", "T", puma.ik_batch, Tp[None], fn=SA.ik_batch),
+        C("ik.solve within_limits", "within_limits",
+          lambda v: rikin.ik.solve(p2, [15.0, 5.0], within_limits=v), True, fn=rikin.ik.solve),
+        C("ik.solve near", "near", lambda v: rikin.ik.solve(p2, [15.0, 5.0], near=v), [0.1, 0.2],
+          accepts_none=True, fn=rikin.ik.solve),
+        C("ik.solve_batch chunk_size", "chunk_size",
+          lambda v: rikin.ik.solve_batch(a6, T6[None], chunk_size=v), 16,
+          fn=rikin.ik.solve_batch),
+        C("ik.solve_batch workers", "workers",
+          lambda v: rikin.ik.solve_batch(a6, T6[None], workers=v), 1, accepts_none=True,
+          fn=rikin.ik.solve_batch),
+        C("ClosedForm.ik arm", "arm", lambda v: a6.solver.ik(v, T6), a6, fn=api.ClosedForm.ik,
+          **obj),
+        C("ClosedForm.ik_batch arm", "arm", lambda v: a6.solver.ik_batch(v, T6[None]), a6,
+          fn=api.ClosedForm.ik_batch, **obj),
+        C("ik_numerical_multistart arm", "arm",
+          lambda v: ik_numerical_multistart(v, T6, 2, max_iter=5), a6,
+          fn=ik_numerical_multistart, **obj),
         C("ik.solve target", "target", lambda v: rikin.ik.solve(p2, v), [15.0, 5.0],
           fn=rikin.ik.solve),
         C("ik.solve_batch arm", "arm", lambda v: rikin.ik.solve_batch(v, T6[None]), a6,
@@ -1170,18 +1214,39 @@ def test_every_public_callable_has_a_fuzz_case():
     assert not both, f"NOT_FUZZED names what is fuzzed: {both}"
 
 
-def test_every_case_names_a_real_argument():
-    """A case's ``arg`` is a parameter of what it fuzzes (or a keyword it takes by **)."""
+def _params(fn: Any) -> tuple[list[str], bool]:
+    """The named parameters of ``fn`` (not self), and whether it takes ``**keywords``."""
     import inspect
 
+    ps = inspect.signature(fn).parameters.values()
+    named = [p.name for p in ps if p.name != "self" and p.kind not in (p.VAR_KEYWORD,
+                                                                        p.VAR_POSITIONAL)]
+    return named, any(p.kind is p.VAR_KEYWORD for p in ps)
+
+
+def test_every_argument_of_every_public_callable_has_a_fuzz_case():
+    """Per argument, not only per callable: a new keyword cannot escape either."""
+    covered: dict[str, set[str]] = {}
+    for case in CASES.values():
+        for f in case.fn if isinstance(case.fn, list) else [case.fn]:
+            covered.setdefault(_key(f), set()).add(case.param or case.arg)
+    missing = []
+    for key, fn in sorted(public_callables().items()):
+        if key in NOT_FUZZED:
+            continue
+        named, _ = _params(fn)
+        missing += [f"{key}({p}=...)" for p in named if p not in covered.get(key, set())]
+    assert not missing, f"arguments with no fuzz case: {missing}"
+
+
+def test_every_case_names_a_real_argument():
+    """A case's parameter is one of what it fuzzes (or a keyword it takes by **)."""
     for case in CASES.values():
         fns = case.fn if isinstance(case.fn, list) else [case.fn]
-        params = set()
-        var_kw = False
+        params, var_kw = set(), False
         for f in fns:
-            sig = inspect.signature(f)
-            params |= set(sig.parameters)
-            var_kw |= any(p.kind is p.VAR_KEYWORD for p in sig.parameters.values())
-        # the name the message uses: arm_from_table's text is "the DH table"; a subs key
-        assert case.arg in params or var_kw or case.arg in ("table", "q1"), (
-            f"{case.name}: {case.arg!r} is not an argument of {fns}")
+            named, kw = _params(f)
+            params |= set(named)
+            var_kw |= kw
+        assert (case.param or case.arg) in params or var_kw, (
+            f"{case.name}: {case.param or case.arg!r} is not an argument of {fns}")
