@@ -43,7 +43,6 @@ from ._validate import (
     as_float_array,
     as_length,
     as_pose,
-    as_positive,
     as_text,
     as_texts,
     check_arm,
@@ -107,6 +106,11 @@ def _check_view(view: Any) -> Any:
     if v.shape != (2,):
         raise InputError(f"view must be (elevation, azimuth) in degrees, got shape {v.shape}")
     return v
+
+
+def _frame_scale(frame_scale: Any) -> float | None:
+    """None (the default length) or a positive length rikin handles."""
+    return None if frame_scale is None else as_length(frame_scale, "frame_scale", positive=True)
 
 
 def _check_frames(arm: SerialArm, F: Any) -> FloatArray:
@@ -476,7 +480,7 @@ def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True
     gripper = as_flag(gripper, "gripper")
     title = as_text(title, "title", optional=True)
     color = _check_colour(color)
-    frame_scale = as_positive(frame_scale, "frame_scale", optional=True)
+    frame_scale = _frame_scale(frame_scale)
     view = _check_view(view)
     three_d = not is_planar(arm) or (ax is not None and ax.name == "3d")
     ax = _make_axes(three_d, ax)
@@ -1091,7 +1095,7 @@ def plot_dh_frames(arm: SerialArm, q: Any = None, ax: Axes | None = None,
     qv = _check_q(arm, np.zeros(arm.n) if q is None else q)
     _check_ax(ax)
     title = as_text(title, "title", optional=True)
-    frame_scale = as_positive(frame_scale, "frame_scale", optional=True)
+    frame_scale = _frame_scale(frame_scale)
     view = _check_view(view)
     F = arm._fk(qv, frames=True)
     ax = plot_arm(arm, qv, ax=ax, frames=True, label_joints=False, gripper=False, view=view,
