@@ -145,7 +145,7 @@ def _rounding_note(arm: SerialArm, pw: FloatArray) -> str:
     u = f" {arm.units}" if arm.units else ""
     tol = ROUNDED_POSE_TOL * float(_rounding_size(arm, pw[None])[0])
     return (
-        f" (a pose up to {tol:.2g}{u} off is taken as rounded and solved for the nearest "
+        f" (a pose up to {tol:.4g}{u} off is taken as rounded and solved for the nearest "
         "reachable pose)"
     )
 
@@ -165,7 +165,15 @@ class PPRRRSolver(ClosedForm):
         wrist_model(arm, 2)
 
     def _affine(self, arm: SerialArm) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """``p_w(d1, d2) = c0 + [u1 u2] @ (d1, d2)`` and the constant ``R_0_2``."""
+        """``p_w(d1, d2) = c0 + [u1 u2] @ (d1, d2)`` and the constant ``R_0_2`` (computed once
+        per arm: arms are immutable; a rounded pose needs them three times)."""
+        cached = arm.__dict__.get("_pprrr_affine")
+        if cached is None:
+            cached = self._affine_of(arm)
+            object.__setattr__(arm, "_pprrr_affine", cached)
+        return cached
+
+    def _affine_of(self, arm: SerialArm) -> tuple[FloatArray, FloatArray, FloatArray]:
         q = np.zeros((3, 5))
         step = arm.scale  # a displacement of the arm's own size: no rounding at any scale
         q[1, 0] = step
