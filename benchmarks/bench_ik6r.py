@@ -307,7 +307,7 @@ def refine(case: "Case", q: np.ndarray, T: np.ndarray):
                 dx = mp.lu_solve(J, e)
             except (ZeroDivisionError, TypeError):  # singular J: mpmath's LU finds no pivot
                 return None
-            x = [xi + dxi for xi, dxi in zip(x, dx, strict=True)]
+            x = [xi - dxi for xi, dxi in zip(x, dx, strict=True)]  # e = T - FK: dF = -de
     return None
 
 
