@@ -70,8 +70,18 @@ ROOT_TOL = 1e-5
 #: rotation) is at most this: the reach slack of the lesson solvers.
 ACCEPT_TOL = max(REACH_TOL, 1e-10)
 
-#: Position roots closer than this (rad) are one root: the elbow at its reach.
+#: Joint values closer than this (rad) are one root of the closed form.
 SAME_ROOT_TOL = 1e-7
+
+#: Two position branches nearer than this (rad, each joint) are compared for
+#: coinciding (see ``Pieper6RSolver._merge_coinciding``); branches farther apart
+#: are always distinct solutions.
+NEAR_PAIR = 1e-2
+
+#: Two branches coincide when the pose error halfway between them is at most this
+#: many times that of either, or below ``COINCIDE_FLOOR`` (a few rounding units).
+COINCIDE_FACTOR = 4.0
+COINCIDE_FLOOR = 2e-15
 
 POSITION_SLOTS = 4
 
@@ -83,8 +93,19 @@ WRIST_FOLD_TOL = 1e-6
 #: its second shoulder in a rounded double root (see ``_split_near_axis``).
 NEAR_AXIS = 1e-6
 
-#: Polishing stops once every pose error (relative) is below this: rounding level.
-POLISHED = 1e-14
+#: Singular values of the pose Jacobian below this (relative to the largest) are
+#: rounding: the polish takes no step along them.
+POLISH_RCOND = 1e-13
+
+#: The polish's fallback step keeps only directions above this (relative).
+STRONG_RCOND = 1e-6
+
+#: Polishing stops once every pose error (relative) is below this, or stops improving:
+#: rounding level (a pair of roots near a fold is told apart only there).
+POLISHED = 5e-16
+
+#: ... or once a solution's step has been shortened below this fraction.
+MIN_STEP = 1e-3
 
 SHOULDER = Singularity(
     "the wrist centre is on the axis of joint 1, so q1 is free", (1,)
@@ -408,13 +429,15 @@ def _solve_sinusoid(
     return phi + delta, phi - delta, reachable, degenerate
 
 
-def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
+def _trig2_roots(F: FloatArray, scale: FloatArray) -> tuple[FloatArray, np.ndarray, tuple]:
     """Real roots of trigonometric polynomials of degree 2 sampled at 5 angles.
 
     Parameters
     ----------
     F : ndarray, shape (N, 5)
         ``F(2 pi j / 5)`` for j = 0..4.
+    scale : ndarray, shape (N,)
+        The size of the squares ``F`` sums (its rounding is ``~eps * scale``).
 
     Returns
     -------
@@ -422,6 +445,8 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
     real : ndarray of bool, shape (N, 4)
         The root is real (on the unit circle), after Newton polishing. Real roots come
         first, by angle (of the unpolished root, in (-pi, pi]).
+    fit : tuple
+        ``F``'s Fourier coefficients and scale, for :func:`_join_double_roots`.
     """
     j = np.arange(5)
     ang = 2 * np.pi * j / 5
@@ -470,7 +495,57 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
         step = np.where(np.abs(df) > 1e-8 * big[:, None], f / np.where(df == 0, 1.0, df), 0.0)
         step = np.clip(step, -1e-3, 1e-3)
         theta = theta - step
-    return theta, real
+    return theta, real, (a0, a, b, scale)
+
+
+def _trig2(theta: FloatArray, a0: FloatArray, a: list, b: list, d: int = 0) -> FloatArray:
+    """``F`` (``d = 0``) or its first or second derivative at ``theta (N, k)``."""
+    out = a0[:, None] if d == 0 else np.zeros_like(theta)
+    for k in (1, 2):
+        c, s_ = np.cos(k * theta), np.sin(k * theta)
+        if d == 0:
+            out = out + a[k - 1][:, None] * c + b[k - 1][:, None] * s_
+        elif d == 1:
+            out = out + k * (b[k - 1][:, None] * c - a[k - 1][:, None] * s_)
+        else:
+            out = out - k * k * (a[k - 1][:, None] * c + b[k - 1][:, None] * s_)
+    return out
+
+
+def _join_double_roots(
+    theta: FloatArray, real: np.ndarray, fit: tuple, other: FloatArray
+) -> None:
+    """Make two close roots that are one double root to rounding one root (in place).
+
+    Near a double root of ``F`` (the elbow at the edge of its reach) the eigenvalues
+    split by ~sqrt(rounding), often 1e-6 rad, into two "roots" that may be a complex
+    pair. The pair is two real roots only when ``F`` changes sign between them by more
+    than its rounding (``~eps`` times the squares it sums); otherwise both become the point where ``F`` is least (one Newton step on ``F'``),
+    and the polish and ``Pieper6RSolver._merge_coinciding`` take it from there. Only pairs
+    whose ``other`` joint (joint 2 from each root) is close too are one solution: the
+    two roots of a wrist centre just off axis 2 put joint 2 half a turn apart.
+    """
+    a0, a, b, scale = fit
+    noise = 8 * np.finfo(float).eps * scale  # F's rounding: a sign below it is noise
+    for i in range(4):
+        for j in range(i + 1, 4):
+            half = np.angle(np.exp(1j * (theta[:, j] - theta[:, i]))) / 2
+            near = real[:, i] & real[:, j] & (np.abs(half) < NEAR_PAIR)
+            near &= np.abs(np.angle(np.exp(1j * (other[:, j] - other[:, i])))) < NEAR_PAIR
+            if not near.any():
+                continue
+            mid = theta[:, i] + half
+            pts = np.stack([mid, mid + 2 * half], axis=1)
+            f = _trig2(pts, a0, a, b)
+            two = (np.sign(f[:, 0]) * np.sign(f[:, 1]) < 0) & (np.abs(f[:, 0]) > noise)
+            join = near & ~two
+            if join.any():
+                m = mid[:, None]
+                d2 = _trig2(m, a0, a, b, 2)[:, 0]
+                d1 = _trig2(m, a0, a, b, 1)[:, 0]
+                shift = np.where(np.abs(d2) > 0, d1 / np.where(d2 == 0, 1.0, d2), 0.0)
+                best = mid - np.clip(shift, -np.abs(half), np.abs(half))
+                theta[join, i] = theta[join, j] = best[join]
 
 
 class Pieper6RSolver:
@@ -555,13 +630,12 @@ class Pieper6RSolver:
             g = self._g(samples)  # (5, 3)
             B, A = self._position_equations(p[:, None, :], g[None])
             gxy2 = (g[None, :, :2] ** 2).sum(-1)
-            F = sa1 * sa1 * B * B + 4 * a1 * a1 * A * A - 4 * a1 * a1 * sa1 * sa1 * gxy2
-            th3, real = _trig2_roots(F)
-            g3 = self._g(th3)  # (N, 4, 3)
-            B3, A3 = self._position_equations(p[:, None, :], g3)
-            X, Y = B3 / (2 * a1), A3 / sa1
-            gx, gy = g3[..., 0], g3[..., 1]
-            th2 = np.arctan2(gx * Y - gy * X, gx * X + gy * Y)
+            terms = (sa1 * sa1 * B * B, 4 * a1 * a1 * A * A, 4 * a1 * a1 * sa1 * sa1 * gxy2)
+            F = terms[0] + terms[1] - terms[2]
+            th3, real, fit = _trig2_roots(F, (terms[0] + terms[1] + terms[2]).max(axis=1))
+            th2, gx, gy = self._th2_skew(p, th3)
+            _join_double_roots(th3, real, fit, th2)
+            th2, gx, gy = self._th2_skew(p, th3)
             upper = gx * gx + gy * gy <= (SINGULAR_TOL * self.model.scale) ** 2
             th[..., 1], th[..., 2], valid = np.where(upper, hint_th2, th2), th3, real
         else:
@@ -598,6 +672,14 @@ class Pieper6RSolver:
         self._split_near_axis(th, valid, rho_p[:, 0], on_axis[:, 0])
         shoulder = np.broadcast_to(on_axis, valid.shape) & valid
         return th, valid, {"shoulder": shoulder, "upper_arm": upper & valid}
+
+    def _th2_skew(self, p: FloatArray, th3: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Joint 2 (theta) of each joint-3 root when axes 1 and 2 are skew, and ``g_x, g_y``."""
+        g3 = self._g(th3)  # (N, 4, 3)
+        B3, A3 = self._position_equations(p[:, None, :], g3)
+        X, Y = B3 / (2 * self.a1), A3 / self.sa1
+        gx, gy = g3[..., 0], g3[..., 1]
+        return np.arctan2(gx * Y - gy * X, gx * X + gy * Y), gx, gy
 
     def _split_near_axis(
         self, th: FloatArray, valid: np.ndarray, rho_p: FloatArray, on_axis: np.ndarray
@@ -705,37 +787,101 @@ class Pieper6RSolver:
         )
         return np.concatenate([dp, dw], axis=-1)
 
-    def _polish(self, th: FloatArray, T_goal: FloatArray, steps: int = 8) -> FloatArray:
-        """Gauss-Newton steps on the whole pose (damped least squares), keeping only
-        improvements, until every error is at rounding level (at most ``steps``).
+    def _polish(self, th: FloatArray, T_goal: FloatArray, steps: int = 16) -> FloatArray:
+        """Gauss-Newton steps on the whole pose (least squares through the SVD), each
+        shortened while it does not improve, until every error is at rounding level or
+        stops improving (at most ``steps``).
 
-        A simple root needs none or one; at a singular point (elbow at full reach, a
-        non-orthogonal wrist with coplanar axes) convergence is linear, and the joints
-        are fixed by the pose only to about the square root of its error.
+        A simple root needs none or one. Near a fold of the arm (elbow at its reach, a
+        non-orthogonal wrist with coplanar axes) a full step overshoots when the pose is
+        outside the fold by rounding; shorter steps then walk to the fold, where the two
+        branches meet and are one (see ``_merge_coinciding``).
         """
         L = self.model.scale
         w = np.array([1 / L] * 3 + [1.0] * 3)
+        t = np.ones(th.shape[:-1])  # the step's length, per solution
+        T, z, o = self._fk_frames(th)
+        e = self._pose_error(T, T_goal) * w
+        err = np.abs(e).max(-1)
         for _ in range(steps):
-            T, z, o = self._fk_frames(th)
-            e = self._pose_error(T, T_goal) * w
-            if np.abs(e).max(initial=0.0) <= POLISHED:  # the closed form is exact already
+            busy = (err > POLISHED) & (t > MIN_STEP)
+            if not busy.any():
                 break
             p_e = T[..., None, :3, 3]
             J = np.concatenate([np.cross(z, p_e - o), z], axis=-1)  # (..., 6, 6): rows joints
             J = np.swapaxes(J, -1, -2) * w[:, None]
-            JT = np.swapaxes(J, -1, -2)
-            lam = 1e-12
-            A = JT @ J + lam * np.eye(6)
-            step = np.linalg.solve(A, (JT @ e[..., None]))[..., 0]
-            cand = th + step
-            Tc, _, _ = self._fk_frames(cand)
-            ec = self._pose_error(Tc, T_goal) * w
-            err = np.abs(e).max(-1)
-            better = np.abs(ec).max(-1) < err
+            # least squares through the SVD, directions below rounding dropped: a damped
+            # step (J^T J + lambda) would not move along a fold's weak direction, whose
+            # singular value is ~ the distance to the fold and may be 1e-7
+            # ... or, when that step is no better, the one without the weak directions
+            # (a wrist centre 1e-10 off axis 1 leaves q1 to them: the rest must give way)
+            U, sv, Vt = np.linalg.svd(J)
+            Ue = np.swapaxes(U, -1, -2) @ e[..., None]
+            safe = 1.0 / np.where(sv > 0, sv, 1.0)
+            best = None
+            for rcond, scale in ((POLISH_RCOND, t), (STRONG_RCOND, np.ones_like(t))):
+                inv = np.where(sv > rcond * sv[..., :1], safe, 0.0)
+                step = (np.swapaxes(Vt, -1, -2) @ (inv[..., None] * Ue))[..., 0]
+                cand = th + np.where(busy, scale, 0.0)[..., None] * step
+                Tc, zc, oc = self._fk_frames(cand)
+                ec = self._pose_error(Tc, T_goal) * w
+                errc = np.abs(ec).max(-1)
+                if best is None:
+                    best = [cand, Tc, zc, oc, ec, errc]
+                    first_ok = errc < err
+                else:
+                    use = ~first_ok & (errc < best[5])
+                    best = [np.where(use[(...,) + (None,) * (x.ndim - use.ndim)], y, x)
+                            for x, y in zip(best, [cand, Tc, zc, oc, ec, errc], strict=True)]
+            assert best is not None
+            cand, Tc, zc, oc, ec, errc = best
+            better = busy & (errc < err)
             th = np.where(better[..., None], cand, th)
-            if not (better & (err > POLISHED)).any():
-                break
+            T = np.where(better[..., None, None], Tc, T)
+            z = np.where(better[..., None, None], zc, z)
+            o = np.where(better[..., None, None], oc, o)
+            e = np.where(better[..., None], ec, e)
+            err = np.where(better, errc, err)
+            t = np.where(better, np.minimum(1.0, 2.0 * t), np.where(busy, t / 4.0, t))
         return th
+
+    def _merge_coinciding(
+        self, th: FloatArray, goal: FloatArray, valid: np.ndarray, res: FloatArray
+    ) -> np.ndarray:
+        """Make position branches the pose cannot tell apart one solution (in place), and
+        say which they are, ``(N, 8)``.
+
+        Near a fold of joints 1-3 (the wrist centre at the edge of what they reach, or
+        just off axis 2 where the two joint-2 values meet) two branches ``s`` apart are
+        fixed by the pose only to ``~eps / (k s)``, ``k`` the fold's curvature, while the
+        pose error halfway between them is ``~k s^2 / 4``. So the pair is two solutions
+        when that halfway error stands out of the rounding of the two ends, and one
+        (the elbow singularity, no free joint) when it does not: a pose within rounding
+        of the fold, on either side. The kept point is the best of the two and their
+        midpoint.
+        """
+        n = th.shape[1]
+        elbow = np.zeros(valid.shape, dtype=bool)
+        pairs = [(i, j) for i in range(n) for j in range(i + 1, n) if i // 2 != j // 2]
+        I = np.array([i for i, _ in pairs])
+        J = np.array([j for _, j in pairs])
+        half = np.angle(np.exp(1j * (th[:, J] - th[:, I]))) / 2
+        close = valid[:, I] & valid[:, J] & (np.abs(half).max(-1) < NEAR_PAIR)
+        if not close.any():
+            return elbow
+        mid = th[:, I] + half
+        r_mid = self._residual(mid, goal[:, :1])
+        ends = np.maximum(res[:, I], res[:, J])
+        same = close & (r_mid <= np.maximum(COINCIDE_FACTOR * ends, COINCIDE_FLOOR))
+        for k in zip(*np.nonzero(same), strict=True):
+            row, p = int(k[0]), int(k[1])
+            i, j = pairs[p]
+            best = min((res[row, i], 0), (res[row, j], 1), (r_mid[row, p], 2))[1]
+            keep = (th[row, i], th[row, j], mid[row, p])[best].copy()
+            th[row, i] = th[row, j] = keep
+            res[row, i] = res[row, j] = min(res[row, i], res[row, j], r_mid[row, p])
+            elbow[row, i] = elbow[row, j] = True
+        return elbow
 
     def _residual(self, th: FloatArray, T_goal: FloatArray) -> FloatArray:
         T, _, _ = self._fk_frames(th)
@@ -772,15 +918,10 @@ class Pieper6RSolver:
         goal = np.broadcast_to(T_0_n[:, None], th.shape[:-1] + (4, 4))
         th = np.where(valid[..., None], th, 0.0)
         th = self._polish(th, goal)
-        valid &= self._residual(th, goal) <= ACCEPT_TOL
+        res = self._residual(th, goal)
+        valid &= res <= ACCEPT_TOL
+        elbow = self._merge_coinciding(th, goal, valid, res)
         q = th - off
-        # elbow at its reach: two valid position slots with the same joints 2-3
-        pos_q = q.reshape(N, POSITION_SLOTS, 2, 6)[:, :, 0, :3]
-        vp = valid.reshape(N, POSITION_SLOTS, 2).any(-1)
-        d = np.abs(np.angle(np.exp(1j * (pos_q[:, :, None] - pos_q[:, None])))).max(-1)
-        same = (d < SAME_ROOT_TOL) & vp[:, :, None] & vp[:, None, :]
-        same &= ~np.eye(POSITION_SLOTS, dtype=bool)
-        elbow = same.any(-1)
         front, up = self._labels(th)
         q[~valid] = np.nan
 
@@ -796,7 +937,7 @@ class Pieper6RSolver:
             singular={
                 "shoulder": per_slot(sing["shoulder"]),
                 "upper_arm": per_slot(sing["upper_arm"]),
-                "elbow": per_slot(elbow),
+                "elbow": elbow & valid,
                 "wrist": wsing.reshape(N, -1) & valid,
                 "wrist_fold": wfold.reshape(N, -1) & valid,
             },
