@@ -429,7 +429,9 @@ def _solve_sinusoid(
     return phi + delta, phi - delta, reachable, degenerate
 
 
-def _trig2_roots(F: FloatArray, scale: FloatArray) -> tuple[FloatArray, np.ndarray, tuple]:
+def _trig2_roots(
+    F: FloatArray, scale: FloatArray
+) -> tuple[FloatArray, np.ndarray, tuple]:
     """Real roots of trigonometric polynomials of degree 2 sampled at 5 angles.
 
     Parameters
@@ -520,9 +522,10 @@ def _join_double_roots(
     Near a double root of ``F`` (the elbow at the edge of its reach) the eigenvalues
     split by ~sqrt(rounding), often 1e-6 rad, into two "roots" that may be a complex
     pair. The pair is two real roots only when ``F`` changes sign between them by more
-    than its rounding (``~eps`` times the squares it sums); otherwise both become the point where ``F`` is least (one Newton step on ``F'``),
-    and the polish and ``Pieper6RSolver._merge_coinciding`` take it from there. Only pairs
-    whose ``other`` joint (joint 2 from each root) is close too are one solution: the
+    than its rounding (``~eps`` times the squares it sums); otherwise both become the
+    point where ``F`` is least (one Newton step on ``F'``), and the polish and
+    ``Pieper6RSolver._merge_coinciding`` take it from there. Only pairs whose ``other``
+    joint (joint 2 from each root) is close too are one solution: the
     two roots of a wrist centre just off axis 2 put joint 2 half a turn apart.
     """
     a0, a, b, scale = fit
@@ -673,7 +676,9 @@ class Pieper6RSolver:
         shoulder = np.broadcast_to(on_axis, valid.shape) & valid
         return th, valid, {"shoulder": shoulder, "upper_arm": upper & valid}
 
-    def _th2_skew(self, p: FloatArray, th3: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    def _th2_skew(
+        self, p: FloatArray, th3: FloatArray
+    ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Joint 2 (theta) of each joint-3 root when axes 1 and 2 are skew, and ``g_x, g_y``."""
         g3 = self._g(th3)  # (N, 4, 3)
         B3, A3 = self._position_equations(p[:, None, :], g3)
@@ -863,15 +868,15 @@ class Pieper6RSolver:
         n = th.shape[1]
         elbow = np.zeros(valid.shape, dtype=bool)
         pairs = [(i, j) for i in range(n) for j in range(i + 1, n) if i // 2 != j // 2]
-        I = np.array([i for i, _ in pairs])
-        J = np.array([j for _, j in pairs])
-        half = np.angle(np.exp(1j * (th[:, J] - th[:, I]))) / 2
-        close = valid[:, I] & valid[:, J] & (np.abs(half).max(-1) < NEAR_PAIR)
+        ii = np.array([i for i, _ in pairs])
+        jj = np.array([j for _, j in pairs])
+        half = np.angle(np.exp(1j * (th[:, jj] - th[:, ii]))) / 2
+        close = valid[:, ii] & valid[:, jj] & (np.abs(half).max(-1) < NEAR_PAIR)
         if not close.any():
             return elbow
-        mid = th[:, I] + half
+        mid = th[:, ii] + half
         r_mid = self._residual(mid, goal[:, :1])
-        ends = np.maximum(res[:, I], res[:, J])
+        ends = np.maximum(res[:, ii], res[:, jj])
         same = close & (r_mid <= np.maximum(COINCIDE_FACTOR * ends, COINCIDE_FLOOR))
         for k in zip(*np.nonzero(same), strict=True):
             row, p = int(k[0]), int(k[1])
