@@ -258,7 +258,7 @@ def nearest(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     return _wrapped(A[:, None, :] - B[None, :, :]).max(-1).min(axis=1) if len(A) else np.zeros(0)
 
 
-def _mp_fk(case: "Case", q) -> "mpmath.matrix":
+def _mp_fk(case: Case, q) -> mpmath.matrix:
     """FK of the standard-DH rows in 40-digit arithmetic (base and tool included)."""
     import mpmath as mp
 
@@ -273,7 +273,7 @@ def _mp_fk(case: "Case", q) -> "mpmath.matrix":
     return T * mp.matrix(case.tool.tolist())
 
 
-def _mp_error(case: "Case", q, T) -> "mpmath.matrix":
+def _mp_error(case: Case, q, T) -> mpmath.matrix:
     import mpmath as mp
 
     F = _mp_fk(case, q)
@@ -283,7 +283,7 @@ def _mp_error(case: "Case", q, T) -> "mpmath.matrix":
     return mp.matrix(e)
 
 
-def refine(case: "Case", q: np.ndarray, T: np.ndarray):
+def refine(case: Case, q: np.ndarray, T: np.ndarray):
     """Newton's method on the pose in 40-digit arithmetic from ``q``: the exact solution
     near it (float64 array), or None when it does not converge (a double root of a pose at
     a fold to rounding, or a family at an exact singularity)."""
@@ -488,6 +488,7 @@ def main() -> None:
             f"{'wrong':>7}{'res rikin':>10}{'res rtb':>9}{'rikin us':>9}{'batch us':>9}"
             f"{'rtb us':>8}{'ratio':>7}{'cpu':>6}{'derive s':>9}")
     rows, notes = [], []
+    print(head, flush=True)  # each arm's row as it is done (the run takes a while)
     for case in cases():
         arm = case.arm
         q_reg = rng.uniform(-pi, pi, (args.poses, 6))
@@ -530,6 +531,7 @@ def main() -> None:
             f"{f'{miss[0]}/{miss[1]}':>15}{f'{wrong[0]}/{wrong[1]}':>7}{res[0]:>10.1e}"
             f"{res[1]:>9.1e}{t_r * us:>9.0f}{t_b * us:>9.1f}{t_t * us:>8.0f}"
             f"{t_t / t_r:>7.2f}{c_t / c_r:>6.1f}{case.derive_s:>9.1f}")
+        print(rows[-1], flush=True)
         notes.append(
             f"{case.name}: FK of rikin and roboticstoolbox agree to {case.fk_agreement:.1e}; "
             f"generating q not among rikin's solutions: {lost}; "
@@ -540,7 +542,7 @@ def main() -> None:
             f"{reg.unresolved + sing.unresolved}; poses without any "
             f"solution rikin/rtb: {reg.none[0] + sing.none[0]}/{reg.none[1] + sing.none[1]}")
         notes += reg.notes + sing.notes
-    print(head)
+    print("\n" + head)
     print("\n".join(rows))
     print("\n".join(notes))
     print("sources: " + "; ".join(f"{n}: {s}" for n, s, _ in ROBOTS) + f"; Epson C4: {EPSON_SOURCE}")
