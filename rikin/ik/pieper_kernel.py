@@ -134,7 +134,6 @@ class PieperKernel:
         g0 = R2 @ np.array([0.0, 0.0, vz]) + model.M[2, :3, 3]
         gc = R2 @ np.array([vx, vy, 0.0])
         gs = R2 @ np.array([-vy, vx, 0.0])
-        self.v = (vx, vy, vz)
         self.g0 = [float(x) for x in g0]
         self.gc = [float(x) for x in gc]
         self.gs = [float(x) for x in gs]
@@ -173,7 +172,6 @@ class PieperKernel:
         self.wb = (sin(b1), cos(b1), sin(b2), cos(b2))
         R4, R5 = model.M[4, :3, :3], model.M[5, :3, :3]  # Rx(b1), Rx(b2), exact zeros kept
         self.wbx = (float(R4[1, 1]), float(R4[2, 1]), float(R5[1, 1]), float(R5[2, 1]))
-        self.b_sum = abs(sin(b1 + b2)) <= 1e-9, abs(sin(b1 - b2)) <= 1e-9
         self.offsets = tuple(float(o) for o in model.offsets)
         #: branch key (front, elbow up, sin(q5) >= 0) -> its Branch
         self.labels = {
