@@ -219,6 +219,13 @@ def _link_transform_one(link: Link, q: float, convention: Convention) -> FloatAr
     return np.array(rows)
 
 
+def _unknown_options(method: str, unknown: dict[str, Any], known: tuple[str, ...]) -> None:
+    names = ", ".join(sorted(unknown))
+    raise InputError(
+        f"arm.{method}() has no option {names}; its options are {', '.join(known)}"
+    )
+
+
 @dataclass(frozen=True, eq=False)
 class SerialArm:
     """A serial arm: a DH table, a convention, base and tool transforms, units.
@@ -541,16 +548,26 @@ class SerialArm:
         return np.swapaxes(np.concatenate([lin, ang], axis=-1), -1, -2)
 
     # ------------------------------------------------------------------ IK
-    def ik(self, target: Any, **options: Any) -> Any:
+    def ik(
+        self, target: Any, *, within_limits: Any = False, near: Any = None, **unknown: Any
+    ) -> Any:
         """Every closed-form IK solution of ``target`` (an ``IKResult``); see
         :func:`rikin.ik.solve`. rikin.ik registers it here, so this module never
         imports :mod:`rikin.ik` (data flows robots -> dh -> ik)."""
-        return _IK_ENTRY["solve"](self, target, **options)
+        if unknown:
+            _unknown_options("ik", unknown, ("within_limits", "near"))
+        if within_limits is False and near is None:  # the one-pose fast path: no kwargs
+            return _IK_ENTRY["solve"](self, target)
+        return _IK_ENTRY["solve"](self, target, within_limits=within_limits, near=near)
 
-    def ik_batch(self, T: Any, **options: Any) -> Any:
+    def ik_batch(
+        self, T: Any, *, chunk_size: Any = 4096, workers: Any = None, **unknown: Any
+    ) -> Any:
         """All solutions for many poses at once (a ``BatchIKResult``); see
         :func:`rikin.ik.solve_batch`."""
-        return _IK_ENTRY["solve_batch"](self, T, **options)
+        if unknown:
+            _unknown_options("ik_batch", unknown, ("chunk_size", "workers"))
+        return _IK_ENTRY["solve_batch"](self, T, chunk_size=chunk_size, workers=workers)
 
     def world_to_base(self, T_world: Any) -> FloatArray:
         """``T_0_n = base^-1 @ T_world_tcp @ tool^-1`` for poses ``(..., 4, 4)``."""

@@ -138,3 +138,13 @@ def test_batch_never_returns_nan_in_valid_slots_and_marks_unreachable():
     assert np.isnan(res.q[~res.valid]).all()
     with pytest.raises(InputError, match=r"shape \(N, 4, 4\)"):
         arm.ik_batch(T[0])
+
+
+def test_a_misspelled_option_is_an_input_error_naming_it():
+    arm = robots.aula10_6r()
+    T = arm.fk(np.full(6, 0.3))
+    with pytest.raises(InputError, match="no option within_limit; its options are within_limits"):
+        arm.ik(T, within_limit=True)
+    with pytest.raises(InputError, match="no option chunk; its options are chunk_size, workers"):
+        arm.ik_batch(T[None], chunk=3)
+    assert len(arm.ik(T, within_limits=False, near=np.zeros(6))) == 8
