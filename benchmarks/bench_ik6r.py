@@ -490,6 +490,7 @@ def main() -> None:
     rows, notes = [], []
     print(head, flush=True)  # each arm's row as it is done (the run takes a while)
     for case in cases():
+        n_notes = len(notes)
         arm = case.arm
         q_reg = rng.uniform(-pi, pi, (args.poses, 6))
         q_sing, kinds = singular_poses(arm, args.singular, rng)
@@ -542,6 +543,7 @@ def main() -> None:
             f"{reg.unresolved + sing.unresolved}; poses without any "
             f"solution rikin/rtb: {reg.none[0] + sing.none[0]}/{reg.none[1] + sing.none[1]}")
         notes += reg.notes + sing.notes
+        print("\n".join(notes[n_notes:]), flush=True)
     print("\n" + head)
     print("\n".join(rows))
     print("\n".join(notes))
