@@ -804,16 +804,22 @@ class Pieper6RSolver:
         """
         L = self.model.scale
         w = np.array([1 / L] * 3 + [1.0] * 3)
-        t = np.ones(th.shape[:-1])  # the step's length, per solution
+        shape = th.shape
+        th = th.reshape(-1, 6).copy()  # one row per solution; each step takes the busy ones
+        goal = np.broadcast_to(T_goal, shape[:-1] + (4, 4)).reshape(-1, 4, 4)
+        t = np.ones(len(th))  # the step's length, per solution
         T, z, o = self._fk_frames(th)
-        e = self._pose_error(T, T_goal) * w
+        e = self._pose_error(T, goal) * w
         err = np.abs(e).max(-1)
         for _ in range(steps):
-            busy = (err > POLISHED) & (t > MIN_STEP)
-            if not busy.any():
+            rows = np.flatnonzero((err > POLISHED) & (t > MIN_STEP))
+            if not rows.size:
                 break
-            p_e = T[..., None, :3, 3]
-            J = np.concatenate([np.cross(z, p_e - o), z], axis=-1)  # (..., 6, 6): rows joints
+            th_b, T_b, z_b, o_b, e_b, err_b, t_b, goal_b = (
+                x[rows] for x in (th, T, z, o, e, err, t, goal)
+            )
+            p_e = T_b[..., None, :3, 3]
+            J = np.concatenate([np.cross(z_b, p_e - o_b), z_b], axis=-1)  # (m, 6, 6): rows joints
             J = np.swapaxes(J, -1, -2) * w[:, None]
             # least squares through the SVD, directions below rounding dropped: a damped
             # step (J^T J + lambda) would not move along a fold's weak direction, whose
@@ -821,34 +827,34 @@ class Pieper6RSolver:
             # ... or, when that step is no better, the one without the weak directions
             # (a wrist centre 1e-10 off axis 1 leaves q1 to them: the rest must give way)
             U, sv, Vt = np.linalg.svd(J)
-            Ue = np.swapaxes(U, -1, -2) @ e[..., None]
+            Ue = np.swapaxes(U, -1, -2) @ e_b[..., None]
             safe = 1.0 / np.where(sv > 0, sv, 1.0)
             best = None
-            for rcond, scale in ((POLISH_RCOND, t), (STRONG_RCOND, np.ones_like(t))):
+            for rcond, scale in ((POLISH_RCOND, t_b), (STRONG_RCOND, np.ones_like(t_b))):
                 inv = np.where(sv > rcond * sv[..., :1], safe, 0.0)
                 step = (np.swapaxes(Vt, -1, -2) @ (inv[..., None] * Ue))[..., 0]
-                cand = th + np.where(busy, scale, 0.0)[..., None] * step
+                cand = th_b + scale[:, None] * step
                 Tc, zc, oc = self._fk_frames(cand)
-                ec = self._pose_error(Tc, T_goal) * w
+                ec = self._pose_error(Tc, goal_b) * w
                 errc = np.abs(ec).max(-1)
                 if best is None:
                     best = [cand, Tc, zc, oc, ec, errc]
-                    first_ok = errc < err
+                    first_ok = errc < err_b
                 else:
                     use = ~first_ok & (errc < best[5])
                     best = [np.where(use[(...,) + (None,) * (x.ndim - use.ndim)], y, x)
                             for x, y in zip(best, [cand, Tc, zc, oc, ec, errc], strict=True)]
             assert best is not None
             cand, Tc, zc, oc, ec, errc = best
-            better = busy & (errc < err)
-            th = np.where(better[..., None], cand, th)
-            T = np.where(better[..., None, None], Tc, T)
-            z = np.where(better[..., None, None], zc, z)
-            o = np.where(better[..., None, None], oc, o)
-            e = np.where(better[..., None], ec, e)
-            err = np.where(better, errc, err)
-            t = np.where(better, np.minimum(1.0, 2.0 * t), np.where(busy, t / 4.0, t))
-        return th
+            better = errc < err_b
+            th[rows] = np.where(better[:, None], cand, th_b)
+            T[rows] = np.where(better[:, None, None], Tc, T_b)
+            z[rows] = np.where(better[:, None, None], zc, z_b)
+            o[rows] = np.where(better[:, None, None], oc, o_b)
+            e[rows] = np.where(better[:, None], ec, e_b)
+            err[rows] = np.where(better, errc, err_b)
+            t[rows] = np.where(better, np.minimum(1.0, 2.0 * t_b), t_b / 4.0)
+        return th.reshape(shape)
 
     def _merge_coinciding(
         self, th: FloatArray, goal: FloatArray, valid: np.ndarray, res: FloatArray
