@@ -49,6 +49,7 @@ from __future__ import annotations
 import argparse
 import gc
 import os
+import sys
 import time
 from dataclasses import dataclass, field
 
@@ -56,6 +57,9 @@ import numpy as np
 
 import rikin
 from rikin import Link, SerialArm, robots
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+from mp_reference import exact_root  # noqa: E402  (the 40-digit reference the tests use)
 
 SEED = 20261202
 pi = np.pi
@@ -258,57 +262,12 @@ def nearest(A: np.ndarray, B: np.ndarray) -> np.ndarray:
     return _wrapped(A[:, None, :] - B[None, :, :]).max(-1).min(axis=1) if len(A) else np.zeros(0)
 
 
-def _mp_fk(case: Case, q) -> mpmath.matrix:
-    """FK of the standard-DH rows in 40-digit arithmetic (base and tool included)."""
-    import mpmath as mp
-
-    T = mp.matrix(case.base.tolist())
-    for (d, a, al, off), qi in zip(case.rows, q, strict=True):
-        th = qi + mp.mpf(off)
-        ct, st, ca, sa = mp.cos(th), mp.sin(th), mp.cos(mp.mpf(al)), mp.sin(mp.mpf(al))
-        if abs(al) in (pi / 2, pi):  # the table's exact twists, not their float values
-            ca, sa = (mp.mpf(0), mp.mpf(np.sign(al))) if abs(al) == pi / 2 else (mp.mpf(-1), 0)
-        T = T * mp.matrix([[ct, -st * ca, st * sa, a * ct], [st, ct * ca, -ct * sa, a * st],
-                           [0, sa, ca, d], [0, 0, 0, 1]])
-    return T * mp.matrix(case.tool.tolist())
-
-
-def _mp_error(case: Case, q, T) -> mpmath.matrix:
-    import mpmath as mp
-
-    F = _mp_fk(case, q)
-    R = F[:3, :3].T * mp.matrix(T[:3, :3].tolist())
-    e = [(mp.mpf(T[i, 3]) - F[i, 3]) / case.arm.scale for i in range(3)]
-    e += [(R[2, 1] - R[1, 2]) / 2, (R[0, 2] - R[2, 0]) / 2, (R[1, 0] - R[0, 1]) / 2]
-    return mp.matrix(e)
-
-
 def refine(case: Case, q: np.ndarray, T: np.ndarray):
     """Newton's method on the pose in 40-digit arithmetic from ``q``: the exact solution
     near it (float64 array), or None when it does not converge (a double root of a pose at
-    a fold to rounding, or a family at an exact singularity)."""
-    import mpmath as mp
-
-    with mp.workdps(40):
-        x = [mp.mpf(float(v)) for v in q]
-        for _ in range(14):  # quadratic from a float solution; a double root stalls
-            e = _mp_error(case, x, T)
-            if mp.norm(e) < mp.mpf(10) ** -30:
-                return np.array([float(v) for v in x])
-            h = mp.mpf(10) ** -25
-            J = mp.matrix(6, 6)
-            for j in range(6):
-                xp = list(x)
-                xp[j] += h
-                col = (_mp_error(case, xp, T) - e) / h
-                for i in range(6):
-                    J[i, j] = col[i]
-            try:
-                dx = mp.lu_solve(J, e)
-            except (ZeroDivisionError, TypeError):  # singular J: mpmath's LU finds no pivot
-                return None
-            x = [xi - dxi for xi, dxi in zip(x, dx, strict=True)]  # e = T - FK: dF = -de
-    return None
+    a fold to rounding, or a family at an exact singularity). 14 steps: quadratic from a
+    float solution, while a double root stalls."""
+    return exact_root(case.arm, q, T, steps=14, tol=1e-30)
 
 
 def in_family(row: np.ndarray, B: np.ndarray, free: tuple[int, ...]) -> bool:
