@@ -98,6 +98,23 @@ def sha256_of(path: Path) -> str:
     return h.hexdigest()
 
 
+#: What the sdist is built from (see MANIFEST.in): the package and its metadata files.
+PACKAGE_SOURCES = ("pyproject.toml", "MANIFEST.in", "README.md", "LICENSE", "LICENSES", "rikin")
+
+
+def _copy_package_sources(root: Path, dest: Path) -> None:
+    """Copy :data:`PACKAGE_SOURCES` of ``root`` (those that exist) into ``dest``, keeping
+    modification times (the sdist's tar records them)."""
+    dest.mkdir(parents=True)
+    skip = shutil.ignore_patterns("__pycache__", "*.pyc")
+    for name in PACKAGE_SOURCES:
+        path = root / name
+        if path.is_dir():
+            shutil.copytree(path, dest / name, ignore=skip)
+        elif path.exists():
+            shutil.copy2(path, dest / name)
+
+
 def build_distributions(outdir: Path, root: Path = ROOT, python: str = sys.executable) -> dict:
     """``python -m build`` rikin into ``outdir``: the sdist, the wheel, SHA256SUMS, manifest.
 
@@ -107,10 +124,15 @@ def build_distributions(outdir: Path, root: Path = ROOT, python: str = sys.execu
     """
     outdir = Path(outdir)
     env = dict(os.environ, SOURCE_DATE_EPOCH=SOURCE_DATE_EPOCH, PYTHONHASHSEED="0")
-    with tempfile.TemporaryDirectory(prefix="rikin-dist-") as tmp:
-        cmd = [python, "-m", "build", "--no-isolation", "--outdir", tmp, str(root)]
+    with tempfile.TemporaryDirectory(prefix="rikin-dist-") as work:
+        # setuptools stages the sdist in rikin-<version>/ and build/ beside pyproject.toml:
+        # two builds of one checkout at once (the book and the packaging tests, two book
+        # builds) delete each other's files. Each build gets its own copy of the sources.
+        src, tmp = Path(work) / "src", Path(work) / "dist"
+        _copy_package_sources(Path(root), src)
+        cmd = [python, "-m", "build", "--no-isolation", "--outdir", str(tmp), str(src)]
         proc = subprocess.run(
-            cmd, cwd=root, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
+            cmd, cwd=src, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True
         )
         if proc.returncode != 0:
             raise SiteError(
