@@ -170,6 +170,15 @@ def test_output_amplification_is_capped(graded):
     assert log.count(f"{name} cell ") <= 50
 
 
+def test_grading_log_has_a_line_for_every_submission(graded, capfd):
+    """A student's text in the log's message (a lone surrogate in a cell's source) does not
+    drop that student's line (it did: a UnicodeEncodeError inside logging)."""
+    root, cases, _ = graded
+    log = (root / "out" / "grading.log").read_text(encoding="utf-8")
+    missing = [name for name in cases if f" {name}: " not in log]
+    assert not missing, missing
+
+
 def test_no_text_from_a_child_can_break_the_outputs(graded):
     """Lone surrogates in messages, output, results: every file is valid UTF-8."""
     root, _, _ = graded

@@ -41,7 +41,11 @@ def _sandbox_processes() -> dict[int, list[int]]:
     """Processes of sandbox uids that no grader holds any more (there must be none).
 
     A uid leased by a grader still running (another test run on this machine) is locked;
-    every other one must own no process once its grader has finished.
+    every other one must own no process once its grader has finished. Zombies whose parent
+    is PID 1 are left out: dead already, they wait for init (which reaps late here, and on
+    Docker without --init never), and come from graders that other tests kill on purpose
+    (a killed grader's file reader ends when the grader does). A zombie of any other
+    parent counts: that parent is alive and does not reap.
     """
     lock_dir = uidmode._lock_dir()
     left = {}
@@ -52,11 +56,16 @@ def _sandbox_processes() -> dict[int, list[int]]:
                 fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except OSError:
                 continue  # in use by a grader that is still running
-            if pids := processes_of(uid):
+            if pids := [p for p in processes_of(uid) if not _zombie_of_init(p)]:
                 left[uid] = pids
         finally:
             os.close(fd)
     return left
+
+
+def _zombie_of_init(pid: int) -> bool:
+    gone = not os.path.exists(f"/proc/{pid}")
+    return gone or (uidmode._zombie(pid) and uidmode._parent(pid) == 1)
 
 
 @pytest.fixture(scope="module")

@@ -525,7 +525,9 @@ def _hidden_paths(a: Assignment, out: Path, subs: list[Submission]) -> list[Path
 
 
 def _attach_log(path: Path) -> logging.Handler:
-    handler = logging.FileHandler(path, encoding="utf-8")
+    # a student's text in a message (a lone surrogate in a cell) is escaped, not a logging
+    # error that drops the line and prints a traceback on the instructor's terminal
+    handler = logging.FileHandler(path, encoding="utf-8", errors="backslashreplace")
     handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
     handler.setLevel(logging.INFO)
     lg = logging.getLogger("rikingrade")

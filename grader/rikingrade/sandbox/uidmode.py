@@ -18,6 +18,11 @@ student code with plain Unix permissions:
 - ``kill(-1)`` as that uid ends every process it owns, daemonised grandchildren included
   (the zygote does it between submissions; the grader, through the launcher, when the
   zygote itself is gone), and files it left in the world-writable directories are removed;
+  the ``rikin-grade`` command makes itself the subreaper of what it starts
+  (:func:`adopt_orphans`), so a process orphaned when a zygote dies is adopted and reaped
+  by the grader, not left a zombie of a container's init that reaps late or never
+  (Docker's without ``--init``), where it would count for the uid's process limit and keep
+  the uid from being leased again;
   after a hung call the zygote kills every live process of that uid but the template that
   ran the cells, so those are not run again (as in the bwrap mode);
 - a root grader puts each zygote in a memory cgroup of its own where the cgroup fs is
@@ -141,8 +146,49 @@ def processes_of(uid: int) -> list[int]:
     return found
 
 
+def adopt_orphans() -> None:
+    """Make this process the subreaper of its descendants (idempotent, Linux >= 3.4).
+
+    A zygote that dies (killed by :meth:`Zygote.close`, or by the OOM killer) leaves its
+    children to the nearest subreaper, else to init; in a container whose init reaps late
+    or never they stay zombies of the sandbox uid. As the subreaper the grader adopts them
+    and :func:`reap` collects them. The ``rikin-grade`` command calls this at its start; a
+    program that grades through the API may call it too (it then adopts every orphan of its
+    descendants, so it is not done behind the caller's back).
+    """
+    try:
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(36, 1, 0, 0, 0)  # PR_SET_CHILD_SUBREAPER
+    except (OSError, AttributeError):  # pragma: no cover - not Linux
+        pass
+
+
+def _parent(pid: int) -> int | None:
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return int(f.read().rsplit(")", 1)[1].split()[1])
+    except (OSError, IndexError, ValueError):
+        return None
+
+
+def _collect_zombies(uid: int) -> None:
+    """waitpid() the zombies of ``uid`` this process adopted (never another child of ours)."""
+    me = os.getpid()
+    for pid in processes_of(uid):
+        if _parent(pid) == me and _zombie(pid):
+            try:
+                os.waitpid(pid, os.WNOHANG)
+            except ChildProcessError:
+                pass
+
+
 def reap(uid: int, timeout: float = 5.0) -> list[int]:
-    """Kill every process of ``uid`` with ``kill(-1)`` as that uid; returns survivors."""
+    """Kill every process of ``uid`` with ``kill(-1)`` as that uid and collect the zombies.
+
+    Returns the pids of ``uid`` still listed after that (zombies of another parent included:
+    they still count for the uid's process limit).
+    """
     if not processes_of(uid):
         return []
     cfg = {"op": "reap", "uid": uid, "timeout": timeout}
@@ -157,11 +203,13 @@ def reap(uid: int, timeout: float = 5.0) -> list[int]:
         )
     except subprocess.TimeoutExpired:
         pass
-    deadline = time.monotonic() + 1.0
+    deadline = time.monotonic() + 2.0
+    _collect_zombies(uid)
     left = processes_of(uid)
     while left and time.monotonic() < deadline:
-        time.sleep(0.02)  # zombies waiting for their (new) parent to reap them
-        left = [p for p in processes_of(uid) if not _zombie(p)]
+        time.sleep(0.02)  # a SIGKILLed process still exiting, or a zombie's parent reaping it
+        _collect_zombies(uid)
+        left = processes_of(uid)
     if left:
         log.error("processes of sandbox uid %d survived kill(-1): %s", uid, left)
     return left
