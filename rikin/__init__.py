@@ -13,7 +13,14 @@ __version__ = "0.1.0"
 
 from . import robots, transforms
 from .dh import Link, SerialArm
-from .errors import IKError, InputError, RikinError, UnreachableError
+from .errors import (
+    IKError,
+    InputError,
+    NotIndexedError,
+    OutOfRangeError,
+    RikinError,
+    UnreachableError,
+)
 from .ik import BatchIKResult, Branch, IKResult
 from .transforms import (
     deg,
@@ -42,6 +49,8 @@ __all__ = [
     "Branch",
     "RikinError",
     "InputError",
+    "OutOfRangeError",
+    "NotIndexedError",
     "IKError",
     "UnreachableError",
     "rotx",

@@ -6,13 +6,18 @@ them, and a caller can also catch precisely:
 ``RikinError(ValueError)``
     ``InputError``          the argument itself is malformed (shape, NaN,
                             not a rotation, degrees where radians are expected)
+        ``OutOfRangeError`` an index beyond a result's solutions (also an
+                            ``IndexError``, as Python's sequences raise)
+        ``NotIndexedError`` a result that is no sequence indexed or iterated
+                            (also a ``TypeError``, as Python raises)
     ``IKError``             the argument is well formed but has no IK answer
         ``UnreachableError`` the target lies outside the workspace
 """
 
 from __future__ import annotations
 
-__all__ = ["RikinError", "InputError", "IKError", "UnreachableError"]
+__all__ = ["RikinError", "InputError", "OutOfRangeError", "NotIndexedError",
+           "IKError", "UnreachableError"]
 
 
 class RikinError(ValueError):
@@ -21,6 +26,24 @@ class RikinError(ValueError):
 
 class InputError(RikinError):
     """An argument has the wrong shape, a NaN, or is not what the docstring asks for."""
+
+
+class OutOfRangeError(InputError, IndexError):
+    """An index is outside a result's range (``res[5]`` of a result with 2 solutions).
+
+    Also an :class:`IndexError`, so that code written for Python sequences (``except
+    IndexError``, iteration by index) treats a rikin result as it treats a list.
+    """
+
+
+class NotIndexedError(InputError, TypeError):
+    """A result that is not a sequence (``BatchIKResult``, ``NumericalIKResult``) was
+    indexed or iterated; the message says how to read it.
+
+    Also a :class:`TypeError`, as Python raises for an object that is not subscriptable
+    or not iterable, so code that tells sequences apart that way (``tuple(x)`` in a
+    ``try``) keeps working.
+    """
 
 
 class IKError(RikinError):

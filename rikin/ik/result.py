@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any, NamedTuple
 
 import numpy as np
 
-from .._validate import FloatArray
-from ..errors import InputError
+from .._validate import FloatArray, check_index
+from ..errors import InputError, NotIndexedError
 
 __all__ = ["Branch", "IKResult", "BatchIKResult"]
 
@@ -39,6 +40,13 @@ class Branch(NamedTuple):
         """The branch as text, e.g. ``"front/up/no-flip"``."""
         parts = [p for p in self if p is not None]
         return "/".join(parts) if parts else "unique"
+
+    def __getitem__(self, key: Any) -> Any:
+        """``branch[0]`` is ``branch.shoulder`` (a tuple's indexing); a bad index is an
+        InputError naming the fields (an :class:`~rikin.errors.OutOfRangeError` beyond them)."""
+        check_index(key, (3,), "Branch", ("field",), attributes=self._fields, arrays=False,
+                    var="branch")
+        return tuple.__getitem__(self, key)
 
 
 @dataclass(frozen=True)
@@ -123,8 +131,22 @@ class IKResult:
     def __iter__(self) -> Iterator[FloatArray]:
         return iter(self.q)
 
-    def __getitem__(self, i: int) -> FloatArray:
-        return self.q[i]
+    def __getitem__(self, key: Any) -> FloatArray:
+        """``res[i]``: solution ``i``, the row ``q[i]`` (negative counts from the end);
+        ``res[i, j]`` its joint ``j``; slices, lists and boolean masks as numpy takes them.
+
+        Raises
+        ------
+        OutOfRangeError
+            ``i`` beyond the solutions (an InputError that is also an IndexError).
+        InputError
+            ``key`` is text (``res["q"]``: read ``res.q``), a float, a bool, None...
+        """
+        q = self.q
+        if type(key) is int and -len(q) <= key < len(q):
+            return q[key]
+        return q[check_index(key, q.shape, "IKResult", ("solution", "joint"),
+                             attributes=_IK_ATTRIBUTES)]
 
     @property
     def labels(self) -> tuple[str, ...]:
@@ -214,3 +236,44 @@ class BatchIKResult:
     def counts(self) -> Any:
         """Number of valid solutions per pose, shape ``(N,)``."""
         return self.valid.sum(axis=1)
+
+    def __getitem__(self, key: Any) -> Any:
+        """Not indexed: :class:`~rikin.errors.NotIndexedError` saying how to read pose ``i``.
+
+        A batch keeps fixed slots with NaN where a pose has no such solution, so
+        ``res[i]`` could only mean NaN-padded rows; ``res.q[i][res.valid[i]]`` are the
+        solutions of pose ``i``.
+        """
+        raise not_indexed(self, _BATCH_HOW, key)
+
+    def __iter__(self) -> Iterator[Any]:
+        """Not iterable: :class:`~rikin.errors.NotIndexedError`, as for an index."""
+        raise not_indexed(self, _BATCH_HOW, iterated=True)
+
+
+_BATCH_HOW = (
+    "a batch result is not indexed by pose; the solutions of pose i are "
+    "result.q[i][result.valid[i]] (q has shape (N, k, n), NaN in the slots that are not valid)"
+)
+
+
+def not_indexed(
+    record: Any, how: str, key: Any = None, *, iterated: bool = False
+) -> NotIndexedError:
+    """The error for indexing (with ``key``) or iterating a result that is no sequence:
+    ``how`` to read it instead, and its attributes (a text key naming one: read it so)."""
+    kind = type(record).__name__
+    names = [f.name for f in dataclasses.fields(record)]
+    listed = ", ".join(names)
+    if iterated:
+        return NotIndexedError(f"a {kind} was iterated: {how}; its attributes: {listed}")
+    if isinstance(key, str) and key in names:
+        return NotIndexedError(
+            f"{kind} index {key!r} is text: {key} is an attribute, read it as result.{key}"
+        )
+    return NotIndexedError(f"{kind} index {key!r:.60}: {how}; its attributes: {listed}")
+
+
+#: What a text index of an IKResult may mean instead: its attributes.
+_IK_ATTRIBUTES = tuple(f.name for f in dataclasses.fields(IKResult)) + (
+    "labels", "degrees", "table")
