@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import math
+import operator
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .errors import InputError
+from .errors import InputError, OutOfRangeError
 from .tolerances import (
     DEGREES_FAR,
     DEGREES_ROUND,
@@ -358,7 +359,14 @@ def as_flag(x: Any, name: str) -> bool:
     """
     if isinstance(x, (bool, np.bool_)):
         return bool(x)
-    raise InputError(f"{name} must be True or False, got {_describe(x)}")
+    why = ""
+    if isinstance(x, (int, float, np.integer, np.floating)):
+        why = " (a number: rikin does not read 0 and 1 as a flag, write True or False)"
+    elif isinstance(x, (str, bytes)):
+        why = " (text: rikin does not read words as a flag, write True or False)"
+    elif isinstance(x, np.ndarray) and x.dtype.kind == "b" and x.size == 1:
+        why = f" (an array of shape {x.shape}: give the bool itself, e.g. bool(x.item()))"
+    raise InputError(f"{name} must be True or False, got {_describe(x)}{why}")
 
 
 def as_text(x: Any, name: str, *, optional: bool = False) -> str | None:
@@ -445,3 +453,157 @@ def as_dh_value(x: Any, name: str, *, angle: bool = False) -> Any:
     else:
         check_length_range(abs(v), name, lower=True)
     return v
+
+
+# ---------------------------------------------------------------- indexing a result
+def check_index(
+    key: Any,
+    shape: tuple[int, ...],
+    what: str,
+    axes: tuple[str, ...],
+    *,
+    attributes: tuple[str, ...] = (),
+    arrays: bool = True,
+    var: str = "result",
+) -> Any:
+    """``key`` if it indexes a container of ``shape`` as a list (or numpy array) is indexed,
+    else InputError saying what the valid indices are.
+
+    Parameters
+    ----------
+    key
+        What ``container[key]`` received.
+    shape : tuple of int
+        The container's extent per axis (``(k, n)``: k solutions of n joints).
+    what : str
+        The container's name in messages (``"IKResult"``).
+    axes : tuple of str
+        What each axis counts, singular (``("solution", "joint")``).
+    attributes : tuple of str
+        Its attributes: a text key that names one is told to read it as an attribute.
+    var : str
+        The name messages give the container (``"branch"``: ``read it as branch.elbow``).
+    arrays : bool
+        Whether lists and arrays of indices (and boolean masks) are accepted, as numpy
+        accepts them; tuples of the Python kind take only whole numbers and slices.
+
+    Accepted: whole numbers (Python or numpy, not bools) in range, negative ones counting
+    from the end; slices of whole numbers; with ``arrays``, a tuple of those (one per axis at
+    most, ``...`` allowed), lists or arrays of whole numbers in range and boolean masks as
+    long as the axis. Refused with InputError: text, real numbers that are not whole
+    numbers' types (``1.0``), booleans, None, anything else; an index out of range with
+    :class:`~rikin.errors.OutOfRangeError` (an InputError that is also an IndexError, as
+    Python's sequences raise, so iteration by index stops as it does on a list).
+    """
+    parts = key if (arrays and isinstance(key, tuple)) else (key,)
+    dots = sum(1 for p in parts if p is Ellipsis)
+    if dots > 1:
+        raise InputError(f"{what} index {_describe(key)} has more than one '...'")
+    if len(parts) - dots > len(shape):
+        names = ", ".join(axes)
+        raise InputError(
+            f"{what} index {_describe(key)} has {len(parts) - dots} entries, but {what} has "
+            f"{len(shape)} ax{'es' if len(shape) > 1 else 'is'} ({names})"
+        )
+    axis = 0
+    for p in parts:
+        if p is Ellipsis:
+            axis += len(shape) - (len(parts) - 1)
+            continue
+        _check_axis_index(p, shape[axis], what, axes[axis], attributes, arrays, var)
+        axis += 1
+    return key
+
+
+def _valid_range(n: int, item: str) -> str:
+    if n == 0:
+        return f"it has no {item}s"
+    plural = "s" if n != 1 else ""
+    return f"it has {n} {item}{plural}: valid indices are 0 to {n - 1}, or -{n} to -1"
+
+
+def _check_axis_index(
+    p: Any, n: int, what: str, item: str, attributes: tuple[str, ...], arrays: bool, var: str
+) -> None:
+    """One entry of an index along an axis of length ``n`` counting ``item``s."""
+    if not isinstance(p, (bool, np.bool_, str, bytes, list)) and not (
+        arrays and isinstance(p, np.ndarray)
+    ):
+        try:  # a whole number: int, numpy's, sympy's, a 0-d int array (what a list takes)
+            i = operator.index(p)
+        except TypeError:
+            i = None
+        if i is not None:
+            if not -n <= i < n:
+                beyond = i - (n - 1) if i >= 0 else -n - i
+                raise OutOfRangeError(
+                    f"{what} index {i} is out of range by {beyond}: {_valid_range(n, item)}"
+                )
+            return
+    if isinstance(p, slice):
+        for name in ("start", "stop", "step"):
+            v = getattr(p, name)
+            if v is not None and (
+                isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer))
+            ):
+                raise InputError(
+                    f"{what} index {_describe(p)}: the slice's {name} must be a whole number "
+                    f"or None, got {_describe(v)}"
+                )
+        if p.step == 0:
+            raise InputError(f"{what} index {_describe(p)}: a slice step cannot be zero")
+        return
+    hint = f"; {_valid_range(n, item)}"
+    if isinstance(p, (str, bytes)):
+        if p in attributes:
+            raise InputError(
+                f"{what} index {p!r} is text: {p} is an attribute, read it as "
+                f"{var}.{p} ({what} is indexed by {item} number{hint})"
+            )
+        listed = f" (its attributes: {', '.join(attributes)})" if attributes else ""
+        raise InputError(
+            f"{what} index {_describe(p)} is text: {what} is indexed by {item} "
+            f"number{hint}{listed}"
+        )
+    if isinstance(p, (bool, np.bool_)):
+        raise InputError(
+            f"{what} index {p!r} is a boolean, not a {item} number{hint}"
+            + (f" (a mask is an array of {n} booleans)" if arrays else "")
+        )
+    if p is None:
+        raise InputError(f"{what} index is None, not a {item} number{hint}")
+    if isinstance(p, (float, complex, np.floating, np.complexfloating)):
+        whole = isinstance(p, (float, np.floating)) and float(p).is_integer()
+        raise InputError(
+            f"{what} index {_describe(p)} is not a whole number's type: a {item} number is "
+            f"an int{hint}" + (f"; write int({float(p.real)!r})" if whole else "")
+        )
+    if arrays and isinstance(p, (list, np.ndarray)):
+        if isinstance(p, list) and not p:  # []: none of them, as numpy reads it
+            return
+        try:
+            arr = np.asarray(p)
+        except (TypeError, ValueError):
+            arr = np.asarray(p, dtype=object)
+        if arr.dtype.kind == "b":
+            if arr.shape != (n,):
+                raise InputError(
+                    f"{what} index: a boolean mask must have one entry per {item}, shape "
+                    f"({n},), got shape {arr.shape}"
+                )
+            return
+        if arr.dtype.kind in "iu":
+            bad = (arr < -n) | (arr >= n)
+            if bad.any():
+                first = int(arr[bad].ravel()[0])
+                beyond = first - (n - 1) if first >= 0 else -n - first
+                raise OutOfRangeError(
+                    f"{what} index {first} (in {_describe(p)}) is out of range by {beyond}: "
+                    f"{_valid_range(n, item)}"
+                )
+            return
+        raise InputError(
+            f"{what} index {_describe(p)} must hold whole numbers (or be a boolean mask), "
+            f"got {arr.dtype} values{hint}"
+        )
+    raise InputError(f"{what} index {_describe(p)} is not a {item} number{hint}")

@@ -38,7 +38,7 @@ import numpy as np
 import sympy as sp
 from sympy.simplify.fu import TR10i
 
-from ._validate import as_choice, as_flag, as_real
+from ._validate import as_choice, as_flag, as_real, check_index
 from .dh import Link, SerialArm
 from .errors import InputError
 
@@ -527,6 +527,13 @@ class LessonArm(NamedTuple):
     lengths: tuple[sp.Symbol, ...]
     joints: tuple[sp.Symbol, ...]
     convention: str
+
+    def __getitem__(self, key: Any) -> Any:
+        """``arm[0]`` is ``arm.links`` (a tuple's indexing); a bad index is an InputError
+        naming the fields (an :class:`~rikin.errors.OutOfRangeError` beyond them)."""
+        check_index(key, (4,), "LessonArm", ("field",), attributes=self._fields, arrays=False,
+                    var="arm")
+        return tuple.__getitem__(self, key)
 
 
 def lesson_arm(name: str, **options: Any) -> LessonArm:

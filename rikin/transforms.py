@@ -18,6 +18,7 @@ import numpy as np
 from ._validate import (
     FloatArray,
     _to_float64,
+    as_flag,
     as_float_array,
     as_pose,
     as_rotation,
@@ -45,13 +46,6 @@ __all__ = [
     "deg",
     "rad",
 ]
-
-
-def _flag(value: Any, name: str) -> bool:
-    """A keyword that must be True or False."""
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    raise InputError(f"{name} must be True or False, got {value!r}")
 
 
 def _broadcast(name: str, *shapes: tuple[int, ...]) -> tuple[int, ...]:
@@ -215,7 +209,7 @@ def rpy_to_r(roll: Any, pitch: Any, yaw: Any, *, degrees: bool = False) -> Float
     """
     r, p, y = (as_float_array(a, n) for a, n in ((roll, "roll"), (pitch, "pitch"), (yaw, "yaw")))
     _broadcast("rpy_to_r(roll, pitch, yaw)", r.shape, p.shape, y.shape)
-    if _flag(degrees, "degrees"):
+    if as_flag(degrees, "degrees"):
         r, p, y = np.radians(r), np.radians(p), np.radians(y)
     return _rot(y, 2, "yaw") @ _rot(p, 1, "pitch") @ _rot(r, 0, "roll")
 
@@ -236,7 +230,7 @@ def r_to_rpy(R: Any, *, degrees: bool = False) -> FloatArray:
     rpy : ndarray, shape (..., 3)
         ``[roll, pitch, yaw]`` in radians (degrees with ``degrees=True``).
     """
-    degrees = _flag(degrees, "degrees")
+    degrees = as_flag(degrees, "degrees")
     Rm = as_rotation(R, "R")
     cp = np.hypot(Rm[..., 0, 0], Rm[..., 1, 0])
     pitch = np.arctan2(-Rm[..., 2, 0], cp)
@@ -253,7 +247,7 @@ def zyz_to_r(phi: Any, theta: Any, psi: Any, *, degrees: bool = False) -> FloatA
     """Rotation from ZYZ Euler angles: ``Rz(phi) @ Ry(theta) @ Rz(psi)``, shape ``(..., 3, 3)``."""
     a, b, c = (as_float_array(v, n) for v, n in ((phi, "phi"), (theta, "theta"), (psi, "psi")))
     _broadcast("zyz_to_r(phi, theta, psi)", a.shape, b.shape, c.shape)
-    if _flag(degrees, "degrees"):
+    if as_flag(degrees, "degrees"):
         a, b, c = np.radians(a), np.radians(b), np.radians(c)
     return _rot(a, 2, "phi") @ _rot(b, 1, "theta") @ _rot(c, 2, "psi")
 
@@ -278,7 +272,7 @@ def r_to_zyz(R: Any, *, branch: int = 1, degrees: bool = False) -> FloatArray:
         branch not in (1, -1)
     ):
         raise InputError(f"branch must be 1 or -1, got {branch!r}")
-    degrees = _flag(degrees, "degrees")
+    degrees = as_flag(degrees, "degrees")
     Rm = as_rotation(R, "R")
     phi, theta, psi, _ = zyz_branches(Rm)
     slot = 0 if branch == 1 else 1

@@ -277,7 +277,8 @@ def _cases() -> list[Case]:
         add(Case(f"{rname}.ik near", "near", lambda v, a=arm, t=tg: a.ik(t, near=v), q,
                  accepts_none=True, fn=SA.ik))
         add(Case(f"{rname}.ik within_limits", "within_limits",
-                 lambda v, a=arm, t=tg: a.ik(t, within_limits=v), True, fn=SA.ik))
+                 lambda v, a=arm, t=tg: a.ik(t, within_limits=v), True, fn=SA.ik,
+                 numeric=False, accept=_flag))
         add(Case(f"{rname}.ik_batch", "T", lambda v, a=arm: a.ik_batch(v), T[None], fn=SA.ik_batch))
         add(Case(f"{rname}.ik_batch chunk_size", "chunk_size",
                  lambda v, a=arm, t=T: a.ik_batch(t[None], chunk_size=v), 16, fn=SA.ik_batch))
@@ -293,9 +294,13 @@ def _cases() -> list[Case]:
         add(Case(f"{rname}.ik_numerical tol", "tol",
                  lambda v, a=arm, t=T, m=mask: ik_numerical(a, t, tol=v, max_iter=15, mask=m),
                  1e-6, fn=ik_numerical))
+        whole = arm.n == 6 or hasattr(arm.solver, "nearest_reachable")  # mask=None allowed
         add(Case(f"{rname}.ik_numerical mask", "mask",
                  lambda v, a=arm, t=T: ik_numerical(a, t, mask=v, max_iter=15),
-                 (1, 1, 1, 0, 0, 0), accepts_none=arm.n == 6, fn=ik_numerical))
+                 (1, 1, 1, 0, 0, 0), accepts_none=whole, fn=ik_numerical))
+        if arm.n < 6 and whole:  # a 5-DOF lesson arm given its whole pose, as arm.ik takes it
+            add(Case(f"{rname}.ik_numerical T (whole pose)", "T",
+                     lambda v, a=arm: ik_numerical(a, v, max_iter=15), T, fn=ik_numerical))
         add(Case(f"{rname}.pose_error q", "q", lambda v, a=arm, t=T: pose_error(a, v, t), q,
                  fn=pose_error))
         add(Case(f"{rname}.pose_error T", "T", lambda v, a=arm: pose_error(a, np.where(
@@ -349,7 +354,7 @@ def _cases() -> list[Case]:
              fn=rikin.rpy_to_r),
         Case("rpy_to_r yaw", "yaw", lambda v: rikin.rpy_to_r(0.3, 0.1, v), 0.2, fn=rikin.rpy_to_r),
         Case("rpy_to_r degrees", "degrees", lambda v: rikin.rpy_to_r(30, 10, 20, degrees=v), True,
-             fn=rikin.rpy_to_r),
+             fn=rikin.rpy_to_r, numeric=False, accept=_flag),
         Case("r_to_rpy", "R", rikin.r_to_rpy, rikin.rotz(0.3), fn=rikin.r_to_rpy),
         Case("zyz_to_r", "theta", lambda v: rikin.zyz_to_r(0.1, v, 0.3), 0.2, fn=rikin.zyz_to_r),
         Case("r_to_zyz R", "R", rikin.r_to_zyz, rikin.rotx(0.3), fn=rikin.r_to_zyz),
@@ -454,6 +459,37 @@ def _expression(v: Any) -> bool:
     return isinstance(v, (sympy.Expr, sympy.MatrixBase, int, float, complex, np.number))
 
 
+def _index(n: int, arrays: bool = True) -> Callable[[Any], bool]:
+    """Valid indices of a sequence of ``n`` items (as a tuple takes them, or with ``arrays``
+    as numpy takes them: lists and arrays of whole numbers in range, masks of n booleans)."""
+    import operator
+
+    def ok(v: Any) -> bool:
+        if isinstance(v, (bool, np.bool_, str, bytes)):
+            return False
+        if isinstance(v, tuple):
+            return arrays and len(v) == 0  # (): everything, as numpy reads it
+        if isinstance(v, list) or (arrays and isinstance(v, np.ndarray)):
+            if not arrays:
+                return False
+            if isinstance(v, list) and not v:
+                return True
+            try:
+                a = np.asarray(v)
+            except (TypeError, ValueError):
+                return False
+            if a.dtype.kind == "b":
+                return a.shape == (n,)
+            return a.dtype.kind in "iu" and bool(((a >= -n) & (a < n)).all())
+        try:
+            i = operator.index(v)
+        except TypeError:
+            return False
+        return -n <= i < n
+
+    return ok
+
+
 def _rows(k: int) -> Callable[[Any], bool]:
     """Rows of ``k`` cells: a cell may be text (a branch name) as well as a number."""
     return lambda v: isinstance(v, (list, tuple)) and all(
@@ -471,6 +507,7 @@ def _api_cases() -> list[Case]:
     res2 = p2.ik([15.0, 5.0])
     res6 = a6.ik(a6.fk(q6))
     T6 = a6.fk(q6)
+    num6 = ik_numerical(a6, T6, q6 + 0.05)
     F3 = p3.fk(q3, frames=True)
     F6 = a6.fk(q6, frames=True)
     puma = widgets.arm_from_table(widgets.PUMA560_TABLE, units="m", name="puma")
@@ -892,6 +929,19 @@ def _api_cases() -> list[Case]:
         C("symbolic.lesson_arm options", "theta1",
           lambda v: symbolic.lesson_arm("pprrr", theta1=v), 0.5, fn=symbolic.lesson_arm,
           symbolic=True, accepts_none=True),
+        C("symbolic.LessonArm[index]", "index", lambda v: symbolic.lesson_arm("planar_2r")[v], 0,
+          fn=symbolic.LessonArm.__getitem__, param="key", numeric=False, accept=_index(4, False)),
+        # indexing the results: a sequence of solutions (IKResult), tuples of labels (Branch),
+        # records that are no sequence (BatchIKResult, NumericalIKResult)
+        C("IKResult[index]", "index", lambda v: res6[v], 0, fn=rikin.IKResult.__getitem__,
+          param="key", numeric=False, accept=_index(len(res6))),
+        C("Branch[index]", "index", lambda v: res6.branches[0][v], 0, fn=rikin.Branch.__getitem__,
+          param="key", numeric=False, accept=_index(3, False)),
+        C("BatchIKResult[index]", "index", lambda v: a6.ik_batch(T6[None])[v], None,
+          fn=rikin.BatchIKResult.__getitem__, param="key", numeric=False, accept=lambda v: False),
+        C("NumericalIKResult[index]", "index", lambda v: num6[v], None,
+          fn=rikin.ik.numerical.NumericalIKResult.__getitem__, param="key", numeric=False,
+          accept=lambda v: False),
         # rikin.ik: classify, the general 6R solver through an arm typed as a DH table
         C("ik.classify", "arm", rikin.ik.classify, puma, fn=rikin.ik.classify, **obj),
         C("ik.pieper.general_solver", "arm", pieper.general_solver, puma,
@@ -901,7 +951,8 @@ def _api_cases() -> list[Case]:
         C("puma (user-built).ik", "target", puma.ik, Tp, fn=SA.ik),
         C("puma (user-built).ik_batch", "T", puma.ik_batch, Tp[None], fn=SA.ik_batch),
         C("ik.solve within_limits", "within_limits",
-          lambda v: rikin.ik.solve(p2, [15.0, 5.0], within_limits=v), True, fn=rikin.ik.solve),
+          lambda v: rikin.ik.solve(p2, [15.0, 5.0], within_limits=v), True, fn=rikin.ik.solve,
+          **flag),
         C("ik.solve near", "near", lambda v: rikin.ik.solve(p2, [15.0, 5.0], near=v), [0.1, 0.2],
           accepts_none=True, fn=rikin.ik.solve),
         C("ik.solve_batch chunk_size", "chunk_size",
@@ -933,7 +984,11 @@ def _api_cases() -> list[Case]:
         C("ik_numerical rng", "rng", lambda v: ik_numerical(a6, T6, rng=v, max_iter=5), 1,
           accepts_none=True, fn=ik_numerical),
         C("ik_numerical within_limits", "within_limits",
-          lambda v: ik_numerical(a6, T6, within_limits=v, max_iter=5), True, fn=ik_numerical),
+          lambda v: ik_numerical(a6, T6, within_limits=v, max_iter=5), True, fn=ik_numerical,
+          **flag),
+        C("ik_numerical_multistart within_limits", "within_limits",
+          lambda v: ik_numerical_multistart(a6, T6, 2, within_limits=v, max_iter=5), True,
+          fn=ik_numerical_multistart, **flag),
         C("ik_numerical_multistart T", "T",
           lambda v: ik_numerical_multistart(a6, v, 2, max_iter=5), T6,
           fn=ik_numerical_multistart),
@@ -1124,6 +1179,8 @@ NOT_FUZZED = {
     "rikin.errors.InputError": "an exception: rikin builds it with its message",
     "rikin.errors.IKError": "an exception: rikin builds it with its message",
     "rikin.errors.UnreachableError": "an exception: rikin builds it with its message",
+    "rikin.errors.OutOfRangeError": "an exception: rikin builds it with its message",
+    "rikin.errors.NotIndexedError": "an exception: rikin builds it with its message",
     "rikin.ik.result.IKResult": "a result record rikin builds (its table() is fuzzed)",
     "rikin.ik.result.BatchIKResult": "a result record rikin builds",
     "rikin.ik.result.Branch": "a result record rikin builds (a named tuple of labels)",
@@ -1250,3 +1307,56 @@ def test_every_case_names_a_real_argument():
             var_kw |= kw
         assert (case.param or case.arg) in params or var_kw, (
             f"{case.name}: {case.param or case.arg!r} is not an argument of {fns}")
+
+
+# ------------------------------------------------------------------ yes/no options are strict
+def _flag_parameters() -> list[tuple[str, str]]:
+    """(callable, parameter) of every public callable's yes/no option: a parameter whose
+    default is True or False."""
+    import inspect
+
+    out = []
+    for key, fn in sorted(public_callables().items()):
+        if key in NOT_FUZZED:
+            continue
+        for p in inspect.signature(fn).parameters.values():
+            if isinstance(p.default, bool):
+                out.append((key, p.name))
+    return out
+
+
+def _flag_cases() -> dict[tuple[str, str], list[Case]]:
+    by: dict[tuple[str, str], list[Case]] = {}
+    for case in CASES.values():
+        for f in case.fn if isinstance(case.fn, list) else [case.fn]:
+            by.setdefault((_key(f), case.param or case.arg), []).append(case)
+    return by
+
+
+def test_every_yes_no_option_is_fuzzed_as_a_flag():
+    """A bool option's case takes only True and False (numpy's too) as valid: with a numeric
+    case, 0 and 1 would pass as 'a flag given as a count'."""
+    flags = _flag_parameters()
+    assert len(flags) >= 20  # the enumeration itself works
+    by = _flag_cases()
+    loose = [f"{k}({p}=...)" for k, p in flags
+             if not any(c.accept is _flag and not c.numeric for c in by.get((k, p), []))]
+    assert not loose, f"bool options whose fuzz case accepts non-bools: {loose}"
+
+
+FLAG_CASES = sorted({c.name for cs in _flag_cases().values() for c in cs if c.accept is _flag})
+
+
+@pytest.mark.parametrize("name", FLAG_CASES)
+def test_a_yes_no_option_takes_true_and_false_only(name):
+    case = CASES[name]
+    for ok in (case.valid, np.bool_(case.valid)):  # the other one may be refused otherwise
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            case.call(ok)
+        plt.close("all")
+    for bad in (0, 1, 1.0, np.int64(1), np.float64(0.0), "yes", "False", "", None,
+                np.array(True), [True], (False,), 1 + 0j, sympy.true):
+        with pytest.raises(InputError, match=rf"\b{re.escape(case.arg)} must be True or False"):
+            case.call(bad)
+        plt.close("all")

@@ -16,6 +16,7 @@ from hypothesis import strategies as st
 
 import rikin
 from rikin import robots
+from rikin.ik import ik_numerical, ik_numerical_multistart
 from rikin.tolerances import ROUNDED_POSE_TOL
 
 BASE = rikin.transforms.trotz(0.7) @ rikin.transforms.trotx(0.4) @ rikin.transl(2.0, -1.0, 3.0)
@@ -239,7 +240,12 @@ def test_batch_solves_rounded_poses_as_one_pose_does(name, mount, how):
         if i % 8 == 1:
             continue
         single = arm.ik(G[i])
-        assert b.reach_distance[i] == pytest.approx(single.reach_distance, rel=1e-12, abs=0)
+        # the same distance to rounding: it is a difference of nearby poses, so its absolute
+        # precision is that of the pose entries (a few ulps of the arm's size), not 1e-12 of
+        # itself (the batch's stacked products round differently from the one pose's, by
+        # 1e-11 relative on a 1e-4 distance with base and tool on this project's CI CPU)
+        assert b.reach_distance[i] == pytest.approx(
+            single.reach_distance, rel=1e-12, abs=1e-13 * size(arm, G[i]))
         q = b.q[i][b.valid[i]]
         assert len(q) == FULL[name]
         tol = 1e-12 if single.reach_distance > 0 else 1e-8  # as in the one-pose test
@@ -255,3 +261,115 @@ def test_other_arms_report_no_reach_distance():
     assert arm.ik(np.round(T, 4)).reach_distance == 0.0  # the general path
     b = arm.ik_batch(np.stack([T, np.round(T, 4)]))
     assert np.array_equal(b.reach_distance, [0.0, 0.0])
+
+
+# ------------------------------------------------------------------ numerical IK, same poses
+def _numerical(arm, T, q0, **options):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        return ik_numerical(arm, T, q0, **options)
+
+
+@pytest.mark.parametrize("name, mount", sorted(ARMS))
+@settings(max_examples=25)
+@given(seed=st.integers(0, 2**32 - 1), how=st.sampled_from([4, 6, "float32"]),
+       full_mask=st.booleans())
+def test_numerical_ik_solves_rounded_poses_for_the_nearest_reachable_pose(
+        name, mount, seed, how, full_mask):
+    """ik_numerical on the poses arm.ik takes (a whole 6-D pose of a 5-DOF arm, rounded):
+    converges, to the nearest reachable pose, and says how far the given one was."""
+    arm = ARMS[name, mount]
+    rng = np.random.default_rng(seed)
+    q_true = random_q(arm, rng)
+    G = rounded(arm.fk(q_true), how)
+    s = size(arm, G)
+    q0 = q_true + np.where(arm.revolute, 0.05, 0.05 * arm.scale) * rng.uniform(-1, 1, 5)
+    sol = _numerical(arm, G, q0, mask=(1,) * 6 if full_mask else None)
+    assert sol.success, sol.reason
+    assert np.abs(arm.fk(sol.q) - sol.target).max() <= 1e-9 * s
+    want = wrist_gap(arm, polar(G))
+    if sol.reach_distance > 0:
+        assert sol.reach_distance == pytest.approx(want, rel=1e-6)
+        best = nearest_by_joint_least_squares(arm, polar(G), q_true)
+        assert np.abs(best - sol.target)[:3].max() <= 1e-9 * s
+        res = solve_quietly(arm, G)  # the same pose as arm.ik's, whenever arm.ik moved it
+        if res.reach_distance > 0:
+            assert sol.reach_distance == pytest.approx(res.reach_distance, rel=1e-12)
+            assert np.abs(sol.target - res.target).max() <= 1e-13 * s
+    else:  # reachable as given to the iteration's own tolerance
+        assert want <= 1e-10 * s
+        assert np.array_equal(sol.target, polar(G) if sol.rotation_distance else G)
+    assert np.abs(sol.target - G).max() <= ROUNDED_POSE_TOL * s
+    if how == 4:
+        assert sol.rotation_distance > 0
+
+
+@pytest.mark.parametrize("name, mount", sorted(ARMS))
+def test_numerical_ik_of_four_decimal_poses_moves_them_as_arm_ik_does(name, mount):
+    arm = ARMS[name, mount]
+    rng = np.random.default_rng(3)
+    moved = 0
+    for _ in range(20):
+        q_true = random_q(arm, rng)
+        G = np.round(arm.fk(q_true), 4)
+        sol = _numerical(arm, G, q_true)
+        res = solve_quietly(arm, G)
+        assert sol.success, sol.reason
+        assert (sol.reach_distance > 0) == (res.reach_distance > 0)
+        assert sol.reach_distance == pytest.approx(res.reach_distance, rel=1e-12)
+        moved += res.reach_distance > 0
+    assert moved >= 15
+
+
+@pytest.mark.parametrize("name, mount", sorted(ARMS))
+def test_numerical_ik_of_exact_poses_solves_them_as_given(name, mount):
+    arm = ARMS[name, mount]
+    rng = np.random.default_rng(4)
+    for _ in range(10):
+        q_true = random_q(arm, rng)
+        T = arm.fk(q_true)
+        sol = _numerical(arm, T, q_true + 0.01)
+        assert sol.success and sol.reach_distance == 0.0 and sol.rotation_distance == 0.0
+        assert np.array_equal(sol.target, T)
+        assert np.abs(arm.fk(sol.q) - T).max() <= 1e-9 * size(arm, T)
+
+
+@pytest.mark.parametrize("name, mount", sorted(ARMS))
+@pytest.mark.parametrize("delta", [1e-2, "2 tol"])
+def test_numerical_ik_of_poses_further_off_is_unreachable_by_how_much(name, mount, delta):
+    arm = ARMS[name, mount]
+    T = arm.fk([0.4, 2.0, 0.5, 0.7, 0.2])
+    d = 2 * ROUNDED_POSE_TOL * size(arm, T) if delta == "2 tol" else delta
+    far = off_plane(arm, T, d)
+    for call in (lambda: _numerical(arm, far, None),
+                 lambda: ik_numerical_multistart(arm, far, 3)):
+        with pytest.raises(rikin.UnreachableError, match="5-DOF.*taken as rounded") as exc:
+            call()
+        assert exc.value.excess == pytest.approx(abs(d), rel=1e-9)
+
+
+@pytest.mark.parametrize("name, mount", sorted(ARMS))
+def test_numerical_multistart_finds_every_solution_of_a_rounded_pose(name, mount):
+    arm = ARMS[name, mount]
+    G = np.round(arm.fk([0.4, 2.0, 0.5, 0.7, 0.2]), 4)
+    res = solve_quietly(arm, G)
+    assert res.reach_distance > 0
+    found = ik_numerical_multistart(arm, G, 24, rng=1)
+    assert len(found) == FULL[name]
+    for q in found:
+        assert np.abs(arm.fk(q) - res.target).max() <= 1e-9 * size(arm, G)
+
+
+def test_numerical_ik_of_other_arms_is_unchanged():
+    """A 6R arm reaches every pose near its workspace: a rounded pose is solved as given
+    (nearest rotation only); a 5-DOF arm of one's own, with no closed form to say which poses
+    it reaches, still needs a mask."""
+    arm = robots.aula10_6r()
+    q = np.array([0.3, -1.2, 2.0, 0.4, -0.7, 3.0])
+    G = np.round(arm.fk(q), 4)
+    sol = _numerical(arm, G, q)
+    assert sol.success and sol.reach_distance == 0.0 and sol.rotation_distance > 0
+    own = rikin.SerialArm(robots.pprrr().links)
+    assert own.solver is None
+    with pytest.raises(rikin.InputError, match="mask"):
+        ik_numerical(own, own.fk([1.0, 2.0, 0.3, 0.4, 0.5]))

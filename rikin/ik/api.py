@@ -17,6 +17,7 @@ import numpy as np
 from .._validate import (
     FloatArray,
     _rotation_errors,
+    as_flag,
     as_float_array,
     as_pose,
     check_length_range,
@@ -52,12 +53,6 @@ class ClosedForm:
     def ik_batch(self, arm: SerialArm, T: Any, **options: Any) -> BatchIKResult:
         """:func:`solve_batch` for ``arm``."""
         return solve_batch(arm, T, **options)
-
-
-def _flag(value: Any, name: str) -> bool:
-    if isinstance(value, (bool, np.bool_)):
-        return bool(value)
-    raise InputError(f"{name} must be True or False, got {value!r}")
 
 
 def _count(value: Any, name: str) -> int:
@@ -219,7 +214,7 @@ def solve(
             if fast is not None:
                 return fast
     kind = solver.target_kind
-    within_limits = _flag(within_limits, "within_limits")
+    within_limits = as_flag(within_limits, "within_limits")
     T_world, rot_dist = _target_pose(arm, target, kind)
     hint = None if near is None else arm.check_q(near, "near")
     if hint is not None and hint.ndim != 1:
@@ -231,13 +226,19 @@ def solve(
     raw, T_solved, reach = _onto_reach(arm, solver, T_world[None], raw, hint)
     valid = raw.valid[0]
     if not valid.any():
-        message, excess = solver.explain(arm, T_0_n)
-        units = arm.units if np.isfinite(excess) else ""
-        raise UnreachableError(
-            f"{arm.name}: target is unreachable: {message}", excess=excess, units=units
-        )
+        raise _unreachable(arm, solver, T_0_n)
     return _finish(
         arm, solver, raw, T_solved[0], kind, hint, within_limits, rot_dist, float(reach[0])
+    )
+
+
+def _unreachable(arm: SerialArm, solver: Solver, T_0_n: FloatArray) -> UnreachableError:
+    """The error for a target ``T_0_n (4, 4)`` (base frame) the solver found no solution of:
+    why, in the arm's terms, and by how much (``excess``, in ``arm.units``)."""
+    message, excess = solver.explain(arm, T_0_n)
+    units = arm.units if np.isfinite(excess) else ""
+    return UnreachableError(
+        f"{arm.name}: target is unreachable: {message}", excess=excess, units=units
     )
 
 

@@ -27,8 +27,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validate import FloatArray, as_float_array, as_pose, as_real, clean_pose
+from .._validate import FloatArray, as_flag, as_float_array, as_pose, as_real, clean_pose
 from ..errors import InputError
+from .result import not_indexed
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
@@ -76,6 +77,22 @@ class NumericalIKResult:
         ``|p_T - p(q)|``, in the arm's length units.
     error_rotation : float
         Angle of ``R_T R(q)^T``, rad.
+    target : ndarray, shape (4, 4)
+        The pose the iteration solved for, ``T_T`` above (world frame): the given ``T``
+        with its rotation block replaced by the nearest rotation when it was not one to
+        rounding, and for a 5-DOF arm asked for a whole pose, moved to the nearest
+        reachable pose (see ``reach_distance``).
+    rotation_distance : float
+        As :attr:`rikin.IKResult.rotation_distance`: how far the rotation block of ``T``
+        was from a rotation (Frobenius norm; 0 when it was one to rounding).
+    reach_distance : float
+        As :attr:`rikin.IKResult.reach_distance`, for a 5-DOF lesson arm (PPRRR, RPRRR)
+        asked for a whole pose (``mask`` None or all ones): how far, in the arm's length
+        units, the wrist centre of ``T`` was from where joints 1-2 can put it, when the
+        iteration solved the nearest reachable pose instead (the same pose ``arm.ik``
+        solves). 0 when ``T`` was solved as given: every other arm and mask, and a pose
+        reachable to within ``tol`` (``arm.ik`` also solves as given a pose up to its
+        ``REACH_TOL`` slack off, and reports 0 there).
     """
 
     q: FloatArray
@@ -84,6 +101,21 @@ class NumericalIKResult:
     iterations: int
     error_position: float
     error_rotation: float
+    target: FloatArray | None = None
+    rotation_distance: float = 0.0
+    reach_distance: float = 0.0
+
+    def __getitem__(self, key: Any) -> Any:
+        """Not indexed: one solution, ``result.q``; :class:`~rikin.errors.NotIndexedError`
+        saying so."""
+        raise not_indexed(self, _ONE_SOLUTION, key)
+
+    def __iter__(self) -> Any:
+        """Not iterable: :class:`~rikin.errors.NotIndexedError`, as for an index."""
+        raise not_indexed(self, _ONE_SOLUTION, iterated=True)
+
+
+_ONE_SOLUTION = "a numerical result holds one solution, result.q (shape (n,)), and is not indexed"
 
 
 def _rotation_vector(R: FloatArray) -> FloatArray:
@@ -160,18 +192,57 @@ def _check_arm(arm: Any) -> None:
 
 def _one_target(T: Any) -> FloatArray:
     """One validated 4x4 target ``T``, its rotation block made exactly a rotation."""
+    return _clean_target(T)[0]
+
+
+def _clean_target(T: Any) -> tuple[FloatArray, float]:
+    """:func:`_one_target` and how far the rotation block was from a rotation."""
     T_t = as_pose(T, "T")
     if T_t.shape != (4, 4):
         raise InputError(
             f"T must be one 4x4 pose, got shape {T_t.shape}; for many poses "
             "call ik_numerical once per pose"
         )
-    return clean_pose(T_t)[0]
+    return clean_pose(T_t)
+
+
+def _nearest_reachable(arm: SerialArm) -> Any:
+    """The closed-form solver's ``nearest_reachable`` of a 5-DOF arm that reaches only a
+    5-dimensional set of poses (the PPRRR and RPRRR lesson arms), else None."""
+    return getattr(arm.solver, "nearest_reachable", None)
+
+
+def _reachable_target(
+    arm: SerialArm, T_t: FloatArray, weights: FloatArray, tol: float
+) -> tuple[FloatArray, float]:
+    """The pose to iterate on for the clean world pose ``T_t`` and how far ``T_t`` was from
+    it (``reach_distance``), as ``arm.ik`` decides them.
+
+    A 5-DOF lesson arm asked for a whole pose (every component of ``weights``) reaches it
+    only if the wrist centre lies where joints 1-2 put it: a pose rounded to 4 decimals
+    misses by a few 1e-5, and no iteration converges to it. Within ``ROUNDED_POSE_TOL`` it is
+    replaced by the nearest reachable pose (the one ``arm.ik`` solves); further off it is an
+    UnreachableError with ``arm.ik``'s message and excess. Within ``tol`` (what the iteration
+    counts as converged, relative to the arm's size, with a margin of 10) it is solved as
+    given. Every other arm and mask: ``T_t`` as given.
+    """
+    nearest = _nearest_reachable(arm)
+    if nearest is None or not weights.all():
+        return T_t, 0.0
+    T_near, dist, close = nearest(arm, T_t[None])
+    d = float(dist[0])
+    if not close[0]:
+        from .api import _unreachable
+
+        raise _unreachable(arm, arm.solver, arm._world_to_base(T_t))
+    if d <= 0.1 * tol * arm.scale:
+        return T_t, 0.0
+    return T_near[0], d
 
 
 def _check_mask(arm: SerialArm, mask: Any) -> FloatArray:
     if mask is None:
-        if arm.n < 6:
+        if arm.n < 6 and _nearest_reachable(arm) is None:
             raise InputError(
                 f"{arm.name!r} has {arm.n} joints, so it cannot match a full 6-DOF pose: pass "
                 "mask, which error components to use, e.g. mask=(1, 1, 1, 0, 0, 0) for the "
@@ -285,7 +356,10 @@ def ik_numerical(
         draw the random start inside them.
     mask : array_like of 6 values 0/1, optional
         Which error components count (x, y, z, rx, ry, rz). Required for arms
-        with fewer than 6 joints, e.g. ``(1, 1, 1, 0, 0, 0)``: position only.
+        with fewer than 6 joints, e.g. ``(1, 1, 1, 0, 0, 0)``: position only,
+        except the 5-DOF lesson arms (PPRRR, RPRRR), which take a whole pose as
+        ``arm.ik`` does: a pose they miss by rounding (within ``ROUNDED_POSE_TOL``)
+        is solved for the nearest reachable pose (``reach_distance``).
 
     Returns
     -------
@@ -297,6 +371,10 @@ def ik_numerical(
     ------
     InputError
         Malformed ``T``, ``q0`` (shape, NaN, degrees), ``mask`` or settings.
+    UnreachableError
+        A whole pose that a 5-DOF lesson arm misses by more than ``ROUNDED_POSE_TOL``:
+        the same error, message and ``excess`` (the wrist centre's distance from the
+        poses the arm reaches) as ``arm.ik`` raises.
 
     Examples
     --------
@@ -309,9 +387,8 @@ def ik_numerical(
     """
     _check_arm(arm)
     _check_settings(method, tol, max_iter)
-    if not isinstance(within_limits, (bool, np.bool_)):
-        raise InputError(f"within_limits must be True or False, got {within_limits!r}")
-    T_t = _one_target(T)
+    within_limits = as_flag(within_limits, "within_limits")
+    T_t, rot_dist = _clean_target(T)
     weights = _check_mask(arm, mask)
     if q0 is None:
         q = _random_start(arm, _as_rng(rng), within_limits)
@@ -319,6 +396,7 @@ def ik_numerical(
         q = arm.check_q(q0, "q0").copy()
         if q.ndim != 1:
             raise InputError(f"q0 must have shape ({arm.n},), got shape {q.shape}")
+    T_t, reach = _reachable_target(arm, T_t, weights, tol)
     lim = _limits(arm)
 
     def settle(qq: FloatArray) -> FloatArray:
@@ -396,6 +474,9 @@ def ik_numerical(
         iterations=it,
         error_position=float(np.linalg.norm(T_t[:3, 3] - F[:3, 3])),
         error_rotation=float(np.linalg.norm(_rotation_vector(T_t[:3, :3] @ F[:3, :3].T))),
+        target=T_t,
+        rotation_distance=rot_dist,
+        reach_distance=reach,
     )
 
 
@@ -441,9 +522,7 @@ def ik_numerical_multistart(
     if isinstance(distinct_tol, (bool, np.bool_)) or not as_real(distinct_tol, "distinct_tol") > 0:
         raise InputError(f"distinct_tol must be a positive number, got {distinct_tol!r}")
     gen = _as_rng(rng)
-    within = options.get("within_limits", False)
-    if not isinstance(within, (bool, np.bool_)):
-        raise InputError(f"within_limits must be True or False, got {within!r}")
+    within = as_flag(options.get("within_limits", False), "within_limits")
     rev = arm.revolute
     found: list[FloatArray] = []
     for _ in range(int(n_starts)):
