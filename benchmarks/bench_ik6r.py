@@ -60,6 +60,7 @@ from rikin import Link, SerialArm, robots
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
 from mp_reference import exact_root  # noqa: E402  (the 40-digit reference the tests use)
+from singular_poses import CROSSING_JOINT, singular_q  # noqa: E402  (the tests' singular poses)
 
 SEED = 20261202
 pi = np.pi
@@ -153,89 +154,18 @@ def attach_rtb(case: Case, rng: np.random.Generator) -> None:
 
 
 # ------------------------------------------------------------------ poses near singularities
-def _axis(arm: SerialArm, F: np.ndarray, i: int) -> tuple[np.ndarray, np.ndarray]:
-    """Point and direction of joint axis ``i`` (1-based) from ``fk(q, frames=True)``."""
-    k = i - 1 if arm.convention == "standard" else i
-    return F[..., k, :3, 3], F[..., k, :3, 2]
-
-
-def wrist_centre(arm: SerialArm, q: np.ndarray) -> np.ndarray:
-    """Where axes 4 and 5 meet (closest points of the two lines), world frame."""
-    F = arm.fk(q, frames=True)
-    p4, z4 = _axis(arm, F, 4)
-    p5, z5 = _axis(arm, F, 5)
-    w = p4 - p5
-    b = (z4 * z5).sum(-1)
-    d, e = (z4 * w).sum(-1), (z5 * w).sum(-1)
-    s = (b * e - d) / (1 - b * b)
-    return p4 + s[..., None] * z4
-
-
-def _off_axis(arm: SerialArm, q: np.ndarray, i: int) -> np.ndarray:
-    """The wrist centre's offset from axis ``i``, perpendicular to it (3-vector)."""
-    F = arm.fk(q, frames=True)
-    p, z = _axis(arm, F, i)
-    v = wrist_centre(arm, q) - p
-    return v - (v * z).sum(-1, keepdims=True) * z
-
-
-def _extreme(f, lo: float = -pi, hi: float = pi, largest: bool = True) -> float:
-    """Where the 1-D function ``f`` (vectorised) is largest (or smallest) on [lo, hi]."""
-    sign = 1.0 if largest else -1.0
-    x = np.linspace(lo, hi, 3601)
-    for _ in range(6):
-        y = sign * f(x)
-        i = int(np.argmax(y))
-        h = x[1] - x[0]
-        x = np.linspace(x[i] - 2 * h, x[i] + 2 * h, 41)
-    return float(x[int(np.argmax(sign * f(x)))])
-
-
-def singular_joints(arm: SerialArm, kind: str, rng: np.random.Generator) -> np.ndarray:
-    """Joints exactly at a singularity of ``kind`` (wrist0, wrist_pi, shoulder, stretched,
-    folded), the others random."""
-    q = rng.uniform(-pi, pi, 6)
-    off = np.array([float(lk.offset) for lk in arm.links])
-    if kind in ("wrist0", "wrist_pi"):
-        q[4] = (0.0 if kind == "wrist0" else pi) - off[4]
-    elif kind in ("stretched", "folded"):
-        def dist2(t):
-            Q = np.tile(q, (len(t), 1))
-            Q[:, 2] = t
-            return np.linalg.norm(_off_axis(arm, Q, 2), axis=-1)
-        q[2] = _extreme(dist2, largest=kind == "stretched")
-    else:  # shoulder: a grid, then Gauss-Newton on joints 2, 3 towards axis 1
-        g = np.linspace(-pi, pi, 121)[:-1]
-        Q = np.tile(q, (g.size**2, 1))
-        Q[:, 1], Q[:, 2] = np.repeat(g, g.size), np.tile(g, g.size)
-        q = Q[int(np.argmin(np.linalg.norm(_off_axis(arm, Q, 1), axis=-1)))]
-        for _ in range(60):
-            r = _off_axis(arm, q, 1)
-            J = np.empty((3, 2))
-            for c, j in enumerate((1, 2)):
-                dq = np.zeros(6)
-                dq[j] = 1e-7
-                J[:, c] = (_off_axis(arm, q + dq, 1) - _off_axis(arm, q - dq, 1)) / 2e-7
-            step = np.linalg.lstsq(J, -r, rcond=None)[0]
-            q[1:3] += np.clip(step, -0.3, 0.3)
-            if np.linalg.norm(step) < 1e-15:
-                break
-    return q
-
-
-SINGULAR_KINDS = ("wrist0", "wrist_pi", "shoulder", "stretched", "folded")
+SINGULAR_KINDS = tuple(CROSSING_JOINT)
 
 
 def singular_poses(arm: SerialArm, n: int, rng: np.random.Generator):
     """``n`` joints per kind near it: a fifth exactly on it, the rest 1e-9..1e-5 rad off
     along the joint that crosses it (q5; q2 for the shoulder; q3 for the elbow)."""
     qs, kinds = [], []
-    move = {"wrist0": 4, "wrist_pi": 4, "shoulder": 1, "stretched": 2, "folded": 2}
     for kind in SINGULAR_KINDS:
         for m in range(n):
-            q = singular_joints(arm, kind, rng)
+            q = singular_q(arm, kind, rng, regular_wrist=False)
             if m >= n // 5:
-                q[move[kind]] += rng.choice([-1, 1]) * 10.0 ** rng.uniform(-9, -5)
+                q[CROSSING_JOINT[kind]] += rng.choice([-1, 1]) * 10.0 ** rng.uniform(-9, -5)
             qs.append(q)
             kinds.append(kind)
     return np.array(qs), kinds

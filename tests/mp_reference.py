@@ -48,7 +48,8 @@ def exact_root(arm, q, T, steps=30, tol=1e-32):
         for _ in range(steps):
             e = mp_error(arm, x, T)
             if mp.norm(e) < mp.mpf(tol):
-                return np.array([float(v) for v in x])
+                # modulo 2 pi, as rikin reports joints (Newton may wander turns away)
+                return np.angle(np.exp(1j * np.array([float(v) for v in x])))
             h = mp.mpf(10) ** -25
             J = mp.matrix(6, 6)
             for j in range(6):

@@ -7,11 +7,13 @@ branch labels; arms without a closed form must say why in the arm's terms.
 """
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from singular_poses import CROSSING_JOINT, off_axis, singular_q, wrist_centre
 
 import rikin
 from rikin import Link, SerialArm, robots
@@ -332,8 +334,7 @@ def test_unreachable_says_by_how_much_like_the_lesson_solver(make):
 
 
 # ------------------------------------------------------------------ complete sets, singular poses
-# The poses below are built from the arm's geometry alone (joint axes from FK), never from
-# the solver: the wrist centre where axes 4 and 5 meet, its distance from axes 1 and 2.
+# The singular poses come from singular_poses.py: built from the arm's geometry alone.
 def epson_c4_table():
     return from_table(robots.epson_c4())
 
@@ -341,74 +342,51 @@ def epson_c4_table():
 GENERAL = INDUSTRIAL + [epson_c4_table]
 
 
-def wrist_centre(arm, q):
-    o, z = arm.joint_axes(q)
-    w = o[..., 3, :] - o[..., 4, :]
-    b = (z[..., 3, :] * z[..., 4, :]).sum(-1)
-    d, e = (z[..., 3, :] * w).sum(-1), (z[..., 4, :] * w).sum(-1)
-    return o[..., 3, :] + ((b * e - d) / (1 - b * b))[..., None] * z[..., 3, :]
+# ------------------------------------------------------------------ magnitudes
+def scaled(arm, s):
+    """``arm`` with every length (links, base and tool offsets) times ``s``."""
+    def grow(T):
+        T = T.copy()
+        T[:3, 3] *= s
+        return T
+
+    links = tuple(Link(a=lk.a * s, d=lk.d * s, alpha=lk.alpha, offset=lk.offset)
+                  for lk in arm.links)
+    return SerialArm(links, convention=arm.convention, base=grow(arm.base),
+                     tool=grow(arm.tool), units=arm.units, name=f"{arm.name} x {s:g}")
 
 
-def off_axis(arm, q, i):
-    """The wrist centre's offset from joint axis ``i`` (1-based), perpendicular to it."""
-    o, z = arm.joint_axes(q)
-    v = wrist_centre(arm, q) - o[..., i - 1, :]
-    zi = z[..., i - 1, :]
-    return v - (v * zi).sum(-1, keepdims=True) * zi
+@pytest.mark.parametrize("s", [1e-90, 1e-50, 1e-8, 1e8, 1e50, 1e90])
+@pytest.mark.parametrize("make", GENERAL)
+def test_scaled_tables_solve_every_reachable_target(make, s):
+    """Any size rikin takes (lengths 1e-100 to 1e100): the closed form's quartic is of
+    degree 4 in the lengths, so at 1e90 it overflowed (RuntimeWarning, no solution) and at
+    1e-90 it underflowed (every target 'out of reach by 1e-95'), on the arms whose axes 1
+    and 2 are skew (KR5, KR6, IRB 120, C4)."""
+    rng = np.random.default_rng(23)
+    arm = make()
+    base, tool = random_pose(rng), random_pose(rng)
+    base[:3, 3] *= 0.3 * arm.scale
+    tool[:3, 3] *= 0.1 * arm.scale
+    arm = scaled(arm.replace(base=base, tool=tool), s)
+    q = rng.uniform(-pi, pi, (8, 6))
+    T = arm.fk(q)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for k in range(len(q)):
+            res = arm.ik(T[k])
+            assert_all_reach(arm, res, T[k])
+            assert np.abs(rikin.wrap_angle(res.q - q[k])).max(axis=1).min() < 1e-8
+        batch = arm.ik_batch(T)
+        assert batch.valid.any(axis=1).all()
+        far = T[0].copy()
+        far[:3, 3] *= 1e3
+        with pytest.raises(rikin.UnreachableError) as err:
+            arm.ik(far)
+    assert 0 < err.value.excess < 1e4 * arm.scale
 
 
-def onto_axis1(arm, q):
-    """``q`` with joints 2, 3 moved (Gauss-Newton) to bring the wrist centre onto axis 1, or
-    as near as the arm's offsets let it come."""
-    q = np.array(q, dtype=float)
-    g = np.linspace(-pi, pi, 121)[:-1]
-    Q = np.tile(q, (g.size**2, 1))
-    Q[:, 1], Q[:, 2] = np.repeat(g, g.size), np.tile(g, g.size)
-    q = Q[int(np.argmin(np.linalg.norm(off_axis(arm, Q, 1), axis=-1)))]  # then Gauss-Newton
-    for _ in range(60):
-        r = off_axis(arm, q, 1)
-        J = np.empty((3, 2))
-        for c, j in enumerate((1, 2)):
-            dq = np.zeros(6)
-            dq[j] = 1e-7
-            J[:, c] = (off_axis(arm, q + dq, 1) - off_axis(arm, q - dq, 1)) / 2e-7
-        step = np.linalg.lstsq(J, -r, rcond=None)[0]
-        q[1:3] += np.clip(step, -0.3, 0.3)
-        if np.abs(step).max() < 1e-15:
-            break
-    return q
-
-
-def elbow_extreme(arm, q, stretched):
-    """``q`` with joint 3 where the wrist centre is farthest from (or nearest to) axis 2."""
-    q = np.array(q, dtype=float)
-    x = np.linspace(-pi, pi, 3601)
-    for _ in range(7):
-        Q = np.tile(q, (len(x), 1))
-        Q[:, 2] = x
-        r = np.linalg.norm(off_axis(arm, Q, 2), axis=-1)
-        i = int(np.argmax(r if stretched else -r))
-        h = x[1] - x[0]
-        x = np.linspace(x[i] - 2 * h, x[i] + 2 * h, 41)
-    q[2] = x[20]
-    return q
-
-
-def singular_q(arm, kind, rng):
-    off = np.array([float(lk.offset) for lk in arm.links])
-    q = rng.uniform(-pi, pi, 6)
-    q[4] = rng.uniform(0.3, 2.8) * rng.choice([-1, 1]) - off[4]  # wrist regular
-    if kind in ("wrist0", "wrist_pi"):
-        q[4] = (0.0 if kind == "wrist0" else pi) - off[4]
-    elif kind == "shoulder":
-        q = onto_axis1(arm, q)
-    else:
-        q = elbow_extreme(arm, q, kind == "stretched")
-    return q
-
-
-KINDS = ["wrist0", "wrist_pi", "shoulder", "stretched", "folded"]
-CROSSING = {"wrist0": 4, "wrist_pi": 4, "shoulder": 1, "stretched": 2, "folded": 2}
+KINDS = list(CROSSING_JOINT)
 
 
 def sigma_ratio(arm, q):
@@ -528,7 +506,7 @@ def test_near_singular_poses_keep_every_solution(make, kind):
     rng = np.random.default_rng(KINDS.index(kind))
     for delta in (0.0, 1e-9, 1e-7, 1e-5):
         q = singular_q(arm, kind, rng)
-        q[CROSSING[kind]] += delta * rng.choice([-1, 1])
+        q[CROSSING_JOINT[kind]] += delta * rng.choice([-1, 1])
         T = arm.fk(q)
         res = arm.ik(T, near=q) if delta == 0 else arm.ik(T)
         if {1, 2} & set(res.free_joints):  # on the axis to within the tolerance: q1 or q2 free
@@ -542,6 +520,32 @@ def test_near_singular_poses_keep_every_solution(make, kind):
             assert indistinguishable(arm, T, q, res.q) or near_axis2(arm, q, res.q)
         else:
             assert distance_to(res, q, arm) < SAME_Q, (kind, delta, distance_to(res, q, arm))
+
+
+@pytest.mark.parametrize("make", [kuka_kr5, kuka_kr6, abb_irb120, epson_c4_table])
+def test_a_free_joint_comes_from_near_or_else_from_the_pose(make):
+    """A wrist centre ~1e-11 of the arm's size off axis 1 is flagged (q1 free within
+    SINGULAR_TOL: any q1 reproduces the pose within the FK check), yet the pose still fixes
+    q1 to ~1e-5 rad. Without near, q1 is the pose's (the generating q among the solutions),
+    not an arbitrary 0; with near, near's."""
+    arm = make()
+    rng = np.random.default_rng(31)
+    for _ in range(3):
+        q = singular_q(arm, "shoulder", rng)
+        q[1] += 1e-10 * rng.choice([-1, 1])  # the centre ~1e-10 x its distance off the axis
+        off = np.linalg.norm(off_axis(arm, q, 1)) / arm.scale
+        assert 1e-13 < off < 1e-9, off
+        T = arm.fk(q)
+        res = arm.ik(T)
+        assert res.singular and 1 in res.free_joints
+        assert_all_reach(arm, res, T)
+        assert distance_to(res, q, arm) < 1e-4, distance_to(res, q, arm)
+        near = q.copy()
+        near[0] += 0.7
+        moved = arm.ik(T, near=near)
+        assert_all_reach(arm, moved, T)
+        # from near, up to what the polish moves it towards the pose's root (~1e-4 rad)
+        assert np.abs(rikin.wrap_angle(moved.q[:, 0] - near[0])).min() < 1e-3
 
 
 # The Puma's shoulder offset keeps its wrist centre 0.15 m from axis 1: onto_axis1 (a

@@ -14,18 +14,18 @@ to rounding, never two near-identical unflagged ones, never losing a root.
 import numpy as np
 import pytest
 from mp_reference import exact_root
+from singular_poses import elbow_extreme, onto_axis1
 from test_pieper import (
     abb_irb120,
     assert_all_reach,
-    elbow_extreme,
     epson_c4_table,
     kuka_kr5,
     kuka_kr6,
-    onto_axis1,
     puma560,
 )
 
 import rikin
+from rikin import Link, SerialArm
 
 pi = np.pi
 ARMS = [puma560, kuka_kr5, kuka_kr6, abb_irb120, epson_c4_table]
@@ -65,13 +65,16 @@ def check_against_exact(arm, T, res, guesses):
     for e in list(own.values()) + [exact_root(arm, g, T) for g in G]:
         if e is not None and not any(wrapped(e - r).max() < 1e-12 for r in roots):
             roots.append(e)
-    coincide = "edge of what joints 1-3 reach" in (res.singularity or "")
+    # no isolated root there: the meeting point of two branches, or joint 2 free (the wrist
+    # centre on axis 2 within SINGULAR_TOL, where FK holds whatever q2)
+    why = res.singularity or ""
+    coincide = "edge of what joints 1-3 reach" in why or "on the axis of joint 2" in why
     for r in roots:
         d = wrapped(Q - r).max(axis=1).min()
         assert d <= resolution(arm, r), ("root lost", r, d, resolution(arm, r))
     for i, e in own.items():
         if e is None:  # no isolated root there: only as the flagged meeting point
-            assert coincide, ("unflagged solution that is no root", Q[i])
+            assert coincide, ("unflagged solution that is no root", Q[i], why)
         else:
             assert wrapped(Q[i] - e).max() <= resolution(arm, e), ("inexact", Q[i], e)
     found = [e for e in own.values() if e is not None]
@@ -101,22 +104,25 @@ def fold_poses(arm, kind, rng, n=1):
             yield x, q, arm.fk(q), mirror
 
 
-KR6_FOLDED = pytest.param(
-    kuka_kr6, "folded", marks=pytest.mark.xfail(strict=True, reason=(
-        "open: a pair of joint-3 roots ~1e-6 rad apart whose sign change of F lies below "
-        "F's rounding is joined into one flagged solution, though 40-digit Newton on the "
-        "pose tells the two apart (the decision belongs to the full pose, not to F)")))
+#: more folded elbows, where judging a close pair at its straight midpoint in joint space
+#: (not on the valley's floor) or on F alone lost a root or left two unflagged solutions;
+#: and the C4's, whose equal links fold the wrist centre onto axis 2: 1e-8 rad from there
+#: its distance from axis 2 (2.5e-6 mm) was read from the joint-3 double root, known only
+#: to ~sqrt(eps), called zero, and the generating q's shoulder (4 solutions) was lost
+MORE_FOLDS = [(kuka_kr6, "folded", 1), (kuka_kr6, "folded", 2), (abb_irb120, "folded", 1)] + [
+    (epson_c4_table, "folded", seed) for seed in (1, 3, 6, 10)
+]
 
 
-@pytest.mark.parametrize(("make", "kind"), [
-    (make, kind) for make in ARMS for kind in ("folded", "stretched")
-    if (make, kind) != (kuka_kr6, "folded")
-] + [KR6_FOLDED])
-def test_elbow_fold_both_branches_or_one_flagged(make, kind):
+@pytest.mark.parametrize(
+    ("make", "kind", "seed"),
+    [(make, kind, 0) for make in ARMS for kind in ("folded", "stretched")] + MORE_FOLDS,
+)
+def test_elbow_fold_both_branches_or_one_flagged(make, kind, seed):
     """(a) Joint 3 1e-3 ... 1e-12 rad from the elbow's fold: both branches, each an exact root,
     while they are two; one flagged solution where they meet; the generating q kept."""
     arm = make()
-    rng = np.random.default_rng(41 + ARMS.index(make))
+    rng = np.random.default_rng(1000 * seed + 41 + ARMS.index(make))
     for x, q, T, mirror in fold_poses(arm, kind, rng):
         res = arm.ik(T)
         roots = check_against_exact(arm, T, res, [q, mirror])
@@ -127,6 +133,34 @@ def test_elbow_fold_both_branches_or_one_flagged(make, kind):
         # distance from axis 2: farther)
         if kind == "stretched" and x >= 1e-5:
             assert len(roots) >= 2, (x, len(roots))
+
+
+def equal_links(convention):
+    """A 6R whose links 2 and 3 are equal and whose axes 1 and 2 meet (a Puma without its
+    offsets): folded, the wrist centre comes onto the shoulder, where axes 1 and 2 meet."""
+    if convention == "standard":
+        links = (Link(d=0.6718, alpha=pi / 2), Link(a=0.4318), Link(alpha=-pi / 2),
+                 Link(d=0.4318, alpha=pi / 2), Link(alpha=-pi / 2), Link())
+    else:
+        links = (Link(d=0.3), Link(alpha=-pi / 2), Link(a=0.25), Link(d=0.25, alpha=-pi / 2),
+                 Link(alpha=pi / 2), Link(alpha=-pi / 2))
+    return SerialArm(links, convention=convention, name=f"equal links ({convention})", units="m")
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_equal_links_folded_onto_the_shoulder(convention, seed):
+    """Equal links, axes 1 and 2 meeting: joint 3 1e-3 ... 1e-12 rad from folded puts the
+    wrist centre ~l dq from the shoulder. That distance is exact to rounding, so both elbow
+    branches are fixed by the pose (they are ~2 dq apart, not ~sqrt(dq)); solved from the
+    squared distance, as a sinusoid, joint 3 was off by ~sqrt(eps) and the pose 1e-8 rad
+    from folded was declared out of reach."""
+    arm = equal_links(convention)
+    rng = np.random.default_rng(7 + seed)
+    for x, q, T, mirror in fold_poses(arm, "folded", rng):
+        res = arm.ik(T)
+        check_against_exact(arm, T, res, [q, mirror])
+        assert len(res) == 8, (x, len(res))
 
 
 def test_puma_shoulder_offset_fold():

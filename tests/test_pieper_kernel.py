@@ -11,13 +11,12 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
-from test_pieper import (  # the arms and singular poses of the general solver's tests
-    CROSSING,
+from singular_poses import CROSSING_JOINT, singular_q
+from test_pieper import (  # the arms of the general solver's tests
     GENERAL,
     KINDS,
     assert_all_reach,
     puma560,
-    singular_q,
     spherical_wrist_arms,
 )
 
@@ -79,7 +78,7 @@ def test_near_singular_poses_fall_back_or_agree(make, kind):
     rng = np.random.default_rng(20 + KINDS.index(kind))
     for delta in (0.0, 1e-9, 1e-7, 1e-5, 1e-4, 1e-3, 1e-2, 3e-2):
         q = singular_q(arm, kind, rng)
-        q[CROSSING[kind]] += delta * rng.choice([-1, 1])
+        q[CROSSING_JOINT[kind]] += delta * rng.choice([-1, 1])
         T = arm.fk(q)
         took = assert_fast_equals_general(arm, T)
         if delta == 0.0 and arm.ik(T.tolist()).singular:

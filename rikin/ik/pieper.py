@@ -82,6 +82,8 @@ NEAR_PAIR = 1e-2
 #: many times that of either, or below ``COINCIDE_FLOOR`` (a few rounding units).
 COINCIDE_FACTOR = 4.0
 COINCIDE_FLOOR = 2e-15
+#: Gauss-Newton steps that put the midpoint of two close roots on the valley's floor
+VALLEY_STEPS = 3
 
 POSITION_SLOTS = 4
 
@@ -92,6 +94,13 @@ WRIST_FOLD_TOL = 1e-6
 #: A wrist centre closer than this to axis 1 (relative to the arm's size) may hide
 #: its second shoulder in a rounded double root (see ``_split_near_axis``).
 NEAR_AXIS = 1e-6
+
+#: A wrist centre this close to axis 1 or 2 (relative to the arm's size) leaves that
+#: joint to rounding. Farther, but within ``SINGULAR_TOL``, the singularity is flagged and
+#: the joint is free within the FK check; it takes ``near``'s value when the caller gives
+#: one, else the pose's, which fixes it to ~ eps / distance (2.7e-10 of the arm's size
+#: off the axis: 4e-4 rad; 1e-14: 0.2 rad), not an arbitrary 0.
+DIRECTION_FLOOR = 1e-14
 
 #: Singular values of the pose Jacobian below this (relative to the largest) are
 #: rounding: the polish takes no step along them.
@@ -185,6 +194,28 @@ def chain_model(arm: SerialArm) -> ChainModel:
     offsets = np.array([float(lk.offset) for lk in arm.links])
     scale = max(sum(abs(float(lk.a)) + abs(float(lk.d)) for lk in arm.links), 1e-300)
     return ChainModel(np.stack(M), offsets, scale)
+
+
+def _unit_model(model: ChainModel) -> tuple[ChainModel, float]:
+    """``model`` with every length times ``unit = 2**k``, its size in [0.5, 1), and
+    ``unit``: exact, unlike a division by the size itself (see
+    :meth:`Pieper6RSolver._to_unit`)."""
+    k = -math.frexp(model.scale)[1]
+    M = model.M.copy()
+    M[:, :3, 3] = np.ldexp(M[:, :3, 3], k)
+    return ChainModel(M, model.offsets, math.ldexp(model.scale, k)), math.ldexp(1.0, k)
+
+
+def _meet_geometry(model: ChainModel, wg: WristGeometry) -> tuple[float, float, float, float]:
+    """``(m, M, phi, rho)`` of ``|g(th3)|^2 = G0 + rho cos(th3 - phi)``, the squared
+    distance of the wrist centre from frame 2's origin, which it runs from ``m^2`` to
+    ``M^2`` (see :meth:`Pieper6RSolver._th3_meet`)."""
+    R2, t2 = model.M[2, :3, :3], model.M[2, :3, 3]
+    u, v = R2.T @ t2, wg.v  # |g|^2 = |u|^2 + |v|^2 + 2 u . Rz(th3) v
+    uxy, vxy, z = math.hypot(u[0], u[1]), math.hypot(v[0], v[1]), float(u[2] + v[2])
+    # u . Rz v = u_z v_z + (u_x v_x + u_y v_y) cos + (u_y v_x - u_x v_y) sin
+    phi = math.atan2(u[1] * v[0] - u[0] * v[1], u[0] * v[0] + u[1] * v[1])
+    return math.hypot(uxy - vxy, z), math.hypot(uxy + vxy, z), phi, 2 * uxy * vxy
 
 
 def _closest(p1: FloatArray, d1: FloatArray, p2: FloatArray, d2: FloatArray):
@@ -429,26 +460,23 @@ def _solve_sinusoid(
     return phi + delta, phi - delta, reachable, degenerate
 
 
-def _trig2_roots(
-    F: FloatArray, scale: FloatArray
-) -> tuple[FloatArray, np.ndarray, tuple]:
+def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
     """Real roots of trigonometric polynomials of degree 2 sampled at 5 angles.
 
     Parameters
     ----------
     F : ndarray, shape (N, 5)
         ``F(2 pi j / 5)`` for j = 0..4.
-    scale : ndarray, shape (N,)
-        The size of the squares ``F`` sums (its rounding is ``~eps * scale``).
 
     Returns
     -------
     theta : ndarray, shape (N, 4)
     real : ndarray of bool, shape (N, 4)
         The root is real (on the unit circle), after Newton polishing. Real roots come
-        first, by angle (of the unpolished root, in (-pi, pi]).
-    fit : tuple
-        ``F``'s Fourier coefficients and scale, for :func:`_join_double_roots`.
+        first, by angle (of the unpolished root, in (-pi, pi]). A double root (the elbow at
+        a fold) may come as two roots ~sqrt(rounding) apart, or as a complex pair within
+        ``ROOT_TOL`` of the circle: both are kept, and whether they are one solution or two
+        is decided on the whole pose (``Pieper6RSolver._merge_coinciding``), not on ``F``.
     """
     j = np.arange(5)
     ang = 2 * np.pi * j / 5
@@ -497,58 +525,7 @@ def _trig2_roots(
         step = np.where(np.abs(df) > 1e-8 * big[:, None], f / np.where(df == 0, 1.0, df), 0.0)
         step = np.clip(step, -1e-3, 1e-3)
         theta = theta - step
-    return theta, real, (a0, a, b, scale)
-
-
-def _trig2(theta: FloatArray, a0: FloatArray, a: list, b: list, d: int = 0) -> FloatArray:
-    """``F`` (``d = 0``) or its first or second derivative at ``theta (N, k)``."""
-    out = a0[:, None] if d == 0 else np.zeros_like(theta)
-    for k in (1, 2):
-        c, s_ = np.cos(k * theta), np.sin(k * theta)
-        if d == 0:
-            out = out + a[k - 1][:, None] * c + b[k - 1][:, None] * s_
-        elif d == 1:
-            out = out + k * (b[k - 1][:, None] * c - a[k - 1][:, None] * s_)
-        else:
-            out = out - k * k * (a[k - 1][:, None] * c + b[k - 1][:, None] * s_)
-    return out
-
-
-def _join_double_roots(
-    theta: FloatArray, real: np.ndarray, fit: tuple, other: FloatArray
-) -> None:
-    """Make two close roots that are one double root to rounding one root (in place).
-
-    Near a double root of ``F`` (the elbow at the edge of its reach) the eigenvalues
-    split by ~sqrt(rounding), often 1e-6 rad, into two "roots" that may be a complex
-    pair. The pair is two real roots only when ``F`` changes sign between them by more
-    than its rounding (``~eps`` times the squares it sums); otherwise both become the
-    point where ``F`` is least (one Newton step on ``F'``), and the polish and
-    ``Pieper6RSolver._merge_coinciding`` take it from there. Only pairs whose ``other``
-    joint (joint 2 from each root) is close too are one solution: the
-    two roots of a wrist centre just off axis 2 put joint 2 half a turn apart.
-    """
-    a0, a, b, scale = fit
-    noise = 8 * np.finfo(float).eps * scale  # F's rounding: a sign below it is noise
-    for i in range(4):
-        for j in range(i + 1, 4):
-            half = np.angle(np.exp(1j * (theta[:, j] - theta[:, i]))) / 2
-            near = real[:, i] & real[:, j] & (np.abs(half) < NEAR_PAIR)
-            near &= np.abs(np.angle(np.exp(1j * (other[:, j] - other[:, i])))) < NEAR_PAIR
-            if not near.any():
-                continue
-            mid = theta[:, i] + half
-            pts = np.stack([mid, mid + 2 * half], axis=1)
-            f = _trig2(pts, a0, a, b)
-            two = (np.sign(f[:, 0]) * np.sign(f[:, 1]) < 0) & (np.abs(f[:, 0]) > noise)
-            join = near & ~two
-            if join.any():
-                m = mid[:, None]
-                d2 = _trig2(m, a0, a, b, 2)[:, 0]
-                d1 = _trig2(m, a0, a, b, 1)[:, 0]
-                shift = np.where(np.abs(d2) > 0, d1 / np.where(d2 == 0, 1.0, d2), 0.0)
-                best = mid - np.clip(shift, -np.abs(half), np.abs(half))
-                theta[join, i] = theta[join, j] = best[join]
+    return theta, real
 
 
 class Pieper6RSolver:
@@ -570,7 +547,11 @@ class Pieper6RSolver:
         if reason:
             raise InputError(f"{arm.name}: {reason}")
         self.family = family
-        self.model = model = chain_model(arm)
+        # the solver works on the arm scaled by a power of two to a size near 1 (exact: the
+        # same digits), so that its quartic, which is of degree 4 in the lengths, neither
+        # overflows nor underflows for any arm rikin takes (1e-100 to 1e100 in its units)
+        self.model, self.unit = _unit_model(chain_model(arm))
+        model = self.model
         wg = wrist_geometry(arm, model)
         assert not isinstance(wg, str)
         self.wrist = wg
@@ -589,11 +570,19 @@ class Pieper6RSolver:
         self.sigma = float(np.sign(sb1))
         self.kappa = 1.0 if math.cos(wg.b1 + wg.b2) > 0 else -1.0
         self.M0_inv = np.linalg.inv(model.M[0])
+        self.meet_geometry = _meet_geometry(model, wg) if self.case == "meet" else None
         self.slots = tuple(Branch(None, None, w) for _ in range(POSITION_SLOTS)
                            for w in ("no-flip", "flip"))
 
     def check(self, arm: SerialArm) -> None:  # noqa: D102 - the Solver protocol
         _ = arm
+
+    def _to_unit(self, T: FloatArray) -> FloatArray:
+        """Poses ``(..., 4, 4)`` in the arm's units -> in the solver's (``self.unit`` per
+        arm unit, a power of two: exact)."""
+        T = np.array(T, dtype=float)
+        T[..., :3, 3] *= self.unit
+        return T
 
     def single_kernel(self, arm: SerialArm) -> object | None:
         """The plain-float kernel for one regular pose (:mod:`rikin.ik.pieper_kernel`), or
@@ -617,13 +606,18 @@ class Pieper6RSolver:
         return B, A
 
     def _position(
-        self, p: FloatArray, hint_th1: float, hint_th2: float = 0.0
+        self, p: FloatArray, hint_th1: float, hint_th2: float = 0.0, hinted: bool = False
     ) -> tuple[FloatArray, np.ndarray, dict[str, np.ndarray]]:
         """Joints 1-3 (as theta, offsets included) putting the wrist centre at ``p'`` (N, 3).
 
-        Returns ``th (N, 4, 3)``, ``valid (N, 4)`` and singular masks ``(N, 4)``.
+        Returns ``th (N, 4, 3)``, ``valid (N, 4)`` and singular masks ``(N, 4)``. A joint
+        flagged free (the centre within ``SINGULAR_TOL`` of its axis) takes the hint when
+        one was given (``hinted``: the caller's ``near``), else the value the pose gives it
+        while that is above rounding (``DIRECTION_FLOOR``).
         """
         N = p.shape[0]
+        L = self.model.scale
+        hint_tol = (SINGULAR_TOL if hinted else DIRECTION_FLOOR) * L
         a1, sa1 = self.a1, self.sa1
         th = np.zeros((N, POSITION_SLOTS, 3))
         valid = np.zeros((N, POSITION_SLOTS), dtype=bool)
@@ -635,22 +629,23 @@ class Pieper6RSolver:
             gxy2 = (g[None, :, :2] ** 2).sum(-1)
             terms = (sa1 * sa1 * B * B, 4 * a1 * a1 * A * A, 4 * a1 * a1 * sa1 * sa1 * gxy2)
             F = terms[0] + terms[1] - terms[2]
-            th3, real, fit = _trig2_roots(F, (terms[0] + terms[1] + terms[2]).max(axis=1))
-            th2, gx, gy = self._th2_skew(p, th3)
-            _join_double_roots(th3, real, fit, th2)
-            th2, gx, gy = self._th2_skew(p, th3)
-            upper = gx * gx + gy * gy <= (SINGULAR_TOL * self.model.scale) ** 2
-            th[..., 1], th[..., 2], valid = np.where(upper, hint_th2, th2), th3, real
+            th3, real = _trig2_roots(F)
+            th2, dist2 = self._th2_skew(p, th3)
+            upper = dist2 <= (SINGULAR_TOL * L) ** 2  # flagged
+            free = dist2 <= hint_tol**2  # q2 from the hint
+            th[..., 1], th[..., 2], valid = np.where(free, hint_th2, th2), th3, real
         else:
-            # one equation in th3 alone: (k0 + kc cos + ks sin) = 0, fitted from 3 samples
-            samples = np.array([0.0, np.pi / 2, np.pi])
-            g = self._g(samples)
-            B, A = self._position_equations(p[:, None, :], g[None])
-            E = B if self.case == "meet" else A
-            k0 = (E[:, 0] + E[:, 2]) / 2
-            kc = (E[:, 0] - E[:, 2]) / 2
-            ks = E[:, 1] - k0
-            r1, r2, ok, _ = _solve_sinusoid(kc, ks, -k0)
+            if self.case == "meet":
+                r1, r2, ok = self._th3_meet(p)
+            else:
+                # one equation in th3 alone: (k0 + kc cos + ks sin) = 0, fitted from 3 samples
+                samples = np.array([0.0, np.pi / 2, np.pi])
+                g = self._g(samples)
+                _, E = self._position_equations(p[:, None, :], g[None])
+                k0 = (E[:, 0] + E[:, 2]) / 2
+                kc = (E[:, 0] - E[:, 2]) / 2
+                ks = E[:, 1] - k0
+                r1, r2, ok, _ = _solve_sinusoid(kc, ks, -k0)
             for m, th3 in enumerate((r1, r2)):
                 g3 = self._g(th3)
                 B3, A3 = self._position_equations(p, g3)
@@ -659,32 +654,66 @@ class Pieper6RSolver:
                     t2p, t2m, ok2, deg = _solve_sinusoid(gy, gx, A3 / sa1)
                 else:  # 2 a1 (c2 gx - s2 gy) = B
                     t2p, t2m, ok2, deg = _solve_sinusoid(gx, -gy, B3 / (2 * a1))
-                free = deg | (gx * gx + gy * gy <= (SINGULAR_TOL * self.model.scale) ** 2)
+                gxy2 = gx * gx + gy * gy  # the centre's squared distance from axis 2
+                flagged = deg | (gxy2 <= (SINGULAR_TOL * L) ** 2)
+                free = deg | (gxy2 <= hint_tol**2)
                 for n_, t2 in enumerate((t2p, t2m)):
                     s = 2 * m + n_
-                    th[:, s, 1] = np.where(free, hint_th2, t2)  # on axis 2: q2 from near
+                    th[:, s, 1] = np.where(free, hint_th2, t2)
                     th[:, s, 2] = th3
-                    valid[:, s] = ok & (ok2 | free)
-                    upper[:, s] = free
+                    valid[:, s] = ok & (ok2 | flagged)
+                    upper[:, s] = flagged
         # joint 1 turns r = M1 Rz(th2) g onto p'
         r = self._arm_point(th[..., 1], th[..., 2])
         rho_p = np.hypot(p[:, 0], p[:, 1])[:, None]
-        on_axis = rho_p <= SINGULAR_TOL * self.model.scale
+        on_axis = rho_p <= SINGULAR_TOL * L
+        free1 = rho_p <= hint_tol
         th1 = np.arctan2(p[:, 1], p[:, 0])[:, None] - np.arctan2(r[..., 1], r[..., 0])
-        th[..., 0] = np.where(on_axis, hint_th1, th1)
-        self._split_near_axis(th, valid, rho_p[:, 0], on_axis[:, 0])
+        th[..., 0] = np.where(free1, hint_th1, th1)
+        self._split_near_axis(th, valid, rho_p[:, 0], free1[:, 0])
         shoulder = np.broadcast_to(on_axis, valid.shape) & valid
         return th, valid, {"shoulder": shoulder, "upper_arm": upper & valid}
 
+    def _th3_meet(self, p: FloatArray) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        """Both joint-3 roots (theta) when axes 1 and 2 meet: ``|g(th3)| = D``, ``D`` the
+        wrist centre's distance from the point where they meet, ``(r-, r+, reachable)``.
+
+        ``|g|^2 = G0 + rho cos(th3 - phi)`` runs from ``m^2`` (folded) to ``M^2``
+        (stretched), so ``th3 = phi +- 2 atan2(sqrt(M^2 - D^2), sqrt(D^2 - m^2))`` with
+        both differences taken as products, ``(D - m)(D + m)``: as exact as ``D`` itself.
+        The same equation fitted as a sinusoid loses half the digits near a fold, where
+        ``D^2 - m^2`` is a difference of large numbers; with equal links (``m = 0``, the
+        wrist centre folded onto the shoulder) that alone moved the two roots by
+        ``~sqrt(eps)`` while they were 1e-8 apart, and a reachable pose was declared out
+        of reach.
+        """
+        assert self.meet_geometry is not None
+        m, M, phi, rho = self.meet_geometry
+        D = np.hypot(np.hypot(p[:, 0], p[:, 1]), p[:, 2] - self.d1)
+        inner, outer = (D - m) * (D + m), (M - D) * (M + D)
+        slack = -math.sqrt(REACH_TOL) * rho
+        ok = (inner >= slack) & (outer >= slack) & (rho > 0)
+        half = 2 * np.arctan2(np.sqrt(np.maximum(outer, 0.0)), np.sqrt(np.maximum(inner, 0.0)))
+        return phi - half, phi + half, ok  # the order of the one-pose kernel's roots
+
     def _th2_skew(
         self, p: FloatArray, th3: FloatArray
-    ) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """Joint 2 (theta) of each joint-3 root when axes 1 and 2 are skew, and ``g_x, g_y``."""
+    ) -> tuple[FloatArray, FloatArray]:
+        """Joint 2 (theta) of each joint-3 root when axes 1 and 2 are skew, and the squared
+        distance of the wrist centre from axis 2.
+
+        ``(X, Y)`` is the wrist centre's offset from axis 2 turned by joint 2, ``Rz(th2)
+        g_xy``. That distance is taken from ``(X, Y)``, not from ``g_xy``: near the fold of
+        equal links (the centre just off axis 2) a double root of joint 3 is known only to
+        ``~sqrt(eps)``, which moves ``g_xy`` by more than the distance itself (and would
+        call a centre 2e-6 of the arm's size off axis 2 one on it), while ``(X, Y)`` hardly
+        depends on joint 3 there.
+        """
         g3 = self._g(th3)  # (N, 4, 3)
         B3, A3 = self._position_equations(p[:, None, :], g3)
         X, Y = B3 / (2 * self.a1), A3 / self.sa1
         gx, gy = g3[..., 0], g3[..., 1]
-        return np.arctan2(gx * Y - gy * X, gx * X + gy * Y), gx, gy
+        return np.arctan2(gx * Y - gy * X, gx * X + gy * Y), X * X + Y * Y
 
     def _split_near_axis(
         self, th: FloatArray, valid: np.ndarray, rho_p: FloatArray, on_axis: np.ndarray
@@ -868,8 +897,9 @@ class Pieper6RSolver:
         pose error halfway between them is ``~k s^2 / 4``. So the pair is two solutions
         when that halfway error stands out of the rounding of the two ends, and one
         (the elbow singularity, no free joint) when it does not: a pose within rounding
-        of the fold, on either side. The kept point is the best of the two and their
-        midpoint.
+        of the fold, on either side. Halfway is measured on the valley's floor
+        (:meth:`_valley`), not at the straight midpoint in joint space. The kept point is
+        the best of the two and that halfway point.
         """
         n = th.shape[1]
         elbow = np.zeros(valid.shape, dtype=bool)
@@ -881,7 +911,10 @@ class Pieper6RSolver:
         if not close.any():
             return elbow
         mid = th[:, ii] + half
-        r_mid = self._residual(mid, goal[:, :1])
+        rows, _ = np.nonzero(close)
+        mid[close] = self._valley(mid[close], goal[rows, 0])
+        r_mid = np.full(close.shape, np.inf)
+        r_mid[close] = self._residual(mid[close], goal[rows, 0])
         ends = np.maximum(res[:, ii], res[:, jj])
         same = close & (r_mid <= np.maximum(COINCIDE_FACTOR * ends, COINCIDE_FLOOR))
         for k in zip(*np.nonzero(same), strict=True):
@@ -894,6 +927,33 @@ class Pieper6RSolver:
             elbow[row, i] = elbow[row, j] = True
         return elbow
 
+    def _valley(self, th: FloatArray, T_goal: FloatArray) -> FloatArray:
+        """Move joint values ``(..., 6)`` onto the floor of the pose error's valley.
+
+        Between two roots of a fold the error is least along a curve (the valley) whose
+        height halfway is the fold's bump ``~k s^2 / 4``. The straight midpoint in joint
+        space lies off that curve by ``~s^2`` times the other joints' curvature, which can
+        hide the bump or invent one. ``VALLEY_STEPS`` Gauss-Newton steps without the
+        weakest direction (the one along the valley, the fold's) settle on the floor and
+        stay halfway.
+        """
+        L = self.model.scale
+        w = np.array([1 / L] * 3 + [1.0] * 3)
+        shape = th.shape
+        x = th.reshape(-1, 6).copy()
+        goal = np.broadcast_to(T_goal, shape[:-1] + (4, 4)).reshape(-1, 4, 4)
+        for _ in range(VALLEY_STEPS):
+            T, z, o = self._fk_frames(x)
+            e = self._pose_error(T, goal) * w
+            J = np.concatenate([np.cross(z, T[..., None, :3, 3] - o), z], axis=-1)
+            J = np.swapaxes(J, -1, -2) * w[:, None]
+            U, sv, Vt = np.linalg.svd(J)
+            inv = np.where(sv > POLISH_RCOND * sv[..., :1], 1.0 / np.where(sv > 0, sv, 1.0), 0.0)
+            inv[..., -1] = 0.0  # not along the valley
+            Ue = np.swapaxes(U, -1, -2) @ e[..., None]
+            x = x + (np.swapaxes(Vt, -1, -2) @ (inv[..., None] * Ue))[..., 0]
+        return x.reshape(shape)
+
     def _residual(self, th: FloatArray, T_goal: FloatArray) -> FloatArray:
         T, _, _ = self._fk_frames(th)
         pos = np.linalg.norm(T[..., :3, 3] - T_goal[..., :3, 3], axis=-1) / self.model.scale
@@ -903,6 +963,7 @@ class Pieper6RSolver:
     # -------------------------------------------------------------- solve
     def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         """All solutions of N flange poses ``T_0_n (N, 4, 4)``; 8 slots."""
+        T_0_n = self._to_unit(T_0_n)
         off = self.model.offsets
         N = T_0_n.shape[0]
         h1 = (0.0 if hint is None else float(hint[0])) + off[0]
@@ -911,7 +972,7 @@ class Pieper6RSolver:
         p_w = (T_0_n @ c)[:, :3]
         p = (self.M0_inv @ np.append(p_w, np.ones((N, 1)), axis=1)[..., None])[:, :3, 0]
         h2 = (0.0 if hint is None else float(hint[1])) + off[1]
-        th123, valid_pos, sing = self._position(p, h1, h2)
+        th123, valid_pos, sing = self._position(p, h1, h2, hint is not None)
         # wrist: R_w = R_F4^T R_0_6 R_M6^T
         M = self.model.M
         R_F4 = (
@@ -983,13 +1044,14 @@ class Pieper6RSolver:
 
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         """Why one flange pose has no solution, and by how much (length units or rad)."""
+        T_0_n = self._to_unit(T_0_n)
         c = np.append(self.wrist.c_flange, 1.0)
         p_w = (T_0_n @ c)[:3]
         p = (self.M0_inv @ np.append(p_w, 1.0))[:3]
         u = _units(arm)
         th, valid, _ = self._position(p[None], 0.0)
         if not valid[0].any():
-            gap = self._nearest_reach(p)
+            gap = self._nearest_reach(p) / self.unit
             return (
                 f"the wrist centre is {gap:.4g}{u} out of reach of joints 1-3 (the nearest "
                 f"point they can put it is {gap:.6g}{u} away)",

@@ -113,7 +113,11 @@ class PieperKernel:
         M = [_rows(m) for m in model.M]
         self.L = float(model.scale)
         self.case = solver.case
-        base_inv, tool_inv = _inv_transform(arm.base), _inv_transform(arm.tool)
+        # in the solver's units (``solver.unit`` per arm unit, a power of two)
+        base_inv, tool_inv = solver._to_unit(_inv_transform(arm.base)), solver._to_unit(
+            _inv_transform(arm.tool)
+        )
+        self.unit = solver.unit
         # wrist centre: p' = G (T c_tcp); rotation S = G_R R H
         G = solver.M0_inv @ base_inv
         self.G = _rows(G[:3, :3])
@@ -268,6 +272,8 @@ class PieperKernel:
         ``T`` is the validated world pose as nested lists.
         """
         (r00, r01, r02, tx), (r10, r11, r12, ty), (r20, r21, r22, tz) = T[0], T[1], T[2]
+        u = self.unit
+        tx, ty, tz = tx * u, ty * u, tz * u
         cx, cy, cz = self.c_tcp
         wx = r00 * cx + r01 * cy + r02 * cz + tx
         wy = r10 * cx + r11 * cy + r12 * cz + ty
