@@ -18,14 +18,15 @@ ORTHONORMAL_TOL = 1e-3
 ROTATION_CLEAN_TOL = 1e-12
 
 #: A 5-DOF arm (PPRRR, RPRRR) reaches only a 5-dimensional set of poses: its
-#: wrist centre must lie where joints 1-2 can put it. A target whose wrist
-#: centre is within this of that set (times the larger of the arm's size and
-#: the wrist centre's distance from the base) is a rounded reachable pose, and
-#: IK solves the nearest reachable pose and reports the distance; further off
-#: it is unreachable. Printed with 4 decimals, the lessons' poses are at most
-#: ~3e-5 off (float32: ~4e-8), so this accepts them with 3x margin (as
-#: ``ORTHONORMAL_TOL`` does their rotations), and refuses an error of 1e-2 at
-#: the lessons' scale (~5e-4).
+#: wrist centre must lie where joints 1-2 can put it; any arm's wrist centre
+#: (or the point its positioning links place) must lie within their reach. A
+#: target whose wrist centre is within this of that set (times the larger of
+#: the arm's size and the wrist centre's distance from the base) is a rounded
+#: reachable pose, and IK solves the nearest reachable pose and reports the
+#: distance; further off it is unreachable. Printed with 4 decimals, the
+#: lessons' poses are at most ~3e-5 off (float32: ~4e-8), so this accepts them
+#: with 3x margin (as ``ORTHONORMAL_TOL`` does their rotations), and refuses an
+#: error of 1e-2 at the lessons' scale (~5e-4).
 ROUNDED_POSE_TOL = 1e-4
 
 #: Lengths rikin handles (absolute value, the arm's units): link lengths and

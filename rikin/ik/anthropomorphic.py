@@ -25,6 +25,7 @@ from ..tolerances import AXIS_TOL
 from .api import ClosedForm
 from .base import RawSolutions, Singularity
 from .kernels import elbow_above, reach_excess, two_link_parts, two_link_slots
+from .reach import Gap, nearest_reachable, rounding_note
 from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -108,8 +109,44 @@ def position_rrr(
     return RRRPosition(q, valid, up, shoulder, stretched, fold)
 
 
-def explain_rrr(p: FloatArray, g: RRRGeometry, units: str, what: str) -> tuple[str, float]:
-    """Why the point ``p (3,)`` is out of reach of the RRR chain, and by how much."""
+def rrr_gap(g: RRRGeometry) -> Callable[[FloatArray, np.ndarray | None], Gap]:
+    """The ``gap`` of :func:`rikin.ik.reach.nearest_reachable` for points ``p (N, 3)`` the
+    RRR chain places (base frame): the signed distance of ``p`` from the shell joints 2-3
+    sweep around the shoulder (``d - L2 - L3`` beyond it, ``d - |L2 - L3|`` inside its
+    inner radius, 0 between), of the front arm (row 0) or the back one (row 1), whichever
+    is nearer on the first call; and its gradient. In the vertical plane through axis 1
+    and ``p``, the set is the annulus around the shoulder, so the nearest point lies in
+    that plane, along the line from the shoulder (the planar arms: ``z0 = r0 = 0``)."""
+    Lp, Lm = g.L2 + g.L3, abs(g.L2 - g.L3)
+
+    def gap(p: FloatArray, active: np.ndarray | None) -> Gap:
+        rho = np.hypot(p[:, 0], p[:, 1])
+        u = np.stack([rho - g.r0, rho + g.r0], axis=-1)  # front, back (mirrored): (N, 2)
+        w = (p[:, 2] - g.z0)[:, None]
+        d = np.hypot(u, w)
+        r = d - np.clip(d, Lm, Lp)
+        if active is None:
+            front = np.abs(r[:, 0]) <= np.abs(r[:, 1])
+            active = np.stack([front, ~front], axis=-1)
+        # no direction is nearest at the shoulder, nor (horizontally) on axis 1
+        active = active & (d > 0) & (rho > 0)[:, None]
+        safe_d = np.where(active, d, 1.0)
+        safe_rho = np.where(rho > 0, rho, 1.0)
+        J = np.zeros((len(p), 2, 3))
+        J[..., 0] = u / safe_d * (p[:, 0] / safe_rho)[:, None]
+        J[..., 1] = u / safe_d * (p[:, 1] / safe_rho)[:, None]
+        J[..., 2] = w / safe_d
+        J[~active] = 0.0
+        return np.where(active, r, 0.0), J, active
+
+    return gap
+
+
+def explain_rrr(
+    p: FloatArray, g: RRRGeometry, units: str, what: str, note: str = ""
+) -> tuple[str, float]:
+    """Why the point ``p (3,)`` is out of reach of the RRR chain, and by how much
+    (``note``, e.g. :func:`rikin.ik.reach.rounding_note`, ends the sentence)."""
     rho = float(np.hypot(p[0], p[1]))
     w = float(p[2] - g.z0)
     d_front = float(np.hypot(rho - g.r0, w))
@@ -120,11 +157,11 @@ def explain_rrr(p: FloatArray, g: RRRGeometry, units: str, what: str) -> tuple[s
     u = f" {units}" if units else ""
     if d > g.L2 + g.L3:
         return (f"{what} is {ex:.4g}{u} beyond the reach of links 2-3 "
-                f"(it is {d:.6g}{u} from the shoulder axis; links 2-3 reach {g.L2 + g.L3:.6g}{u})",
-                ex)
+                f"(it is {d:.6g}{u} from the shoulder axis; links 2-3 reach {g.L2 + g.L3:.6g}{u})"
+                + note, ex)
     return (f"{what} is {ex:.4g}{u} too close to the shoulder axis for links 2-3 "
-            f"(distance {d:.6g}{u}, the folded arm reaches no closer than {abs(g.L2 - g.L3):.6g}{u})",
-            ex)
+            f"(distance {d:.6g}{u}, the folded arm reaches no closer than {abs(g.L2 - g.L3):.6g}{u})"
+            + note, ex)
 
 
 SHOULDER = Singularity("the wrist centre is on the axis of joint 1, so q1 is free", (1,),
@@ -172,5 +209,12 @@ class Angular3RSolver(ClosedForm):
                             singular={"shoulder": pos.shoulder_singular, "elbow": pos.elbow_singular,
                                       "fold": pos.fold_singular & pos.valid})
 
+    def nearest_reachable(
+        self, arm: SerialArm, T_world: FloatArray
+    ) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        """:func:`rikin.ik.reach.nearest_reachable`: the target moved onto the shell."""
+        return nearest_reachable(arm, rrr_gap(self.geometry), T_world, np.zeros(3))
+
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
-        return explain_rrr(T_0_n[:3, 3], self.geometry, arm.units, "the target")
+        p = T_0_n[:3, 3]
+        return explain_rrr(p, self.geometry, arm.units, "the target", rounding_note(arm, p))

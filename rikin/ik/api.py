@@ -250,11 +250,11 @@ def _onto_reach(
     hint: FloatArray | None,
 ) -> tuple[RawSolutions, FloatArray, FloatArray]:
     """Solve again, for their nearest reachable pose, the poses ``T_world (N, 4, 4)`` with no
-    solution that a 5-DOF arm misses by rounding only (``ROUNDED_POSE_TOL``).
+    solution that the arm misses by rounding only (``ROUNDED_POSE_TOL``).
 
     Returns ``raw`` (those poses' rows replaced), the poses solved ``(N, 4, 4)``, and how far
-    each given pose was from reachable ``(N,)`` (0 where it was solved as given). Arms that
-    reach every pose near their workspace (no ``nearest_reachable``) pass through unchanged.
+    each given pose was from reachable ``(N,)`` (0 where it was solved as given). Solvers
+    without ``nearest_reachable`` pass through unchanged.
     """
     reach = np.zeros(len(T_world))
     nearest = getattr(solver, "nearest_reachable", None)
@@ -271,9 +271,13 @@ def _onto_reach(
     for name in ("q", "valid", "elbow_up", "shoulder_front"):
         mine = getattr(raw, name)
         if mine is not None:
+            mine = np.array(mine)  # a copy: solvers may hand back read-only broadcasts
             mine[fix] = getattr(again, name)
+            setattr(raw, name, mine)
     for name, mask in raw.singular.items():
+        mask = np.array(mask)
         mask[fix] = again.singular[name]
+        raw.singular[name] = mask
     T_solved = T_world.copy()
     T_solved[fix] = T_near[close]
     reach[fix] = dist[close]
@@ -443,9 +447,10 @@ def solve_batch(
         ``singular (N,)``, ``rotation_distance (N,)``, ``reach_distance (N,)``.
         No de-duplication, no FK check, no labels beyond the slot's branch. A
         pose whose rotation block is not a rotation to rounding (but within
-        ``ORTHONORMAL_TOL``) is solved for the nearest rotation, and a pose a
-        5-DOF arm misses by rounding (within ``ROUNDED_POSE_TOL``) for the
-        nearest reachable pose, as :func:`solve` does.
+        ``ORTHONORMAL_TOL``) is solved for the nearest rotation, and a pose the
+        arm misses by rounding (within ``ROUNDED_POSE_TOL``: a 5-DOF arm's
+        wrist centre off the set it reaches, a stretched arm's beyond its reach)
+        for the nearest reachable pose, as :func:`solve` does.
 
     Raises
     ------
@@ -488,6 +493,7 @@ def solve_batch(
 
     n_workers = workers if workers is not None else min(4, os.cpu_count() or 1)
     size = _chunk_length(N, chunk_size, n_workers)
+    rounds_onto_reach = hasattr(solver, "nearest_reachable")
 
     def run(start: int) -> None:
         stop = min(start + size, N)
@@ -507,6 +513,8 @@ def solve_batch(
         q, valid, suspect = kernel.solve(X)
         q_out[start:stop] = q.transpose(2, 0, 1)
         valid_out[start:stop] = valid.T
+        if rounds_onto_reach:  # no solution: maybe rounded beyond the reach
+            suspect = suspect | ~valid.any(axis=0)
         redo = np.flatnonzero(suspect)
         if redo.size:
             general(start + redo, T_chunk[redo])

@@ -51,9 +51,8 @@ class Singularity:
 class Solver(Protocol):
     """A closed-form IK of one arm family, working on ``T_0_n`` (no base, no tool).
 
-    A family that reaches only a subset of poses (the 5-DOF arms) may also offer
-    ``nearest_reachable(arm, T_world)``: the poses it solves instead of rounded ones
-    (see :func:`rikin.ik.prismatic.nearest_reachable`).
+    A family may also offer ``nearest_reachable(arm, T_world)``: the reachable poses it
+    solves instead of rounded ones that miss its reach (see :mod:`rikin.ik.reach`).
     """
 
     target_kind: TargetKind

@@ -39,6 +39,7 @@ from .anthropomorphic import (
     check_rrr_geometry,
     explain_rrr,
     position_rrr,
+    rrr_gap,
 )
 from .api import ClosedForm
 from .base import RawSolutions, Singularity
@@ -53,6 +54,7 @@ from .kernels import (
     two_link_parts,
     wrap_in_place,
 )
+from .reach import nearest_reachable, rounding_note
 from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -251,10 +253,18 @@ class Decoupled6RSolver(ClosedForm):
             },
         )
 
+    def nearest_reachable(
+        self, arm: SerialArm, T_world: FloatArray
+    ) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        """:func:`rikin.ik.reach.nearest_reachable`: the wrist centre moved onto the shell
+        joints 1-3 sweep."""
+        return nearest_reachable(arm, rrr_gap(self.geometry), T_world, self.wrist(arm).centre)
+
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         W = self.wrist(arm)
         pw = T_0_n[:3, :3] @ W.centre + T_0_n[:3, 3]
-        return explain_rrr(pw, self.geometry, arm.units, "the wrist centre")
+        return explain_rrr(pw, self.geometry, arm.units, "the wrist centre",
+                           rounding_note(arm, pw))
 
     def steps(self, arm: SerialArm, T_0_6: FloatArray, arm_slot: int = 0) -> DecouplingSteps:
         """The decoupling's intermediate values for one pose ``T_0_6`` and one arm slot (0-3).

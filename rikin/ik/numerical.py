@@ -208,7 +208,11 @@ def _clean_target(T: Any) -> tuple[FloatArray, float]:
 
 def _nearest_reachable(arm: SerialArm) -> Any:
     """The closed-form solver's ``nearest_reachable`` of a 5-DOF arm that reaches only a
-    5-dimensional set of poses (the PPRRR and RPRRR lesson arms), else None."""
+    5-dimensional set of poses (the PPRRR and RPRRR lesson arms), else None (the other
+    arms' solvers move only poses just beyond their reach, which the iteration solves as
+    the least-squares pose it converges to)."""
+    if arm.n != 5 or getattr(arm.solver, "target_kind", None) != "pose":
+        return None
     return getattr(arm.solver, "nearest_reachable", None)
 
 

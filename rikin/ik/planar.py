@@ -13,9 +13,11 @@ import numpy as np
 from .._validate import FloatArray
 from ..errors import InputError
 from ..tolerances import SINGULAR_TOL
+from .anthropomorphic import RRRGeometry, rrr_gap
 from .api import ClosedForm
 from .base import RawSolutions, Singularity
 from .kernels import elbow_above, reach_excess, two_link_parts, two_link_slots
+from .reach import nearest_reachable, rounding_note
 from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -72,21 +74,34 @@ class _PlanarBase(ClosedForm):
         return A, B, t.reachable, t.stretched, t.fold, up
 
     def _explain_reach(
-        self, d: float, L1: float, L2: float, units: str, what: str
+        self, arm: SerialArm, p: FloatArray, L1: float, L2: float, what: str
     ) -> tuple[str, float]:
+        """Why the point ``p (3,)`` (base frame) is out of reach of links 1-2."""
+        d = float(np.hypot(p[0], p[1]))
         ex = float(reach_excess(np.array(d), L1, L2))
-        u = f" {units}" if units else ""
+        u = f" {arm.units}" if arm.units else ""
+        note = rounding_note(arm, p)
         if d > L1 + L2:
             return (
                 f"{what} is {ex:.4g}{u} beyond the reach of links 1-2 "
-                f"(distance {d:.6g}{u} from joint 1, reach {L1 + L2:.6g}{u})",
+                f"(distance {d:.6g}{u} from joint 1, reach {L1 + L2:.6g}{u})" + note,
                 ex,
             )
         return (
             f"{what} is {ex:.4g}{u} too close to joint 1 for links 1-2 "
-            f"(distance {d:.6g}{u}, the folded arm reaches no closer than {abs(L1 - L2):.6g}{u})",
+            f"(distance {d:.6g}{u}, the folded arm reaches no closer than {abs(L1 - L2):.6g}{u})"
+            + note,
             ex,
         )
+
+    def nearest_reachable(
+        self, arm: SerialArm, T_world: FloatArray
+    ) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        """:func:`rikin.ik.reach.nearest_reachable`: the point links 1-2 place (the target,
+        or the 3R's wrist point) moved onto the annulus they sweep."""
+        L1, L2, *rest = _lengths(arm, arm.n)
+        centre = np.array([-rest[0], 0.0, 0.0]) if rest else np.zeros(3)
+        return nearest_reachable(arm, rrr_gap(RRRGeometry(0.0, 0.0, L1, L2)), T_world, centre)
 
 
 class Planar2RSolver(_PlanarBase):
@@ -110,9 +125,7 @@ class Planar2RSolver(_PlanarBase):
         plane = _explain_plane(T_0_n, arm.units, L1 + L2, False)
         if plane:
             return plane, abs(float(T_0_n[2, 3]))
-        return self._explain_reach(
-            float(np.hypot(T_0_n[0, 3], T_0_n[1, 3])), L1, L2, arm.units, "the target"
-        )
+        return self._explain_reach(arm, T_0_n[:3, 3], L1, L2, "the target")
 
 
 def _two_slots(q: FloatArray, ok: np.ndarray, stretched: np.ndarray, origin: np.ndarray,
@@ -157,5 +170,5 @@ class Planar3RSolver(_PlanarBase):
             return plane, abs(float(T_0_n[2, 3]))
         _, e, c = self.wrist_point(T_0_n[None], L3)
         return self._explain_reach(
-            float(np.hypot(e[0], c[0])), L1, L2, arm.units, "the wrist point (target minus link 3)"
+            arm, np.array([e[0], c[0], 0.0]), L1, L2, "the wrist point (target minus link 3)"
         )

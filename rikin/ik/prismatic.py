@@ -9,22 +9,23 @@ A 5-DOF arm cannot reach every pose: the wrist centre must lie where joints
 ``t_y = a3 a_y``), for the RPRRR the plane ``z = d_1`` outside the cylinder of
 radius ``a_2`` (constraint ``t_z = a4 a_z``). A target whose wrist centre is
 within ``ROUNDED_POSE_TOL`` of that set (a pose rounded to 4 decimals, or
-float32) is moved to the nearest reachable pose (:func:`nearest_reachable`);
+float32) is moved to the nearest reachable pose (:func:`rikin.ik.reach.nearest_reachable`);
 targets further off raise :class:`~rikin.errors.UnreachableError` with the distance.
 """
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .._validate import FloatArray
 from ..errors import InputError
-from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL, SINGULAR_TOL
+from ..tolerances import REACH_TOL, SINGULAR_TOL
 from .api import ClosedForm
 from .base import RawSolutions, Singularity
 from .decoupled import wrist_angles, wrist_model, wrist_slot_labels
+from .reach import Gap, nearest_reachable, rounding_note
 from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -47,107 +48,6 @@ def _origin_2(arm: SerialArm, q: FloatArray) -> FloatArray:
 def _w(arm: SerialArm) -> float:
     """Distance from the wrist centre to the flange origin (the notes' a3 or a4)."""
     return float(np.linalg.norm(wrist_model(arm, 2).centre))
-
-
-def _turn(R: FloatArray, w: FloatArray) -> FloatArray:
-    """``exp([w]x) @ R`` for rotation vectors ``w (N, 3)`` (Rodrigues), ``R (N, 3, 3)``."""
-    t = np.linalg.norm(w, axis=-1)[:, None, None]
-    K = np.zeros(R.shape)
-    K[:, 0, 1], K[:, 0, 2], K[:, 1, 2] = -w[:, 2], w[:, 1], -w[:, 0]
-    K[:, 1, 0], K[:, 2, 0], K[:, 2, 1] = w[:, 2], -w[:, 1], w[:, 0]
-    a = np.sinc(t / np.pi)  # sin(t) / t
-    b = 0.5 * np.sinc(t / (2 * np.pi)) ** 2  # (1 - cos t) / t^2
-    return (np.eye(3) + a * K + b * (K @ K)) @ R
-
-
-#: What the ``gap`` of :func:`nearest_reachable` returns: residuals, gradients, active rows.
-_Gap = tuple[FloatArray, FloatArray, np.ndarray]
-
-
-def _rounding_size(arm: SerialArm, pw: FloatArray) -> FloatArray:
-    """What ``ROUNDED_POSE_TOL`` is relative to: the arm's size, or the wrist centre's
-    distance from the base when larger (the solvers' own notion, ``far``)."""
-    return np.maximum(arm.scale, np.abs(pw).max(axis=-1))
-
-
-def nearest_reachable(
-    arm: SerialArm, gap: Any, T_world: FloatArray
-) -> tuple[FloatArray, FloatArray, np.ndarray]:
-    """The reachable pose nearest to each world pose ``T_world (N, 4, 4)`` of a 5-DOF arm.
-
-    Nearest means: the least sum of squared changes of the twelve numbers of
-    ``[R | p]`` (the numbers a student types, each carrying the same rounding;
-    ``R`` stays a rotation), the same entry-by-entry measure as the nearest
-    rotation. Turning ``R`` by a small rotation vector ``w`` changes its entries by
-    ``|w| sqrt(2)``, so this is the least ``|dp|^2 + 2 |w|^2`` that puts the wrist centre
-    ``p_w = p + R c`` (``c``: the wrist centre in the TCP frame) on the set joints 1-2
-    reach: the TCP moves and the approach direction tilts, each in proportion to how
-    much it moves the wrist centre off the set. Solved by Gauss-Newton with the
-    minimum-norm step (the constraints are linear in ``dp``, nearly so in ``w``; three
-    steps reach rounding).
-
-    Parameters
-    ----------
-    arm : SerialArm
-        A PPRRR or RPRRR arm (with any base and tool).
-    gap : callable
-        ``gap(p_w (N, 3), active) -> (r (N, k), J (N, k, 3), active (N, k))``: the
-        solver's signed distances of base-frame wrist centres from the reachable set along
-        ``k`` orthogonal unit directions, their gradients, and which of the constraints
-        apply (decided on the first call, ``active=None``, then kept; rows that do not
-        apply are zero).
-    T_world : ndarray, shape (N, 4, 4)
-        Validated poses with exact rotation blocks.
-
-    Returns
-    -------
-    T_near : ndarray, shape (N, 4, 4)
-        The nearest reachable poses (world frame).
-    distance : ndarray, shape (N,)
-        How far each given wrist centre is from the reachable set, in the arm's length
-        units: also the least TCP move that reaches the set with the orientation kept.
-    close : ndarray of bool, shape (N,)
-        ``distance`` is within ``ROUNDED_POSE_TOL`` (relative, see there).
-    """
-    W = wrist_model(arm, 2)
-    tool, base = arm.tool, arm.base
-    c = tool[:3, :3].T @ (W.centre - tool[:3, 3])  # wrist centre in the TCP frame
-    B, b = base[:3, :3], base[:3, 3]
-    R0, p0 = T_world[:, :3, :3], T_world[:, :3, 3]
-    R, x = R0.copy(), np.zeros((len(T_world), 6))
-    half = np.array([1.0, 1.0, 1.0, 0.5, 0.5, 0.5])  # inverse of the metric diag(1, 1, 1, 2, 2, 2)
-    active = None
-    for step in range(4):
-        v = R @ c
-        pw = (p0 + x[:, :3] + v - b) @ B  # base frame
-        r, J, active = gap(pw, active)
-        if step == 0:
-            distance = np.linalg.norm(r, axis=-1)
-            size = _rounding_size(arm, pw)
-        G = J @ B.T  # gradient with respect to the world wrist centre, (N, k, 3)
-        # d p_w = dp + dw x v, and g . (dw x v) = dw . (v x g): the w columns are v x g
-        A = np.concatenate([G, np.cross(v[:, None, :], G)], axis=-1)  # (N, k, 6)
-        M = (A * half) @ np.swapaxes(A, -1, -2)
-        M += (~active)[..., None] * np.eye(M.shape[-1])  # a row that does not apply: lambda 0
-        rhs = np.einsum("nkj,nj->nk", A, x) - r
-        lam = np.linalg.solve(M, rhs[..., None])[..., 0]
-        x_new = np.einsum("nkj,nk->nj", A, lam) * half
-        R = _turn(R, x_new[:, 3:] - x[:, 3:])
-        x = x_new
-    out = T_world.copy()
-    out[:, :3, :3] = R
-    out[:, :3, 3] = p0 + x[:, :3]
-    return out, distance, distance <= ROUNDED_POSE_TOL * size
-
-
-def _rounding_note(arm: SerialArm, pw: FloatArray) -> str:
-    """The tolerance an UnreachableError of a 5-DOF arm mentions."""
-    u = f" {arm.units}" if arm.units else ""
-    tol = ROUNDED_POSE_TOL * float(_rounding_size(arm, pw[None])[0])
-    return (
-        f" (a pose up to {tol:.4g}{u} off is taken as rounded and solved for the nearest "
-        "reachable pose)"
-    )
 
 
 class PPRRRSolver(ClosedForm):
@@ -219,12 +119,12 @@ class PPRRRSolver(ClosedForm):
         rank = int((sv > 1e-12 * sv.max()).sum())
         normal = left[:, rank:].T  # (k, 3): unit normals of the plane (or line) joints 1-2 sweep
 
-        def gap(pw: FloatArray, active: np.ndarray | None) -> _Gap:
+        def gap(pw: FloatArray, active: np.ndarray | None) -> Gap:
             N = len(pw)
             on = np.ones((N, len(normal)), dtype=bool)
             return (pw - c0) @ normal.T, np.broadcast_to(normal, (N, *normal.shape)), on
 
-        return nearest_reachable(arm, gap, T_world)
+        return nearest_reachable(arm, gap, T_world, wrist_model(arm, 2).centre)
 
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         c0, U, _ = self._affine(arm)
@@ -235,7 +135,7 @@ class PPRRRSolver(ClosedForm):
         return (
             f"a 5-DOF arm cannot reach every pose: the wrist centre (target minus "
             f"{_w(arm):.4g}{u} along z_5) is {r:.4g}{u} off the plane joints 1-2 can reach"
-            + _rounding_note(arm, pw),
+            + rounding_note(arm, pw),
             r,
         )
 
@@ -341,7 +241,7 @@ class RPRRRSolver(ClosedForm):
         """:func:`nearest_reachable` for the plane ``z = d1`` outside the cylinder ``r = a2``."""
         a2, d1, *_ = self._params(arm)
 
-        def gap(pw: FloatArray, active: np.ndarray | None) -> _Gap:
+        def gap(pw: FloatArray, active: np.ndarray | None) -> Gap:
             N = len(pw)
             rho = np.hypot(pw[:, 0], pw[:, 1])
             if active is None:  # the plane always; the cylinder when the centre is inside it
@@ -354,7 +254,7 @@ class RPRRRSolver(ClosedForm):
             active = active & np.stack([np.ones(N, dtype=bool), radial | ~active[:, 1]], axis=-1)
             return r, J, active
 
-        return nearest_reachable(arm, gap, T_world)
+        return nearest_reachable(arm, gap, T_world, wrist_model(arm, 2).centre)
 
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         a2, d1, *_ = self._params(arm)
@@ -375,7 +275,7 @@ class RPRRRSolver(ClosedForm):
                 f"{_w(arm):.4g}{u} along z_5) is {abs(dz):.4g}{u} "
                 f"{'above' if dz > 0 else 'below'} the plane z = {d1:.4g} joints 1-2 move it in"
                 + also
-                + _rounding_note(arm, pw),
+                + rounding_note(arm, pw),
                 dist,
             )
-        return (f"the wrist centre is {cyl}" + _rounding_note(arm, pw), dist)
+        return (f"the wrist centre is {cyl}" + rounding_note(arm, pw), dist)
