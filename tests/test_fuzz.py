@@ -1192,6 +1192,8 @@ NOT_FUZZED = {
     "validated input (fuzzed through SerialArm.ik and ik_batch of an arm typed as a table)",
     "rikin.ik.pieper.Pieper6RSolver.solve": "solver protocol, as Pieper6RSolver.check",
     "rikin.ik.pieper.Pieper6RSolver.explain": "solver protocol, as Pieper6RSolver.check",
+    "rikin.ik.pieper.Pieper6RSolver.nearest_reachable": "solver protocol, as "
+    "Pieper6RSolver.check (rikin.ik.solve calls it on validated poses)",
     "rikin.ik.pieper.Pieper6RSolver.single_kernel": "solver protocol, as "
     "Pieper6RSolver.check",
     "rikin.ik.pieper_kernel.PieperKernel": "the one-pose kernel rikin.ik.solve builds from "

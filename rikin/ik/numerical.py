@@ -87,12 +87,12 @@ class NumericalIKResult:
         was from a rotation (Frobenius norm; 0 when it was one to rounding).
     reach_distance : float
         As :attr:`rikin.IKResult.reach_distance`, for a 5-DOF lesson arm (PPRRR, RPRRR)
-        asked for a whole pose (``mask`` None or all ones): how far, in the arm's length
-        units, the wrist centre of ``T`` was from where joints 1-2 can put it, when the
-        iteration solved the nearest reachable pose instead (the same pose ``arm.ik``
-        solves). 0 when ``T`` was solved as given: every other arm and mask, and a pose
-        reachable to within ``tol`` (``arm.ik`` also solves as given a pose up to its
-        ``REACH_TOL`` slack off, and reports 0 there).
+        or a 6R with a closed form asked for a whole pose (``mask`` None or all ones):
+        how far, in the arm's length units, the wrist centre of ``T`` was from where the
+        positioning joints can put it, when the iteration solved the nearest reachable
+        pose instead (the same pose ``arm.ik`` solves). 0 when ``T`` was solved as given:
+        every other arm and mask, and a pose reachable to within ``tol`` (``arm.ik`` also
+        solves as given a pose up to its ``REACH_TOL`` slack off, and reports 0 there).
     """
 
     q: FloatArray
@@ -207,13 +207,20 @@ def _clean_target(T: Any) -> tuple[FloatArray, float]:
 
 
 def _nearest_reachable(arm: SerialArm) -> Any:
-    """The closed-form solver's ``nearest_reachable`` of a 5-DOF arm that reaches only a
-    5-dimensional set of poses (the PPRRR and RPRRR lesson arms), else None (the other
-    arms' solvers move only poses just beyond their reach, which the iteration solves as
-    the least-squares pose it converges to)."""
-    if arm.n != 5 or getattr(arm.solver, "target_kind", None) != "pose":
+    """The closed-form solver's ``nearest_reachable`` for a whole pose: of a 5-DOF arm, which
+    reaches only a 5-dimensional set of poses (the PPRRR and RPRRR lesson arms), or of a 6R
+    with a closed form, whose rounded poses near its reach can miss it; else None."""
+    solver = arm.solver
+    if solver is None and arm.n == 6 and arm.joint_types == "RRRRRR":
+        from .pieper import general_solver
+
+        try:
+            solver = general_solver(arm)
+        except InputError:  # no closed form: nothing to measure the reach with
+            return None
+    if arm.n not in (5, 6) or getattr(solver, "target_kind", None) != "pose":
         return None
-    return getattr(arm.solver, "nearest_reachable", None)
+    return getattr(solver, "nearest_reachable", None)
 
 
 def _reachable_target(
@@ -226,12 +233,14 @@ def _reachable_target(
     only if the wrist centre lies where joints 1-2 put it: a pose rounded to 4 decimals
     misses by a few 1e-5, and no iteration converges to it. Within ``ROUNDED_POSE_TOL`` it is
     replaced by the nearest reachable pose (the one ``arm.ik`` solves); further off it is an
-    UnreachableError with ``arm.ik``'s message and excess. Within ``tol`` (what the iteration
-    counts as converged, relative to the arm's size, with a margin of 10) it is solved as
-    given. Every other arm and mask: ``T_t`` as given.
+    UnreachableError with ``arm.ik``'s message and excess. Within ``tol`` (what the
+    iteration counts as converged, relative to the arm's size, with a margin of 10) it is
+    solved as given. Every other arm and mask: ``T_t`` as given (a 6R's pose rounded
+    beyond its reach is moved only if the iteration does not converge to it:
+    :func:`_rounded_beyond_reach`).
     """
     nearest = _nearest_reachable(arm)
-    if nearest is None or not weights.all():
+    if nearest is None or not weights.all() or arm.n == 6:  # a 6R: after the iteration
         return T_t, 0.0
     T_near, dist, close = nearest(arm, T_t[None])
     d = float(dist[0])
@@ -241,6 +250,22 @@ def _reachable_target(
         raise _unreachable(arm, arm.solver, arm._world_to_base(T_t))
     if d <= 0.1 * tol * arm.scale:
         return T_t, 0.0
+    return T_near[0], d
+
+
+def _rounded_beyond_reach(
+    arm: SerialArm, T_t: FloatArray, weights: FloatArray, tol: float
+) -> tuple[FloatArray | None, float]:
+    """For a 6R with a closed form asked for a whole pose it did not converge to: the
+    nearest reachable pose and the distance, when ``T_t`` misses the reach by rounding
+    (``ROUNDED_POSE_TOL``) and by more than ``tol``; else ``(None, 0.0)``."""
+    nearest = _nearest_reachable(arm)
+    if arm.n != 6 or nearest is None or not weights.all():
+        return None, 0.0
+    T_near, dist, close = nearest(arm, T_t[None])
+    d = float(dist[0])
+    if not close[0] or d <= 0.1 * tol * arm.scale:
+        return None, 0.0
     return T_near[0], d
 
 
@@ -363,7 +388,8 @@ def ik_numerical(
         with fewer than 6 joints, e.g. ``(1, 1, 1, 0, 0, 0)``: position only,
         except the 5-DOF lesson arms (PPRRR, RPRRR), which take a whole pose as
         ``arm.ik`` does: a pose they miss by rounding (within ``ROUNDED_POSE_TOL``)
-        is solved for the nearest reachable pose (``reach_distance``).
+        is solved for the nearest reachable pose (``reach_distance``), as is a
+        6R's with a closed form rounded beyond its reach.
 
     Returns
     -------
@@ -407,61 +433,72 @@ def ik_numerical(
         """Keep the iterate where arm.fk accepts it: clamped or wrapped."""
         return np.clip(qq, lim[:, 0], lim[:, 1]) if within_limits else _wrap_revolute(arm, qq)
 
-    q = settle(q)
-
-    def evaluate(qq: FloatArray) -> tuple[FloatArray, FloatArray]:
-        """Masked error (6,) and scaled, masked Jacobian (6, n) at ``qq``."""
-        F, J_geo = _pose_and_jacobian(arm, qq)
-        return _error_from_pose(arm, F, T_t) * weights, scale_J[:, None] * J_geo
-
     scale_J = np.concatenate([np.full(3, 1.0 / arm.scale), np.ones(3)]) * weights
-    e, J = evaluate(q)
-    damping, nu = -1.0, 2.0
-    reason, it = "", 0
-    costs: list[float] = []
-    while True:
-        err = float(np.abs(e).max())
-        if err < tol:
-            reason = "converged"
-            break
-        if it >= max_iter:
-            reason = f"max_iter reached (error {err:.3g})"
-            break
-        costs.append(min(float(e @ e), costs[-1] if costs else np.inf))  # best so far
-        if len(costs) > LM_WINDOW and costs[-LM_WINDOW - 1] - costs[-1] <= LM_CREEP * costs[-1]:
-            reason = f"stalled at a singularity / local minimum (error {err:.3g})"
-            break
-        it += 1
-        if method == "dls":
-            q = settle(q + _step(J, e, DLS_DAMPING))
-            e, J = evaluate(q)
-            continue
-        diag_max = float(np.max(np.diag(J.T @ J), initial=0.0)) or 1.0
-        if damping < 0:
-            damping = 1e-3 * diag_max
-        g = J.T @ e
-        if float(np.abs(g).max()) < LM_FLAT_GRADIENT:
-            reason = f"stalled at a singularity / local minimum (error {err:.3g})"
-            break
-        dq = _step(J, e, damping)
-        if float(np.linalg.norm(dq)) < LM_TINY_STEP * (1.0 + float(np.linalg.norm(q))):
-            reason = f"stalled at a singularity / local minimum (error {err:.3g})"
-            break
-        q_new = settle(q + dq)
-        e_new, J_new = evaluate(q_new)
-        gain = float(e @ e - e_new @ e_new)
-        predicted = float(dq @ (damping * dq + g))
-        if gain > 0 and predicted > 0:
-            q, e, J = q_new, e_new, J_new
-            rho = gain / predicted
-            damping *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
-            nu = 2.0
-        else:
-            damping *= nu
-            nu *= 2.0
-            if damping > LM_MAX_DAMPING * diag_max:
+
+    def iterate(q: FloatArray, T_t: FloatArray) -> tuple[FloatArray, str, int]:
+        """The iteration from ``q`` towards ``T_t``: where it ends, why, in how many steps."""
+
+        def evaluate(qq: FloatArray) -> tuple[FloatArray, FloatArray]:
+            """Masked error (6,) and scaled, masked Jacobian (6, n) at ``qq``."""
+            F, J_geo = _pose_and_jacobian(arm, qq)
+            return _error_from_pose(arm, F, T_t) * weights, scale_J[:, None] * J_geo
+
+        e, J = evaluate(q)
+        damping, nu = -1.0, 2.0
+        reason, it = "", 0
+        costs: list[float] = []
+        while True:
+            err = float(np.abs(e).max())
+            if err < tol:
+                reason = "converged"
+                break
+            if it >= max_iter:
+                reason = f"max_iter reached (error {err:.3g})"
+                break
+            costs.append(min(float(e @ e), costs[-1] if costs else np.inf))  # best so far
+            if len(costs) > LM_WINDOW and costs[-LM_WINDOW - 1] - costs[-1] <= LM_CREEP * costs[-1]:
                 reason = f"stalled at a singularity / local minimum (error {err:.3g})"
                 break
+            it += 1
+            if method == "dls":
+                q = settle(q + _step(J, e, DLS_DAMPING))
+                e, J = evaluate(q)
+                continue
+            diag_max = float(np.max(np.diag(J.T @ J), initial=0.0)) or 1.0
+            if damping < 0:
+                damping = 1e-3 * diag_max
+            g = J.T @ e
+            if float(np.abs(g).max()) < LM_FLAT_GRADIENT:
+                reason = f"stalled at a singularity / local minimum (error {err:.3g})"
+                break
+            dq = _step(J, e, damping)
+            if float(np.linalg.norm(dq)) < LM_TINY_STEP * (1.0 + float(np.linalg.norm(q))):
+                reason = f"stalled at a singularity / local minimum (error {err:.3g})"
+                break
+            q_new = settle(q + dq)
+            e_new, J_new = evaluate(q_new)
+            gain = float(e @ e - e_new @ e_new)
+            predicted = float(dq @ (damping * dq + g))
+            if gain > 0 and predicted > 0:
+                q, e, J = q_new, e_new, J_new
+                rho = gain / predicted
+                damping *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
+                nu = 2.0
+            else:
+                damping *= nu
+                nu *= 2.0
+                if damping > LM_MAX_DAMPING * diag_max:
+                    reason = f"stalled at a singularity / local minimum (error {err:.3g})"
+                    break
+        return q, reason, it
+
+    q, reason, it = iterate(settle(q), T_t)
+    if reason != "converged" and reach == 0.0:  # a 6R's pose rounded beyond its reach?
+        T_near, d = _rounded_beyond_reach(arm, T_t, weights, tol)
+        if T_near is not None:
+            T_t, reach = T_near, d
+            q, reason, more = iterate(q, T_t)
+            it += more
     q_out = _wrap_revolute(arm, q)
     if within_limits:
         from .api import _limits_filter

@@ -46,9 +46,10 @@ import numpy as np
 
 from .._validate import FloatArray, check_arm
 from ..errors import InputError
-from ..tolerances import REACH_TOL, SINGULAR_TOL
+from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL, SINGULAR_TOL
 from .base import RawSolutions, Singularity
 from .kernels import spherical_wrist
+from .reach import nearest_reachable, rounding_note
 from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -1051,10 +1052,11 @@ class Pieper6RSolver:
         u = _units(arm)
         th, valid, _ = self._position(p[None], 0.0)
         if not valid[0].any():
-            gap = self._nearest_reach(p) / self.unit
+            gap = float(self._reach_nearest(p[None], np.inf)[0][0]) / self.unit  # exact
             return (
                 f"the wrist centre is {gap:.4g}{u} out of reach of joints 1-3 (the nearest "
-                f"point they can put it is {gap:.6g}{u} away)",
+                f"point they can put it is {gap:.6g}{u} away)"
+                + rounding_note(arm, p_w / self.unit),
                 gap,
             )
         if not self.orthogonal:
@@ -1085,28 +1087,156 @@ class Pieper6RSolver:
         z6 = (T_0_n[:3, :3] @ M[6, :3, :3].T)[:, 2]
         return float(np.arccos(np.clip(z4 @ z6, -1.0, 1.0)))
 
-    def _nearest_reach(self, p: FloatArray) -> float:
-        """Distance from ``p'`` to the nearest point joints 1-3 can put the wrist centre.
+    def _reach_nearest(self, p: FloatArray, near: FloatArray | float
+                       ) -> tuple[FloatArray, FloatArray]:
+        """Distance of points ``p' (N, 3)`` (frame of axis 1, solver units) from where
+        joints 1-3 can put the wrist centre, and the nearest such point ``(N, 3)``.
 
-        Joint 1 turns the point ``r(th2, th3)`` about axis 1, so the distance is that
-        of ``(|r_xy|, r_z)`` to ``(|p_xy|, p_z)``: minimised over ``th2, th3`` on a grid,
-        then on finer grids around the best point.
+        Joint 1 turns the point ``r(th2, th3)`` about axis 1, so the distance is that of
+        ``(|r_xy|, r_z)`` to ``(|p'_xy|, p'_z)`` in the plane through axis 1 and ``p'``:
+        first on a 48 x 48 grid of ``th2, th3``. A grid node is at most ``s / sqrt(2)``
+        from any ``(th2, th3)`` (``s`` its spacing), and ``r`` moves at most the arm's size
+        ``L`` per radian of either, so the true distance is within ``L s`` of the grid's.
+        Points the grid puts within ``L s + near`` get the exact minimum: Levenberg-
+        Marquardt on the two differences from the grid's six best nodes (the distance
+        then to rounding, and a root where the point is reachable); the others keep the
+        grid's (an upper bound, beyond ``near`` either way).
         """
-        rho_p = math.hypot(p[0], p[1])
+        grid = self.__dict__.get("_reach_grid")
+        t = 2 * np.pi * np.arange(48) / 48
+        if grid is None:
+            g2, g3 = (x.ravel() for x in np.meshgrid(t, t, indexing="ij"))
+            r = self._arm_point_fast(g2, g3)[0]
+            grid = (g2, g3, np.hypot(r[:, 0], r[:, 1]), r[:, 2])
+            self.__dict__["_reach_grid"] = grid
+        g2, g3, rho_g, z_g = grid
+        spacing = t[1] - t[0]
+        rho_p = np.hypot(p[:, 0], p[:, 1])
+        near = np.broadcast_to(near, rho_p.shape)
+        dist = np.empty(len(p))
+        best = np.empty((len(p), 2))
+        for start in range(0, len(p), 512):  # (chunk, 2304) distances at a time
+            sl = slice(start, start + 512)
+            D = np.hypot(rho_g - rho_p[sl, None], z_g - p[sl, 2, None])
+            i = np.argmin(D, axis=1)
+            dist[sl] = D[np.arange(len(i)), i]
+            best[sl] = np.stack([g2[i], g3[i]], axis=-1)
+            close = np.flatnonzero(dist[sl] <= self.model.scale * spacing + near[sl])
+            if close.size:
+                rows = start + close
+                top = np.argpartition(D[close], 6, axis=1)[:, :6]  # (n, 6) nodes
+                th = np.stack([g2[top], g3[top]], axis=-1)  # (n, 6, 2)
+                d, th = self._reach_lm(th, rho_p[rows, None], p[rows, 2, None])
+                j = d.argmin(-1)
+                pick = np.arange(len(rows))
+                dist[rows] = d[pick, j]
+                best[rows] = th[pick, j]
+        r = self._arm_point_fast(best[:, 0], best[:, 1])[0]
+        az = np.arctan2(p[:, 1], p[:, 0])
+        rho_r = np.hypot(r[:, 0], r[:, 1])
+        nearest = np.stack([rho_r * np.cos(az), rho_r * np.sin(az), r[:, 2]], axis=-1)
+        return dist, nearest
 
-        def gap(t2: FloatArray, t3: FloatArray) -> FloatArray:
-            r = self._arm_point(t2, t3)
-            return np.hypot(np.hypot(r[..., 0], r[..., 1]) - rho_p, r[..., 2] - p[2])
+    def _reach_lm(self, th: FloatArray, rho_p: FloatArray, z_p: FloatArray
+                  ) -> tuple[FloatArray, FloatArray]:
+        """Levenberg-Marquardt from ``th = (th2, th3) (..., 2)`` on ``e = (|r_xy| - rho_p,
+        r_z - z_p)``: the least ``|e|`` found from each start, and where, ``(...)``,
+        ``(..., 2)``."""
+        shape = th.shape[:-1]
+        th = th.reshape(-1, 2)
+        rho_p = np.broadcast_to(rho_p, shape).ravel()
+        z_p = np.broadcast_to(z_p, shape).ravel()
+        mu = np.full(len(th), 1e-3)
 
-        span = np.pi
-        c2 = c3 = 0.0
-        n = 121
-        for _ in range(6):
-            g2, g3 = np.meshgrid(np.linspace(c2 - span, c2 + span, n),
-                                 np.linspace(c3 - span, c3 + span, n))
-            d = gap(g2, g3)
-            i = np.unravel_index(int(np.argmin(d)), d.shape)
-            c2, c3 = float(g2[i]), float(g3[i])
-            span *= 4.0 / n
-            n = 41
-        return float(gap(np.array(c2), np.array(c3)))
+        def residual(x: FloatArray) -> tuple[FloatArray, FloatArray]:
+            r, dr2, dr3 = self._arm_point_fast(x[:, 0], x[:, 1], jacobian=True)
+            rho = np.hypot(r[:, 0], r[:, 1])
+            safe = np.where(rho > 0, rho, 1.0)
+            e = np.stack([rho - rho_p, r[:, 2] - z_p], axis=-1)
+            J = np.empty((len(x), 2, 2))
+            for k, dr in enumerate((dr2, dr3)):
+                J[:, 0, k] = (r[:, 0] * dr[:, 0] + r[:, 1] * dr[:, 1]) / safe
+                J[:, 1, k] = dr[:, 2]
+            return e, J
+
+        e, J = residual(th)
+        cost = (e * e).sum(-1)
+        for _ in range(60):
+            JtJ = np.swapaxes(J, -1, -2) @ J
+            g = (np.swapaxes(J, -1, -2) @ e[..., None])[..., 0]
+            # damping relative to J's size, never 0 (J vanishes where r is on axis 1)
+            scale = np.trace(JtJ, axis1=-2, axis2=-1) + 1e-20 * self.model.scale**2
+            A = JtJ + (mu * scale)[:, None, None] * np.eye(2)
+            step = -np.linalg.solve(A, g[..., None])[..., 0]
+            trial = th + step
+            e_t, J_t = residual(trial)
+            cost_t = (e_t * e_t).sum(-1)
+            better = cost_t < cost
+            th = np.where(better[:, None], trial, th)
+            e = np.where(better[:, None], e_t, e)
+            J = np.where(better[:, None, None], J_t, J)
+            cost = np.where(better, cost_t, cost)
+            mu = np.where(better, np.maximum(mu * 0.3, 1e-12), mu * 10.0)
+            if ((mu > 1e12) | (cost <= (1e-15 * self.model.scale) ** 2)).all():
+                break  # each start stuck, or on a root to rounding
+        return np.sqrt(cost).reshape(shape), th.reshape(*shape, 2)
+
+    def _arm_point_fast(self, th2: FloatArray, th3: FloatArray, jacobian: bool = False
+                        ) -> tuple[FloatArray, ...]:
+        """:meth:`_arm_point` for flat arrays ``th2, th3 (K,)``: ``(K, 3)``, with the
+        constant products folded (``g = G0 + cos th3 Gc + sin th3 Gs``); with
+        ``jacobian``, also its derivatives in ``th2`` and ``th3``."""
+        consts = self.__dict__.get("_arm_point_consts")
+        if consts is None:
+            v = np.append(self.wrist.v, 1.0)
+            M2 = self.model.M[2]
+            G0 = M2[:3, :3] @ np.array([0.0, 0.0, v[2]]) + M2[:3, 3]
+            Gc = M2[:3, :3] @ np.array([v[0], v[1], 0.0])
+            Gs = M2[:3, :3] @ np.array([-v[1], v[0], 0.0])
+            M1 = self.model.M[1]
+            consts = (G0, Gc, Gs, M1[:3, :3], M1[:3, 3])
+            self.__dict__["_arm_point_consts"] = consts
+        G0, Gc, Gs, R1, t1 = consts
+        c3, s3 = np.cos(th3)[:, None], np.sin(th3)[:, None]
+        g = G0 + c3 * Gc + s3 * Gs
+        c2, s2 = np.cos(th2), np.sin(th2)
+
+        def turn(x: FloatArray) -> FloatArray:
+            return np.stack([c2 * x[:, 0] - s2 * x[:, 1], s2 * x[:, 0] + c2 * x[:, 1],
+                             x[:, 2]], -1) @ R1.T
+
+        r = turn(g) + t1
+        if not jacobian:
+            return (r,)
+        dg = -s3 * Gc + c3 * Gs
+        dturn = np.stack([-s2 * g[:, 0] - c2 * g[:, 1], c2 * g[:, 0] - s2 * g[:, 1],
+                          np.zeros_like(c2)], -1) @ R1.T
+        return r, dturn, turn(dg)
+
+    def nearest_reachable(
+        self, arm: SerialArm, T_world: FloatArray
+    ) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        """:func:`rikin.ik.reach.nearest_reachable`: the wrist centre moved onto the set
+        joints 1-3 reach (found by :meth:`_reach_nearest`)."""
+        M0 = self.model.M[0]
+        L = self.model.scale
+        near = 2 * ROUNDED_POSE_TOL * L  # the exact search where the pose can be rounded
+
+        last_J: list[FloatArray] = []
+
+        def gap(pw: FloatArray, active: np.ndarray | None) -> tuple[FloatArray, ...]:
+            p = (np.append(pw * self.unit, np.ones((len(pw), 1)), axis=1) @ self.M0_inv.T)[:, :3]
+            far = np.abs(p).max(axis=-1)
+            dist, nearest = self._reach_nearest(p, near * np.maximum(1.0, far / L))
+            out = dist > 1e-13 * np.maximum(L, far)  # else reachable to rounding: no direction
+            u = (p - nearest) / np.where(out, dist, 1.0)[:, None]
+            J = (u @ M0[:3, :3].T)[:, None, :]
+            if active is None:  # the poses that miss the set; the others stay as given
+                active = out[:, None]
+            else:  # on the set now: the last direction, to keep the step made along it
+                J = np.where(out[:, None, None], J, last_J[0])
+            last_J[:] = [J]
+            return np.where(active & out[:, None], dist[:, None] / self.unit, 0.0), J * active[
+                ..., None], active
+
+        return nearest_reachable(arm, gap, T_world, self.wrist.c_flange / self.unit)

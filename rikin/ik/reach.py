@@ -56,7 +56,7 @@ def nearest_reachable(
     how much it moves the wrist centre off the set (when ``c`` is 0, a position-only arm's
     TCP, only the TCP moves). Solved by Gauss-Newton with the
     minimum-norm step (the constraints are linear in ``dp``, nearly so in ``w``; three
-    steps reach rounding).
+    steps reach rounding), then one step of ``dp`` alone onto the set.
 
     Parameters
     ----------
@@ -98,6 +98,8 @@ def nearest_reachable(
         if step == 0:
             distance = np.linalg.norm(r, axis=-1)
             size = rounding_size(arm, pw)
+            if not active.any():  # every pose reaches the set as it is
+                return T_world.copy(), distance, distance <= ROUNDED_POSE_TOL * size
         G = J @ B.T  # gradient with respect to the world wrist centre, (N, k, 3)
         # d p_w = dp + dw x v, and g . (dw x v) = dw . (v x g): the w columns are v x g
         A = np.concatenate([G, np.cross(v[:, None, :], G)], axis=-1)  # (N, k, 6)
@@ -108,6 +110,12 @@ def nearest_reachable(
         x_new = np.einsum("nkj,nk->nj", A, lam) * half
         R = _turn(R, x_new[:, 3:] - x[:, 3:])
         x = x_new
+    # last, the TCP alone moves by what is left along each direction: exact for the gaps'
+    # orthonormal directions, and it ends the steps that alternate between two faces of
+    # the set where they meet in an edge (the Puma 560's reach near its folded elbow)
+    pw = (p0 + x[:, :3] + R @ c - b) @ B
+    r, J, active = gap(pw, active)
+    x[:, :3] -= np.einsum("nk,nkj->nj", r, J @ B.T)
     out = T_world.copy()
     out[:, :3, :3] = R
     out[:, :3, 3] = p0 + x[:, :3]
