@@ -34,6 +34,8 @@ def kernel() -> Iterator[Any]:
     km, kc = start_new_kernel(kernel_name="python3", env=env,
                               extra_arguments=["--HistoryManager.enabled=False"])
     try:
+        # what every test below uses, so that each runs alone too (pytest -k)
+        _run(kc, "import rikin\nfrom rikin import widgets\narm = rikin.robots.epson_c4()")
         yield kc
     finally:
         kc.stop_channels()

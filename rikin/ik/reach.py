@@ -77,7 +77,7 @@ def nearest_reachable(
     Returns
     -------
     T_near : ndarray, shape (N, 4, 4)
-        The nearest reachable poses (world frame).
+        The nearest reachable poses (world frame); the poses not ``close`` as given.
     distance : ndarray, shape (N,)
         How far each given wrist centre is from the reachable set, in the arm's length
         units: also the least TCP move that reaches the set with the orientation kept.
@@ -87,19 +87,29 @@ def nearest_reachable(
     tool, base = arm.tool, arm.base
     c = tool[:3, :3].T @ (centre - tool[:3, 3])  # wrist centre in the TCP frame
     B, b = base[:3, :3], base[:3, 3]
+    pw = (T_world[:, :3, 3] + T_world[:, :3, :3] @ c - b) @ B  # base frame
+    r, _, active = gap(pw, None)
+    distance = np.linalg.norm(r, axis=-1)
+    close = distance <= ROUNDED_POSE_TOL * rounding_size(arm, pw)
+    out = T_world.copy()
+    move = np.flatnonzero(close & active.any(axis=-1))  # the others are left as they are
+    if move.size:
+        out[move] = _onto_set(gap, T_world[move], c, B, b)
+    return out, distance, close
+
+
+def _onto_set(gap: Any, T_world: FloatArray, c: FloatArray, B: FloatArray, b: FloatArray
+              ) -> FloatArray:
+    """The steps of :func:`nearest_reachable` for poses ``T_world (N, 4, 4)`` that miss the
+    set by rounding (``c``: the wrist centre in the TCP frame; ``B, b``: the base)."""
     R0, p0 = T_world[:, :3, :3], T_world[:, :3, 3]
     R, x = R0.copy(), np.zeros((len(T_world), 6))
     half = np.array([1.0, 1.0, 1.0, 0.5, 0.5, 0.5])  # inverse of the metric diag(1, 1, 1, 2, 2, 2)
     active = None
-    for step in range(4):
+    for _ in range(4):
         v = R @ c
         pw = (p0 + x[:, :3] + v - b) @ B  # base frame
         r, J, active = gap(pw, active)
-        if step == 0:
-            distance = np.linalg.norm(r, axis=-1)
-            size = rounding_size(arm, pw)
-            if not active.any():  # every pose reaches the set as it is
-                return T_world.copy(), distance, distance <= ROUNDED_POSE_TOL * size
         G = J @ B.T  # gradient with respect to the world wrist centre, (N, k, 3)
         # d p_w = dp + dw x v, and g . (dw x v) = dw . (v x g): the w columns are v x g
         A = np.concatenate([G, np.cross(v[:, None, :], G)], axis=-1)  # (N, k, 6)
@@ -119,7 +129,7 @@ def nearest_reachable(
     out = T_world.copy()
     out[:, :3, :3] = R
     out[:, :3, 3] = p0 + x[:, :3]
-    return out, distance, distance <= ROUNDED_POSE_TOL * size
+    return out
 
 
 def rounding_note(arm: SerialArm, pw: FloatArray) -> str:
