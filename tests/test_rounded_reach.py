@@ -126,30 +126,35 @@ def placed_point_of_pose(name, arm, T):
     return (T @ c)[:3]
 
 
+def in_base(arm, x):
+    """The world point ``x (3,)`` in the arm's base frame."""
+    return (np.linalg.inv(arm.base) @ np.append(x, 1.0))[:3]
+
+
+def shoulder(arm, q):
+    """The shoulder at joints ``q``, base frame: the point of axis 2 nearest axis 1 (the
+    base frame's z axis)."""
+    o, z = arm.joint_axes(q)
+    o2, z2 = in_base(arm, o[1]), np.linalg.inv(arm.base)[:3, :3] @ z[1]
+    return o2 - (o2[:2] @ z2[:2]) / (z2[:2] @ z2[:2]) * z2
+
+
 def distance_from_reach(name, arm, p, sides=False):
     """How far the world point ``p (3,)`` is from where the positioning links can place
     their point, from FK alone: in the base frame, the shell of radii ``Lm``..``Lp`` around
-    the shoulder ``S`` (the point of axis 2 nearest axis 1, ``r0`` from axis 1), turned
-    about axis 1, with ``Lp`` and ``Lm`` measured from ``S`` on the stretched and the folded
-    arm (for a planar arm, ``S`` is joint 1). With ``sides``: the front and the back arm's
-    distances."""
+    the shoulder ``S`` (``r0`` from axis 1), turned about axis 1, with ``Lp`` and ``Lm``
+    measured from ``S`` on the stretched and the folded arm (for a planar arm, ``S`` is
+    joint 1). With ``sides``: the front and the back arm's distances."""
     j, stretched = ELBOW[name]
     q = np.zeros(arm.n)
     q[j] = stretched
     q_fold = q.copy()
     q_fold[j] += np.pi
-    inv = np.linalg.inv(arm.base)
-    local = lambda x: (inv @ np.append(x, 1.0))[:3]  # noqa: E731
-    if name.startswith("planar"):
-        S = np.zeros(3)
-    else:
-        o, z = arm.joint_axes(q)
-        o2, z2 = local(o[1]), inv[:3, :3] @ z[1]
-        S = o2 - (o2[:2] @ z2[:2]) / (z2[:2] @ z2[:2]) * z2
-    Lp = np.linalg.norm(local(placed_point(name, arm, q)) - S)
-    Lm = np.linalg.norm(local(placed_point(name, arm, q_fold)) - S)
+    S = np.zeros(3) if name.startswith("planar") else shoulder(arm, q)
+    Lp = np.linalg.norm(in_base(arm, placed_point(name, arm, q)) - S)
+    Lm = np.linalg.norm(in_base(arm, placed_point(name, arm, q_fold)) - S)
     r0 = np.hypot(S[0], S[1])
-    P = local(p)
+    P = in_base(arm, p)
     rho = np.hypot(P[0], P[1])
     d = np.hypot(np.array([rho - r0, rho + r0]), P[2] - S[2])
     per_side = np.abs(d - np.clip(d, Lm, Lp))  # the front arm's, the back arm's
@@ -157,13 +162,9 @@ def distance_from_reach(name, arm, p, sides=False):
 
 
 def made_with_side(arm, q):
-    """0 when the joints ``q`` of a 6R reach forward (the shoulder, the point of axis 2
-    nearest axis 1, on the wrist centre's side of axis 1), 1 when they reach back."""
-    inv = np.linalg.inv(arm.base)
-    o, z = arm.joint_axes(q)
-    o2, z2 = (inv @ np.append(o[1], 1.0))[:3], inv[:3, :3] @ z[1]
-    S = o2 - (o2[:2] @ z2[:2]) / (z2[:2] @ z2[:2]) * z2
-    c = (inv @ np.append(wrist_centre(arm, q), 1.0))[:3]
+    """0 when the joints ``q`` of a 6R reach forward (the shoulder on the wrist centre's
+    side of axis 1), 1 when they reach back."""
+    S, c = shoulder(arm, q), in_base(arm, wrist_centre(arm, q))
     return 0 if S[:2] @ c[:2] >= 0 else 1
 
 
@@ -336,7 +337,10 @@ def test_general_arms_solve_rounded_poses_at_their_folds(make, kind, seed, how, 
     assert batch.valid[0].sum() >= 1
 
 
-@pytest.mark.parametrize("make", GENERAL + [robots.aula10_6r, robots.barrientos_6r, robots.epson_c4])
+LESSON_6R = [robots.aula10_6r, robots.barrientos_6r, robots.epson_c4]
+
+
+@pytest.mark.parametrize("make", GENERAL + LESSON_6R)
 def test_numerical_ik_solves_what_arm_ik_solves_for_a_rounded_pose_beyond_the_reach(make):
     """ik_numerical (the whole pose, no mask) on the 6R poses above that rounding put beyond
     the reach: it converges, to the same nearest reachable pose arm.ik solves, with the same
@@ -349,9 +353,7 @@ def test_numerical_ik_solves_what_arm_ik_solves_for_a_rounded_pose_beyond_the_re
             q = singular_q(arm, "stretched", rng)
             q[2] += rng.uniform(-1e-3, 1e-3)
         else:
-            name = {robots.aula10_6r: "aula10_6r", robots.barrientos_6r: "barrientos_6r",
-                    robots.epson_c4: "epson_c4"}[make]
-            q = near_edge_q(name, arm, rng, False)
+            q = near_edge_q(make.__name__, arm, rng, False)  # the LESSON_ROBOTS name
         T = np.round(arm.fk(q), 4)
         res = solve_quietly(arm, T)
         if res.reach_distance == 0:

@@ -210,15 +210,15 @@ def _nearest_reachable(arm: SerialArm) -> Any:
     """The closed-form solver's ``nearest_reachable`` for a whole pose: of a 5-DOF arm, which
     reaches only a 5-dimensional set of poses (the PPRRR and RPRRR lesson arms), or of a 6R
     with a closed form, whose rounded poses near its reach can miss it; else None."""
-    solver = arm.solver
-    if solver is None and arm.n == 6 and arm.joint_types == "RRRRRR":
-        from .pieper import general_solver
+    if arm.n not in (5, 6):
+        return None
+    from .api import _solver
 
-        try:
-            solver = general_solver(arm)
-        except InputError:  # no closed form: nothing to measure the reach with
-            return None
-    if arm.n not in (5, 6) or getattr(solver, "target_kind", None) != "pose":
+    try:
+        solver = _solver(arm)  # the lesson arm's, else the general 6R one
+    except InputError:  # no closed form: nothing to measure the reach with
+        return None
+    if solver.target_kind != "pose":
         return None
     return getattr(solver, "nearest_reachable", None)
 

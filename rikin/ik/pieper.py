@@ -40,7 +40,7 @@ from __future__ import annotations
 import math
 import weakref
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -595,8 +595,24 @@ class Pieper6RSolver:
     # -------------------------------------------------------------- position
     def _g(self, th3: FloatArray) -> FloatArray:
         """``g = M2 Rz(th3) v``, shape ``th3.shape + (3,)``."""
-        v = np.append(self.wrist.v, 1.0)
-        return (self.model.M[2] @ (_rz4(th3) @ v)[..., None])[..., :3, 0]
+        G0, Gc, Gs, _, _ = self._arm_constants()
+        th3 = np.asarray(th3)[..., None]
+        return G0 + np.cos(th3) * Gc + np.sin(th3) * Gs
+
+    def _arm_constants(self) -> tuple[FloatArray, ...]:
+        """``G0, Gc, Gs`` with ``g(th3) = M2 Rz(th3) v = G0 + cos th3 Gc + sin th3 Gs``, and
+        ``M1``'s rotation and translation (computed once per solver)."""
+        consts = self.__dict__.get("_arm_consts")
+        if consts is None:
+            v = self.wrist.v
+            R2, t2 = self.model.M[2][:3, :3], self.model.M[2][:3, 3]
+            G0 = R2 @ np.array([0.0, 0.0, v[2]]) + t2
+            Gc = R2 @ np.array([v[0], v[1], 0.0])
+            Gs = R2 @ np.array([-v[1], v[0], 0.0])
+            M1 = self.model.M[1]
+            consts = (G0, Gc, Gs, M1[:3, :3], M1[:3, 3])
+            self.__dict__["_arm_consts"] = consts
+        return consts
 
     def _position_equations(self, p: FloatArray, g: FloatArray) -> tuple[FloatArray, FloatArray]:
         """Right-hand sides ``(B, A)`` of the two equations (module docstring)."""
@@ -739,12 +755,26 @@ class Pieper6RSolver:
                 same &= np.abs(np.angle(np.exp(1j * (th[:, i, 0] - th[:, j, 0])))) < SAME_ROOT_TOL
                 th[same, j, 0] += np.pi
 
-    def _arm_point(self, th2: FloatArray, th3: FloatArray) -> FloatArray:
-        """``r = M1 Rz(th2) M2 Rz(th3) v``: the wrist centre after ``Rz(th1)``, shape (..., 3)."""
-        v = np.append(self.wrist.v, 1.0)
-        M1, M2 = self.model.M[1], self.model.M[2]
-        x = M1 @ _rz4(th2) @ M2 @ _rz4(th3) @ v
-        return x[..., :3]
+    def _arm_point(self, th2: FloatArray, th3: FloatArray, jacobian: bool = False) -> Any:
+        """``r = M1 Rz(th2) M2 Rz(th3) v``: the wrist centre after ``Rz(th1)``, shape
+        ``(..., 3)`` for ``th2, th3`` of one shape ``(...)``; with ``jacobian``, the tuple of
+        ``r`` and its derivatives in ``th2`` and ``th3``."""
+        _, Gc, Gs, R1, t1 = self._arm_constants()
+        th3 = np.asarray(th3)
+        g = self._g(th3)
+        c2, s2 = np.cos(th2), np.sin(th2)
+
+        def turn(x: FloatArray) -> FloatArray:  # M1's rotation times Rz(th2) x
+            return np.stack([c2 * x[..., 0] - s2 * x[..., 1], s2 * x[..., 0] + c2 * x[..., 1],
+                             x[..., 2]], -1) @ R1.T
+
+        r = turn(g) + t1
+        if not jacobian:
+            return r
+        dg = -np.sin(th3)[..., None] * Gc + np.cos(th3)[..., None] * Gs
+        dturn = np.stack([-s2 * g[..., 0] - c2 * g[..., 1], c2 * g[..., 0] - s2 * g[..., 1],
+                          np.zeros_like(c2)], -1) @ R1.T
+        return r, dturn, turn(dg)
 
     # -------------------------------------------------------------- orientation
     def _wrist(
@@ -1106,7 +1136,7 @@ class Pieper6RSolver:
         t = 2 * np.pi * np.arange(48) / 48
         if grid is None:
             g2, g3 = (x.ravel() for x in np.meshgrid(t, t, indexing="ij"))
-            r = self._arm_point_fast(g2, g3)[0]
+            r = self._arm_point(g2, g3)
             grid = (g2, g3, np.hypot(r[:, 0], r[:, 1]), r[:, 2])
             self.__dict__["_reach_grid"] = grid
         g2, g3, rho_g, z_g = grid
@@ -1131,7 +1161,7 @@ class Pieper6RSolver:
                 pick = np.arange(len(rows))
                 dist[rows] = d[pick, j]
                 best[rows] = th[pick, j]
-        r = self._arm_point_fast(best[:, 0], best[:, 1])[0]
+        r = self._arm_point(best[:, 0], best[:, 1])
         az = np.arctan2(p[:, 1], p[:, 0])
         rho_r = np.hypot(r[:, 0], r[:, 1])
         nearest = np.stack([rho_r * np.cos(az), rho_r * np.sin(az), r[:, 2]], axis=-1)
@@ -1149,7 +1179,7 @@ class Pieper6RSolver:
         mu = np.full(len(th), 1e-3)
 
         def residual(x: FloatArray) -> tuple[FloatArray, FloatArray]:
-            r, dr2, dr3 = self._arm_point_fast(x[:, 0], x[:, 1], jacobian=True)
+            r, dr2, dr3 = self._arm_point(x[:, 0], x[:, 1], jacobian=True)
             rho = np.hypot(r[:, 0], r[:, 1])
             safe = np.where(rho > 0, rho, 1.0)
             e = np.stack([rho - rho_p, r[:, 2] - z_p], axis=-1)
@@ -1180,38 +1210,6 @@ class Pieper6RSolver:
             if ((mu > 1e12) | (cost <= (1e-15 * self.model.scale) ** 2)).all():
                 break  # each start stuck, or on a root to rounding
         return np.sqrt(cost).reshape(shape), th.reshape(*shape, 2)
-
-    def _arm_point_fast(self, th2: FloatArray, th3: FloatArray, jacobian: bool = False
-                        ) -> tuple[FloatArray, ...]:
-        """:meth:`_arm_point` for flat arrays ``th2, th3 (K,)``: ``(K, 3)``, with the
-        constant products folded (``g = G0 + cos th3 Gc + sin th3 Gs``); with
-        ``jacobian``, also its derivatives in ``th2`` and ``th3``."""
-        consts = self.__dict__.get("_arm_point_consts")
-        if consts is None:
-            v = np.append(self.wrist.v, 1.0)
-            M2 = self.model.M[2]
-            G0 = M2[:3, :3] @ np.array([0.0, 0.0, v[2]]) + M2[:3, 3]
-            Gc = M2[:3, :3] @ np.array([v[0], v[1], 0.0])
-            Gs = M2[:3, :3] @ np.array([-v[1], v[0], 0.0])
-            M1 = self.model.M[1]
-            consts = (G0, Gc, Gs, M1[:3, :3], M1[:3, 3])
-            self.__dict__["_arm_point_consts"] = consts
-        G0, Gc, Gs, R1, t1 = consts
-        c3, s3 = np.cos(th3)[:, None], np.sin(th3)[:, None]
-        g = G0 + c3 * Gc + s3 * Gs
-        c2, s2 = np.cos(th2), np.sin(th2)
-
-        def turn(x: FloatArray) -> FloatArray:
-            return np.stack([c2 * x[:, 0] - s2 * x[:, 1], s2 * x[:, 0] + c2 * x[:, 1],
-                             x[:, 2]], -1) @ R1.T
-
-        r = turn(g) + t1
-        if not jacobian:
-            return (r,)
-        dg = -s3 * Gc + c3 * Gs
-        dturn = np.stack([-s2 * g[:, 0] - c2 * g[:, 1], c2 * g[:, 0] - s2 * g[:, 1],
-                          np.zeros_like(c2)], -1) @ R1.T
-        return r, dturn, turn(dg)
 
     def nearest_reachable(
         self, arm: SerialArm, T_world: FloatArray

@@ -133,11 +133,8 @@ class PieperKernel:
         self.t2 = (M[2][0][3], M[2][1][3], M[2][2][3])
         self.up1 = (M[1][2][0], M[1][2][1])  # axis 1 in frame 2's xy plane
         # g(th3) = M2 Rz(th3) v = g0 + cos(th3) gc + sin(th3) gs
-        vx, vy, vz = (float(x) for x in wg.v)
-        R2 = model.M[2, :3, :3]
-        g0 = R2 @ np.array([0.0, 0.0, vz]) + model.M[2, :3, 3]
-        gc = R2 @ np.array([vx, vy, 0.0])
-        gs = R2 @ np.array([-vy, vx, 0.0])
+        vx, vy, _ = (float(x) for x in wg.v)
+        g0, gc, gs, _, _ = solver._arm_constants()
         self.g0 = [float(x) for x in g0]
         self.gc = [float(x) for x in gc]
         self.gs = [float(x) for x in gs]
