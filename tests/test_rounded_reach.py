@@ -367,3 +367,16 @@ def test_numerical_ik_solves_what_arm_ik_solves_for_a_rounded_pose_beyond_the_re
         assert np.abs(num.target - res.target).max() <= 1e-12 * size(arm, T)
         assert np.abs(arm.fk(num.q) - res.target)[:3, 3].max() <= 1e-8 * size(arm, T)
     assert seen >= 3, seen  # the edge was crossed
+
+
+@pytest.mark.parametrize("up", [1.0, -1.0])
+def test_the_arm_straight_along_axis_1_rounded_beyond_its_reach(up):
+    """The angular 3R stretched along axis 1 (up or down), its target 3e-5 further: on the
+    axis every azimuth is as near, and the target still moves onto the reach (before:
+    UnreachableError, no direction being taken there)."""
+    arm = robots.angular_3r()
+    target = np.array([0.0, 0.0, 10.0 + up * 20.00003])  # shoulder at z = 10, reach 20
+    res = solve_quietly(arm, target)
+    assert res.reach_distance == pytest.approx(3e-5, rel=1e-6)
+    assert np.abs(arm.fk(res.q)[:, :3, 3] - res.target[:3, 3]).max() <= 1e-12 * arm.scale
+    assert np.allclose(res.target[:3, 3], [0.0, 0.0, 10.0 + up * 20.0], atol=1e-12 * arm.scale)

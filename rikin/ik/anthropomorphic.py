@@ -128,13 +128,15 @@ def rrr_gap(g: RRRGeometry) -> Callable[[FloatArray, np.ndarray | None], Gap]:
         if active is None:
             front = np.abs(r[:, 0]) <= np.abs(r[:, 1])
             active = np.stack([front, ~front], axis=-1)
-        # no direction is nearest at the shoulder, nor (horizontally) on axis 1
-        active = active & (d > 0) & (rho > 0)[:, None]
+        active = active & (d > 0)  # no direction is nearest at the shoulder itself
         safe_d = np.where(active, d, 1.0)
+        # the horizontal direction away from axis 1; on the axis every one is as near (the
+        # arm straight up), and x is taken
         safe_rho = np.where(rho > 0, rho, 1.0)
+        cx, cy = np.where(rho > 0, p[:, 0] / safe_rho, 1.0), p[:, 1] / safe_rho
         J = np.zeros((len(p), 2, 3))
-        J[..., 0] = u / safe_d * (p[:, 0] / safe_rho)[:, None]
-        J[..., 1] = u / safe_d * (p[:, 1] / safe_rho)[:, None]
+        J[..., 0] = u / safe_d * cx[:, None]
+        J[..., 1] = u / safe_d * cy[:, None]
         J[..., 2] = w / safe_d
         J[~active] = 0.0
         return np.where(active, r, 0.0), J, active
