@@ -557,8 +557,11 @@ def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: i
                                                      "frame": {"duration": 0, "redraw": True},
                                                      "transition": {"duration": 0}}]})
     layout = _layout(go, arm, lim, dims, f"{base}<br>{_short(first_text)}", height)
-    layout["sliders"] = [{"active": 0, "steps": slider_steps, "x": 0.12, "len": 0.88, "y": -0.02,
+    # the slider starts clear of the play button (about 65 px) on a phone too, and says
+    # which step it is at its right end, away from the button
+    layout["sliders"] = [{"active": 0, "steps": slider_steps, "x": 0.2, "len": 0.8, "y": -0.02,
                           "yanchor": "top", "currentvalue": {"prefix": "target ",
+                                                             "xanchor": "right",
                                                              "font": {"size": 12}},
                           "pad": {"t": 30}}]
     layout["updatemenus"] = [{"type": "buttons", "showactive": False, "x": 0.0, "y": -0.02,
