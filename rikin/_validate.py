@@ -157,9 +157,12 @@ def as_rotation(R: Any, name: str = "R") -> FloatArray:
     return arr
 
 
-def _rotation_errors(R: list[list[float]]) -> tuple[float, float]:
-    """(max |R^T R - I|, det R) of one 3x3 matrix, in scalar arithmetic."""
-    (a, b, c), (d, e, f), (g, h, k) = R  # columns (a, d, g), (b, e, h), (c, f, k)
+def _rotation_errors(r0: list[float], r1: list[float], r2: list[float]) -> tuple[float, float]:
+    """(max |R^T R - I|, det R) of one 3x3 matrix given by its rows (the first three
+    entries of each: the rows of a 4x4 pose will do), in scalar arithmetic."""
+    a, b, c = r0[0], r0[1], r0[2]  # columns (a, d, g), (b, e, h), (c, f, k)
+    d, e, f = r1[0], r1[1], r1[2]
+    g, h, k = r2[0], r2[1], r2[2]
     err = max(
         abs(a * a + d * d + g * g - 1.0),
         abs(b * b + e * e + h * h - 1.0),
@@ -175,7 +178,7 @@ def _rotation_errors(R: list[list[float]]) -> tuple[float, float]:
 def check_rotation_values(arr: FloatArray, name: str) -> None:
     """Raise InputError if any ``(3, 3)`` block of ``arr`` is not a proper rotation."""
     if arr.shape == (3, 3):  # one matrix: scalar arithmetic is ten times faster
-        err1, det1 = _rotation_errors(arr.tolist())
+        err1, det1 = _rotation_errors(*arr.tolist())
         if err1 <= ORTHONORMAL_TOL and det1 >= 0:
             return
     biggest = float(np.abs(arr).max(initial=0.0))
@@ -214,7 +217,7 @@ def as_pose(T: Any, name: str = "T") -> FloatArray:
         rows = arr.tolist()
         b = rows[3]
         if max(abs(b[0]), abs(b[1]), abs(b[2]), abs(b[3] - 1.0)) <= 1e-9:
-            err, det = _rotation_errors([r[:3] for r in rows[:3]])
+            err, det = _rotation_errors(rows[0], rows[1], rows[2])
             if not (err <= ORTHONORMAL_TOL and det >= 0):
                 check_rotation_values(arr[:3, :3], f"the rotation part of {name}")
             big = max(abs(rows[0][3]), abs(rows[1][3]), abs(rows[2][3]))
@@ -263,7 +266,7 @@ def clean_pose(T: FloatArray) -> tuple[FloatArray, float]:
     else a copy with the nearest rotation and the Frobenius distance to it.
     """
     rows = T.tolist()
-    err, _ = _rotation_errors([r[:3] for r in rows[:3]])
+    err, _ = _rotation_errors(rows[0], rows[1], rows[2])
     if err <= ROTATION_CLEAN_TOL:
         return T, 0.0
     R_near, dist = nearest_rotation(T[:3, :3])

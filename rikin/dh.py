@@ -448,51 +448,13 @@ class SerialArm:
             return np.stack(out, axis=-3)
         return T
 
-    def _fk_revolute(self, q: FloatArray) -> FloatArray:
-        """:meth:`_fk` of ``(k, n)`` joint values of an all-revolute arm, ``(k, 4, 4)``.
-
-        Each link is a rotation about z times a constant (standard:
-        ``Rz(theta) [Tz(d) Tx(a) Rx(alpha)]``; modified: ``[Rx(alpha) Tx(a) Tz(d)] Rz(theta)``,
-        as Rz and Tz commute), and ``Rz(theta) = cos(theta) P + sin(theta) Q + E`` with
-        constant ``P, Q, E``. So link i is ``cos * C1_i + sin * C2_i + C3_i`` with constants
-        (base folded into the first link, tool into the last): one ``sin`` (``cos(t) =
-        sin(t + pi/2)``) and one matmul with a block-diagonal constant give every link of
-        every row, and neighbours are multiplied pairwise: eight array operations for a 6R
-        chain, whatever ``k``. For one pose numpy's cost per call, not the
-        arithmetic, is what counts; the IK of one pose checks its solutions with this.
-        """
-        consts = self.__dict__.get("_fk_consts")
-        if consts is None:
-            C1, C2, C3, offsets = self._link_constants()
-            n = self.n
-            # links = [cos_0, sin_0, cos_1, ...] @ C + C3: one matmul, block-diagonal C; with
-            # n even the links come out as (even links, odd links), so that one matmul
-            # multiplies every neighbouring pair
-            order = list(range(0, n, 2)) + list(range(1, n, 2)) if n % 2 == 0 else range(n)
-            C = np.zeros((2 * n, 16 * n))
-            for pos, j in enumerate(order):
-                C[2 * j, 16 * pos : 16 * pos + 16] = C1[j].ravel()
-                C[2 * j + 1, 16 * pos : 16 * pos + 16] = C2[j].ravel()
-            C3 = np.concatenate([C3[j].ravel() for j in order])
-            shift = np.stack([offsets + np.pi / 2, offsets], axis=1)  # (n, 2)
-            consts = (C, C3, shift)
-            object.__setattr__(self, "_fk_consts", consts)
-        C, C3, shift = consts
-        k, n = q.shape
-        cs = np.sin(q.reshape(k, n, 1) + shift)  # (k, n, 2): cos, sin of every theta
-        M = cs.reshape(k, 2 * n) @ C
-        M += C3
-        if n % 2 == 0:
-            M = M.reshape(k, 2, n // 2, 4, 4)
-            M = M[:, 0] @ M[:, 1]  # links (0 1), (2 3), ...
-        else:
-            M = M.reshape(k, n, 4, 4)
-        T = M[:, 0]
-        for i in range(1, M.shape[1]):
-            T = T @ M[:, i]
-        return T
-
     def _link_constants(self) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+        """Each link as ``Rz(theta) = cos(theta) P + sin(theta) Q + E`` makes it: constants
+        ``C1, C2, C3 (n, 4, 4)`` with link i ``= cos(theta_i) C1[i] + sin(theta_i) C2[i] +
+        C3[i]`` (theta_i = q_i + offset_i of a revolute joint; standard: ``Rz(theta) [Tz(d)
+        Tx(a) Rx(alpha)]``, modified: ``[Rx(alpha) Tx(a) Tz(d)] Rz(theta)``, as Rz and Tz
+        commute), the base folded into the first link and the tool into the last, and
+        the offsets ``(n,)``."""
         P = np.zeros((4, 4))
         P[0, 0] = P[1, 1] = 1.0
         Q = np.zeros((4, 4))

@@ -1196,6 +1196,8 @@ NOT_FUZZED = {
     "Pieper6RSolver.check (rikin.ik.solve calls it on validated poses)",
     "rikin.ik.pieper.Pieper6RSolver.single_kernel": "solver protocol, as "
     "Pieper6RSolver.check",
+    "rikin.ik.fkcheck.FKCheck": "the one-pose path's FK check, which rikin.ik.solve builds "
+    "for an arm it solved (fuzzed through SerialArm.ik of every robot and typed table)",
     "rikin.ik.pieper_kernel.PieperKernel": "the one-pose kernel rikin.ik.solve builds from "
     "a solver it made (fuzzed through SerialArm.ik of an arm typed as a table)",
     "rikin.ik.pieper_kernel.PieperKernel.solve": "one-pose kernel on the validated pose, "

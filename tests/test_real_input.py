@@ -493,10 +493,52 @@ def test_regular_poses_take_the_fast_path(name, framed):
     assert answered >= 190
 
 
-@pytest.mark.parametrize("name", sorted(ARMS))
-def test_revolute_fk_chain_equals_fk(name):
+REVOLUTE = sorted(name for name, arm in ARMS.items() if arm.revolute.all())
+
+
+def _squared_fk_error(arm, q, T):
+    """The fast path's check computed from arm.fk: rotation entries and position / scale."""
+    D = arm.fk(q) - T
+    return float((D[:, :3, :3] ** 2).sum() + (D[:, :3, 3] ** 2).sum() / arm.scale**2)
+
+
+@pytest.mark.parametrize("framed", [False, True], ids=["bare", "base+tool"])
+@pytest.mark.parametrize("name", REVOLUTE)
+def test_the_fast_paths_fk_check_is_the_squared_fk_error(name, framed):
+    """FKCheck (offsets, base, tool and weight folded into its constants) against arm.fk,
+    for 1 to 8 solutions, and a 1e-7 rad error in one joint of one solution shows."""
+    from rikin.ik.fkcheck import FKCheck
+
     arm = ARMS[name]
-    if not arm.revolute.all():
-        return
-    q = np.random.default_rng(5).uniform(-7, 7, (50, arm.n))
-    assert np.abs(arm._fk_revolute(q) - arm.fk(q)).max() <= 1e-12 * arm.scale
+    if framed:
+        arm = arm.replace(base=_rigid(np.random.default_rng(7)), tool=_rigid(np.random.default_rng(8)))
+    check = FKCheck(arm)
+    rng = np.random.default_rng(5)
+    assert len(REVOLUTE) >= 4 and {1, 2, 3, 6} >= {a.n for a in ARMS.values() if a.revolute.all()}
+    for k in range(1, 9):
+        q = rng.uniform(-7, 7, (k, arm.n))
+        T = arm.fk(rng.uniform(-7, 7, arm.n))
+        expected = _squared_fk_error(arm, q, T)
+        assert check(q, T) == pytest.approx(expected, rel=1e-12)
+        T_exact = arm.fk(q[-1])
+        q_exact = np.repeat(q[-1:], k, axis=0)
+        assert check(q_exact, T_exact) <= 1e-28
+        q_exact[k // 2, arm.n // 2] += 1e-7
+        assert check(q_exact, T_exact) == pytest.approx(_squared_fk_error(arm, q_exact, T_exact), rel=1e-6)
+        assert check(q_exact, T_exact) > rikin.tolerances.FK_CHECK_TOL**2  # refused
+
+
+def test_the_fast_paths_fk_check_from_several_threads():
+    """Its buffers are per thread: 4 threads checking different counts of solutions at once."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    from rikin.ik.fkcheck import FKCheck
+
+    arm = robots.aula10_6r()
+    check = FKCheck(arm)
+    rng = np.random.default_rng(9)
+    jobs = [(rng.uniform(-3, 3, (1 + i % 8, 6)), arm.fk(rng.uniform(-3, 3, 6))) for i in range(400)]
+    expected = [_squared_fk_error(arm, q, T) for q, T in jobs]
+    with ThreadPoolExecutor(4) as pool:
+        got = list(pool.map(lambda job: check(*job), jobs))
+    assert got == pytest.approx(expected, rel=1e-12)

@@ -7,10 +7,9 @@ filter by joint limits and sort by distance to previous joints.
 
 from __future__ import annotations
 
-import math
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
@@ -30,6 +29,7 @@ from ..errors import InputError, UnreachableError
 from ..tolerances import FK_CHECK_TOL, MAX_LENGTH, ROTATION_CLEAN_TOL, SAME_SOLUTION_TOL
 from ..transforms import _wrap_angle, homogeneous, rotz
 from .base import RawSolutions, Solver
+from .fkcheck import FKCheck
 from .kernels import pose_defects
 from .result import BatchIKResult, Branch, IKResult
 
@@ -207,7 +207,7 @@ def solve(
         if fast_path is False:  # look it up once per arm (arms are immutable)
             single = getattr(solver, "single_kernel", None)
             kernel = single(arm) if single is not None else None
-            fast_path = None if kernel is None else (kernel, _check_weight(arm.scale))
+            fast_path = None if kernel is None else (kernel, FKCheck(arm))
             object.__setattr__(arm, "_single_kernel", fast_path)
         if fast_path is not None:
             fast = _solve_regular(arm, *fast_path, target)
@@ -285,7 +285,7 @@ def _onto_reach(
 
 
 def _solve_regular(
-    arm: SerialArm, kernel: Any, weight: FloatArray, target: FloatArray
+    arm: SerialArm, kernel: Any, fk_check: FKCheck, target: FloatArray
 ) -> IKResult | None:
     """The whole of :func:`solve` for one regular pose, with the plain-float kernel.
 
@@ -298,40 +298,25 @@ def _solve_regular(
         return None
     rows = target.tolist()
     r0, r1, r2 = rows[0], rows[1], rows[2]
-    if rows[3] != [0.0, 0.0, 0.0, 1.0] or not math.isfinite(sum(r0) + sum(r1) + sum(r2)):
+    if rows[3] != [0.0, 0.0, 0.0, 1.0]:
         return None
-    err, det = _rotation_errors([r0[:3], r1[:3], r2[:3]])
-    if err > ROTATION_CLEAN_TOL or det < 0:
+    # written so that NaN fails every test: a NaN or inf entry makes err NaN or inf
+    err, det = _rotation_errors(r0, r1, r2)
+    if not (err <= ROTATION_CLEAN_TOL and det > 0.0):
         return None
-    far = max(abs(r0[3]), abs(r1[3]), abs(r2[3]))
-    if far > MAX_LENGTH:
+    if not (abs(r0[3]) <= MAX_LENGTH and abs(r1[3]) <= MAX_LENGTH and abs(r2[3]) <= MAX_LENGTH):
         return None
     out = kernel.solve(rows)
     if out is None:
         return None
-    flat, keys = out
+    flat, branches = out
     q = np.fromiter(flat, np.float64, len(flat)).reshape(-1, 6)  # no type inference
-    D = arm._fk_revolute(q)
-    np.subtract(D, target, out=D)
-    # positions relative to the arm's size (or the target's distance), times sqrt(3) so
-    # that a max-abs bound on the entries bounds the norm as the general check does
-    np.multiply(D, weight if far <= arm.scale else _check_weight(far), out=D)
-    np.abs(D, out=D)
-    if not float(D.max()) <= FK_CHECK_TOL:
+    if not fk_check(q, target) <= _FK_CHECK_TOL2:  # every solution: see FKCheck
         return None  # the general path checks again and reports
-    labels = kernel.labels
-    return IKResult._regular(q, tuple([labels[key] for key in keys]), target, arm)
+    return IKResult._regular(q, tuple(branches), target, arm)
 
 
-_SQRT3 = math.sqrt(3.0)
-
-
-def _check_weight(length: float) -> FloatArray:
-    """Weights of the one-pose FK check's pose difference: 1 on the rotation block,
-    ``sqrt(3) / length`` on the position column (a max-abs bound then bounds the norm)."""
-    W = np.ones((4, 4))
-    W[:3, 3] = _SQRT3 / length
-    return W
+_FK_CHECK_TOL2 = FK_CHECK_TOL * FK_CHECK_TOL
 
 
 def _finish(

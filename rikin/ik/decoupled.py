@@ -20,9 +20,9 @@ from __future__ import annotations
 
 import math
 import weakref
-from math import atan2, cos, hypot, pi, remainder, sin, sqrt
-from typing import TYPE_CHECKING, Any
 from dataclasses import dataclass
+from math import atan2, cos, hypot, pi, remainder, sin, sqrt
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -549,6 +549,7 @@ class SingleKernel:
         tl = lambda M: [[float(v) for v in row] for row in M]  # noqa: E731
         self.G, self.H, self.K, self.E1t = tl(batch.G), tl(batch.H), tl(batch.K), tl(batch.E1t)
         self.base_R, self.base_p = tl(batch.base_R), [float(v) for v in batch.base_p]
+        self.no_base = bool(np.array_equal(batch.base_R, np.eye(3)) and not batch.base_p.any())
         self.c = [float(v) for v in batch.centre_tcp]
         g = batch.geometry
         self.g = (float(g.z0), float(g.r0), float(g.L2), float(g.L3), float(g.phi2), float(g.phi3))
@@ -556,13 +557,19 @@ class SingleKernel:
         self.sigma, self.s = batch.sigma, batch.wrist_s
         self.offsets = batch.offsets
         self.slots = batch.slots
-        #: branch key of :meth:`solve` -> its Branch (the one-pose path's interface)
-        self.labels = {
-            (i, up, nf): Branch(b.shoulder, "up" if up else "down", "no-flip" if nf else "flip")
-            for i, b in enumerate(batch.slots)
-            for up in (False, True)
-            for nf in (False, True)
-        }
+        #: ``labels[slot][elbow up][sin(q5) >= 0]``: the Branch of a solution
+        self.labels = [
+            [[Branch(b.shoulder, "up" if up else "down", "no-flip" if nf else "flip")
+              for nf in (False, True)] for up in (False, True)]
+            for b in batch.slots
+        ]
+        # with no offset on joint 5 the no-flip/flip slots' labels are fixed: per even slot
+        # plus elbow up (0 or 1), the Branches of that slot and the next
+        s_w = batch.wrist_s
+        self.pair_labels = [
+            (self.labels[slot][up][s_w < 0], self.labels[slot + 1][up][s_w > 0])
+            for slot in range(0, len(batch.slots), 2) for up in (0, 1)
+        ]
         self.sus_sin, self.sus_edge = batch.SUSPECT_SIN, batch.SUSPECT_EDGE
         #: (e1, k6) with E1^T = Rx(-e1 pi/2) and K = Rx(-k6 pi/2): the twists of the arms
         #: this kernel takes (``single_kernel`` gives None for others)
@@ -573,10 +580,9 @@ class SingleKernel:
         """Rows of ``S = G R H`` (see :class:`BatchKernel`)."""
         return _mul3(_mul3(self.G, R), self.H)
 
-    def solve(self, T: list[list[float]]) -> tuple[list[float], list[tuple[int, bool, bool]]] | None:
+    def solve(self, T: list[list[float]]) -> tuple[list[float], list[Branch]] | None:
         """Joint values of the valid slots (wrapped to (-pi, pi]), as one flat list of
-        6 per solution, and per solution its branch key ``(slot 0-7, elbow up,
-        sin(q5) >= 0)``, whose Branch :attr:`labels` gives.
+        6 per solution, and the Branch of each solution.
 
         ``T`` is the validated world pose as nested lists. None: near a singularity,
         or nothing reachable (let the general solver decide and explain).
@@ -590,10 +596,13 @@ class SingleKernel:
         v0 = r00 * c0 + r01 * c1_ + r02 * c2 + px
         v1 = r10 * c0 + r11 * c1_ + r12 * c2 + py
         v2 = r20 * c0 + r21 * c1_ + r22 * c2 + pz
-        B, b = self.base_R, self.base_p
-        x = B[0][0] * v0 + B[0][1] * v1 + B[0][2] * v2 + b[0]
-        y = B[1][0] * v0 + B[1][1] * v1 + B[1][2] * v2 + b[1]
-        z = B[2][0] * v0 + B[2][1] * v1 + B[2][2] * v2 + b[2]
+        if self.no_base:
+            x, y, z = v0, v1, v2
+        else:
+            B, b = self.base_R, self.base_p
+            x = B[0][0] * v0 + B[0][1] * v1 + B[0][2] * v2 + b[0]
+            y = B[1][0] * v0 + B[1][1] * v1 + B[1][2] * v2 + b[1]
+            z = B[2][0] * v0 + B[2][1] * v1 + B[2][2] * v2 + b[2]
         z0, r0, L2, L3, phi2, phi3 = self.g
         rho = hypot(x, y)
         if rho < self.sus_sin * self.size:
@@ -607,11 +616,16 @@ class SingleKernel:
         e1, k6 = self.twists
         ek = -e1 * k6
         sig, s_w, sus_sin = self.sigma, self.s, self.sus_sin
-        nf_q5 = None if o5 else (s_w < 0, s_w > 0)
+        labels = self.labels
+        pairs = None if o5 else self.pair_labels
         q_out: list[float] = []
-        keys: list[tuple[int, bool, bool]] = []
+        keys: list[Branch] = []
         vertical_tol = SINGULAR_TOL * L2
         rem, tau = remainder, 2.0 * pi
+        s00, s01, s02 = S0
+        s10, s11, s12 = S1
+        V10, V11, V12 = e1 * S2[0], e1 * S2[1], e1 * S2[2]
+        c1q, s1q = cos(q1 + o1), sin(q1 + o1)
         for side, u in ((0, rho - r0), (1, -rho - r0)):
             r = hypot(u, w)
             if not Lm - tol <= r <= Lp + tol:
@@ -627,16 +641,17 @@ class SingleKernel:
                 beta = 2.0 * atan2(sqrt(sm * dp), sqrt(sp * dm))
             base = atan2(w, u)
             vertical = abs(u) <= vertical_tol
-            th1 = q1 + pi if side else q1
-            a1 = rem(th1, tau)
-            ct, st = cos(th1 + o1), sin(th1 + o1)
+            if side:  # joint 1 turned by pi: q1 + pi in (-pi, pi], its cos and sin negated
+                a1, ct, st = q1 - pi if q1 > 0.0 else q1 + pi, -c1q, -s1q
+            else:  # atan2's range [-pi, pi]
+                a1, ct, st = q1, c1q, s1q
             # U = Rz(-th1) S (rows 0, 1), then V = E1^T U
-            u00, u01, u02 = ct * S0[0] + st * S1[0], ct * S0[1] + st * S1[1], ct * S0[2] + st * S1[2]
-            u10, u11, u12 = ct * S1[0] - st * S0[0], ct * S1[1] - st * S0[1], ct * S1[2] - st * S0[2]
-            # V = E1^T U with E1^T = [[1, 0, 0], [0, 0, e1], [0, -e1, 0]]; M = K W likewise,
-            # so M's row 1 is -e1 k6 U's row 1 whatever the elbow
+            u00, u01, u02 = ct * s00 + st * s10, ct * s01 + st * s11, ct * s02 + st * s12
+            u10, u11, u12 = ct * s10 - st * s00, ct * s11 - st * s01, ct * s12 - st * s02
+            # V = E1^T U with E1^T = [[1, 0, 0], [0, 0, e1], [0, -e1, 0]] (its row 1, V1*,
+            # is the same for both sides); M = K W likewise, so M's row 1 is -e1 k6 U's
+            # row 1 whatever the elbow
             V00, V01, V02 = u00, u01, u02
-            V10, V11, V12 = e1 * S2[0], e1 * S2[1], e1 * S2[2]
             m10, m11, m12 = ek * u10, ek * u11, ek * u12
             for elbow, (A, Bv) in enumerate(((base - beta, B0), (base + beta, -B0))):
                 q2, q3 = A - phi2, Bv - phi3
@@ -658,13 +673,17 @@ class SingleKernel:
                 t5 = s_w * theta
                 q5a, q5b = rem(-t5 - o5, tau), rem(t5 - o5, tau)
                 a2, a3 = rem(q2, tau), rem(q3, tau)
-                q_out += (a1, a2, a3, rem(phw - o4, tau), q5a, rem(psi - o6, tau))
-                q_out += (a1, a2, a3, rem(phw + pi - o4, tau), q5b, rem(psi + pi - o6, tau))
+                a4, a6 = rem(phw - o4, tau), rem(psi - o6, tau)
+                # the flip: q4 + pi and q6 + pi, in (-pi, pi] from a4, a6 in [-pi, pi]
+                q_out += (a1, a2, a3, a4, q5a, a6,
+                          a1, a2, a3, a4 - pi if a4 > 0.0 else a4 + pi, q5b,
+                          a6 - pi if a6 > 0.0 else a6 + pi)
                 slot = 4 * side + 2 * elbow
-                if nf_q5 is None:  # sin(q5) of each flip: its label
-                    keys += ((slot, is_up, sin(q5a) >= 0.0), (slot + 1, is_up, sin(q5b) >= 0.0))
+                if pairs is None:  # sin(q5) of each flip: its label
+                    keys += (labels[slot][is_up][sin(q5a) >= 0.0],
+                             labels[slot + 1][is_up][sin(q5b) >= 0.0])
                 else:  # no offset on joint 5: sin(q5) = -+s_w sin(theta), theta in (0, pi)
-                    keys += ((slot, is_up, nf_q5[0]), (slot + 1, is_up, nf_q5[1]))
+                    keys += pairs[slot + is_up]
         if not q_out:
             return None
         if -pi in q_out:  # remainder's range is [-pi, pi]; wrap_angle's is (-pi, pi]

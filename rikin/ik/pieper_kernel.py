@@ -85,10 +85,6 @@ WRAP_EDGE = pi - 1e-10
 _TAU = 2.0 * pi
 _CUBE_ROOTS_OF_1 = (complex(-0.5, 0.8660254037844386), complex(-0.5, -0.8660254037844386))
 
-#: A solution's branch key: (front, elbow up, sin(q5) >= 0).
-Key = tuple[bool, bool, bool]
-
-
 def single_kernel(solver: Pieper6RSolver, arm: SerialArm) -> PieperKernel | None:
     """The plain-float kernel of ``solver`` for ``arm``, or None when the arm's position
     problem is of a degree the kernel does not take (a skew arm whose quartic has no
@@ -174,12 +170,12 @@ class PieperKernel:
         R4, R5 = model.M[4, :3, :3], model.M[5, :3, :3]  # Rx(b1), Rx(b2), exact zeros kept
         self.wbx = (float(R4[1, 1]), float(R4[2, 1]), float(R5[1, 1]), float(R5[2, 1]))
         self.offsets = tuple(float(o) for o in model.offsets)
-        #: branch key (front, elbow up, sin(q5) >= 0) -> its Branch
-        self.labels = {
-            (f, u, w): Branch("front" if f else "back", "up" if u else "down",
-                              "no-flip" if w else "flip")
-            for f in (False, True) for u in (False, True) for w in (False, True)
-        }
+        #: ``labels[front][elbow up][sin(q5) >= 0]``: the Branch of a solution
+        self.labels = [
+            [[Branch("front" if f else "back", "up" if u else "down", "no-flip" if w else "flip")
+              for w in (False, True)] for u in (False, True)]
+            for f in (False, True)
+        ]
 
     # ------------------------------------------------------------------ position
     def _th3_skew(self, px: float, py: float, pz: float) -> list[float] | None:
@@ -261,10 +257,9 @@ class PieperKernel:
         return [phi + delta, phi - delta]
 
     # ------------------------------------------------------------------ solve
-    def solve(self, T: list[list[float]]) -> tuple[list[float], list[Key]] | None:
+    def solve(self, T: list[list[float]]) -> tuple[list[float], list[Branch]] | None:
         """Joint values of every solution (wrapped to (-pi, pi]) as one flat list of 6 per
-        solution, and per solution its branch key ``(front, elbow up, sin(q5) >= 0)``
-        (see :attr:`labels`); None for the general path (module docstring).
+        solution, and the Branch of each; None for the general path (module docstring).
 
         ``T`` is the validated world pose as nested lists.
         """
@@ -355,7 +350,8 @@ class PieperKernel:
             cols.append((g00 * x + g01 * y + g02 * z, g10 * x + g11 * y + g12 * z,
                          g20 * x + g21 * y + g22 * z))
         q_out: list[float] = []
-        keys: list[Key] = []
+        keys: list[Branch] = []
+        labels = self.labels
         label_tol = LABEL * L
         for th2, c2, s2, th3, c3, s3, gx, gy, gz in positions:
             # joint 1 turns r = M1 Rz(th2) g onto p'
@@ -425,7 +421,7 @@ class PieperKernel:
                 if abs(sq5) < LABEL:
                     return None
                 q_out += (a1, a2, a3, rem(th4 - o4, tau), q5, rem(th6 - o6, tau))
-                keys.append((front, up, sq5 >= 0.0))
+                keys.append(labels[front][up][sq5 >= 0.0])
         if not q_out:
             return None
         if max(map(abs, q_out)) > WRAP_EDGE:

@@ -110,19 +110,19 @@ class IKResult:
         """The result of a regular pose, built without the dataclass ``__init__`` (trusted
         input; the one-pose fast path spends a tenth of its time there otherwise)."""
         self = object.__new__(cls)
-        self.__dict__.update(
-            q=q,
-            branches=branches,
-            target=target,
-            singular=False,
-            singularity=None,
-            free_joints=(),
-            discarded=0,
-            arm_name=arm.name,
-            revolute=arm.revolute,
-            rotation_distance=0.0,
-            reach_distance=0.0,
-        )
+        object.__setattr__(self, "__dict__", {
+            "q": q,
+            "branches": branches,
+            "target": target,
+            "singular": False,
+            "singularity": None,
+            "free_joints": (),
+            "discarded": 0,
+            "arm_name": arm.name,
+            "revolute": arm.revolute,
+            "rotation_distance": 0.0,
+            "reach_distance": 0.0,
+        })
         return self
 
     def __len__(self) -> int:
