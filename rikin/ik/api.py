@@ -201,11 +201,12 @@ def solve(
     InputError
         Malformed target or ``near``.
     """
-    solver = _solver(arm)
     if near is None and within_limits is False and type(target) is np.ndarray:
-        fast_path = arm.__dict__.get("_single_kernel", False)
-        if fast_path is False:  # look it up once per arm (arms are immutable)
-            single = getattr(solver, "single_kernel", None)
+        # the one-pose fast path, looked up once per arm (arms are immutable) and first,
+        # before _solver: finding a table's general solver costs as much as a tenth of a pose
+        fast_path = arm.__dict__.get("_single_kernel", False) if isinstance(arm, SerialArm) else None
+        if fast_path is False:
+            single = getattr(_solver(arm), "single_kernel", None)
             kernel = single(arm) if single is not None else None
             fast_path = None if kernel is None else (kernel, FKCheck(arm))
             object.__setattr__(arm, "_single_kernel", fast_path)
@@ -213,6 +214,7 @@ def solve(
             fast = _solve_regular(arm, *fast_path, target)
             if fast is not None:
                 return fast
+    solver = _solver(arm)
     kind = solver.target_kind
     within_limits = as_flag(within_limits, "within_limits")
     T_world, rot_dist = _target_pose(arm, target, kind)
