@@ -7,7 +7,7 @@ batch run at N = 1,000,000 (measured in a child process: the high-water
 mark of its resident memory, ``VmHWM``, and that peak minus the baseline
 after importing numpy and rikin).
 
-    python benchmarks/bench_ik.py            # full run (a few minutes)
+    python benchmarks/bench_ik.py            # full run (about 20 s)
     python benchmarks/bench_ik.py --quick    # small N, a smoke run
     python benchmarks/bench_ik.py --json results.json
 
