@@ -190,7 +190,9 @@ def bench_rtb(
     }
 
 
-def bench_single(arm: rikin.SerialArm, T: np.ndarray, robot: Any, rounds: int = 5) -> dict[str, Any]:
+def bench_single(
+    arm: rikin.SerialArm, T: np.ndarray, robot: Any, rounds: int = 5
+) -> dict[str, Any]:
     """rikin ``arm.ik`` and (if given) rtb ``analytic_ik().solve`` one pose at a time.
 
     Rounds alternate between the two on the same poses, so a change of the

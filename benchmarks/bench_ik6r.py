@@ -255,7 +255,7 @@ def compare(case: Case, T: np.ndarray, A: np.ndarray, free: tuple[int, ...],
     arm = case.arm
     tally.poses += 1
     rA, rB = residuals(arm, A, T), residuals(arm, B, T)
-    for side, (X, rX, Y) in enumerate(((A, rA, B), (B, rB, A))):
+    for side, (X, rX, _Y) in enumerate(((A, rA, B), (B, rB, A))):
         if len(X):
             tally.res[side] = max(tally.res[side], float(rX.max()))
         else:
@@ -436,7 +436,8 @@ def main() -> None:
     print("\n" + head)
     print("\n".join(rows))
     print("\n".join(notes))
-    print("sources: " + "; ".join(f"{n}: {s}" for n, s, _ in ROBOTS) + f"; Epson C4: {EPSON_SOURCE}")
+    sources = "; ".join(f"{n}: {s}" for n, s, _ in ROBOTS)
+    print(f"sources: {sources}; Epson C4: {EPSON_SOURCE}")
 
 
 if __name__ == "__main__":

@@ -46,7 +46,8 @@ def _real(v: Any, name: str) -> float:
         kind = "a symbolic expression" if type(v).__module__.startswith("sympy") else "not a number"
         raise InputError(
             f"{name} contains {_describe(v)}, {kind}; give real numbers"
-            + (" (substitute the symbols first, or use rikin.symbolic)" if "symbolic" in kind else "")
+            + (" (substitute the symbols first, or use rikin.symbolic)"
+               if "symbolic" in kind else "")
         ) from exc
 
 

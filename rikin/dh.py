@@ -36,7 +36,6 @@ from .errors import InputError
 from .tolerances import DEGREES_SUSPECT, MAX_ANGLE, MAX_LENGTH
 from .transforms import _inv_transform
 
-
 #: rikin.ik.solve and solve_batch, registered by rikin.ik.api when it is imported.
 _IK_ENTRY: dict[str, Any] = {}
 
@@ -134,7 +133,8 @@ def _limit(value: Any, name: str) -> float:
 
 def _number(value: Any, name: str) -> float:
     """A real scalar (infinity allowed) without the finiteness check of ``as_real``."""
-    if value is None or isinstance(value, (bool, np.bool_, str, bytes, complex, np.complexfloating)):
+    not_real = (bool, np.bool_, str, bytes, complex, np.complexfloating)
+    if value is None or isinstance(value, not_real):
         raise InputError(f"{name} must be a number, got {value!r}")
     try:
         raw = np.asarray(value)
@@ -268,7 +268,9 @@ class SerialArm:
             if not isinstance(getattr(self, fname), str):
                 raise InputError(f"{fname} must be a string, got {getattr(self, fname)!r}")
         if isinstance(self.links, Link):
-            raise InputError("links must be a sequence of rikin.Link, got one Link: wrap it, (link,)")
+            raise InputError(
+                "links must be a sequence of rikin.Link, got one Link: wrap it, (link,)"
+            )
         try:
             links = tuple(self.links)
         except TypeError:
@@ -343,7 +345,8 @@ class SerialArm:
         try:
             return replace(self, **changes)
         except TypeError as exc:
-            raise InputError(f"replace: {exc}; the fields are {', '.join(self.__dataclass_fields__)}") from None
+            fields = ", ".join(self.__dataclass_fields__)
+            raise InputError(f"replace: {exc}; the fields are {fields}") from None
 
     def __repr__(self) -> str:
         return (
@@ -383,7 +386,9 @@ class SerialArm:
         reasonable doubt raise (see :func:`rikin._validate.check_radians`).
         """
         if not isinstance(name, str):
-            raise InputError(f"name must be text (the argument's name in messages), got {name!r:.60}")
+            raise InputError(
+                f"name must be text (the argument's name in messages), got {name!r:.60}"
+            )
         if check_degrees is not True and check_degrees is not False:
             as_flag(check_degrees, "check_degrees")
         arr = as_float_array(q, name)

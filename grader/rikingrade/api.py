@@ -717,7 +717,8 @@ def probe(paths):
     except OSError as e:
         r["network"] = False
     written = []
-    for d in ("/", "/tmp", "/usr", "/etc", os.path.dirname(os.__file__), "/opt", "/dev", "/dev/shm"):
+    stdlib = os.path.dirname(os.__file__)
+    for d in ("/", "/tmp", "/usr", "/etc", stdlib, "/opt", "/dev", "/dev/shm"):
         try:
             with open(os.path.join(d, "rikingrade-probe"), "w") as f:
                 f.write("x")

@@ -17,8 +17,9 @@ Every exercise module ``rikingrade.hidden.<exercise>`` exposes::
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 

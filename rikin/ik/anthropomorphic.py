@@ -162,7 +162,8 @@ def explain_rrr(
                 f"(it is {d:.6g}{u} from the shoulder axis; links 2-3 reach {g.L2 + g.L3:.6g}{u})"
                 + note, ex)
     return (f"{what} is {ex:.4g}{u} too close to the shoulder axis for links 2-3 "
-            f"(distance {d:.6g}{u}, the folded arm reaches no closer than {abs(g.L2 - g.L3):.6g}{u})"
+            f"(distance {d:.6g}{u}, the folded arm reaches no closer than "
+            f"{abs(g.L2 - g.L3):.6g}{u})"
             + note, ex)
 
 
@@ -174,7 +175,9 @@ FOLD = Singularity("links 2 and 3 are equal and folded, so the end of link 3 is 
                    "joint 2 and q2 is free", (2,))
 
 
-def check_rrr_geometry(arm: SerialArm, g: RRRGeometry, point_of: Callable[[FloatArray], FloatArray], family: str) -> None:
+def check_rrr_geometry(
+    arm: SerialArm, g: RRRGeometry, point_of: Callable[[FloatArray], FloatArray], family: str
+) -> None:
     """Raise InputError unless the arm's FK matches ``g`` at a few random joint values."""
     rng = np.random.default_rng(0)
     q = rng.uniform(-np.pi, np.pi, size=(5, arm.n))
@@ -200,7 +203,9 @@ class Angular3RSolver(ClosedForm):
 
     def check(self, arm: SerialArm) -> None:
         if arm.joint_types != "RRR":
-            raise InputError(f"{arm.name}: the angular 3R solver needs an RRR arm, got {arm.joint_types}")
+            raise InputError(
+                f"{arm.name}: the angular 3R solver needs an RRR arm, got {arm.joint_types}"
+            )
         check_rrr_geometry(arm, self.geometry, lambda F: F[:, :3, 3], "angular 3R")
 
     def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
@@ -208,7 +213,8 @@ class Angular3RSolver(ClosedForm):
         pos = position_rrr(T_0_n[:, :3, 3], self.geometry, h1, h2)
         slots = tuple(Branch(side, None, None) for side, _ in ARM_SLOTS)
         return RawSolutions(q=pos.q, valid=pos.valid, slots=slots, elbow_up=pos.elbow_up,
-                            singular={"shoulder": pos.shoulder_singular, "elbow": pos.elbow_singular,
+                            singular={"shoulder": pos.shoulder_singular,
+                                      "elbow": pos.elbow_singular,
                                       "fold": pos.fold_singular & pos.valid})
 
     def nearest_reachable(

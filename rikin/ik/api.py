@@ -204,7 +204,9 @@ def solve(
     if near is None and within_limits is False and type(target) is np.ndarray:
         # the one-pose fast path, looked up once per arm (arms are immutable) and first,
         # before _solver: finding a table's general solver costs as much as a tenth of a pose
-        fast_path = arm.__dict__.get("_single_kernel", False) if isinstance(arm, SerialArm) else None
+        fast_path = None
+        if isinstance(arm, SerialArm):
+            fast_path = arm.__dict__.get("_single_kernel", False)
         if fast_path is False:
             single = getattr(_solver(arm), "single_kernel", None)
             kernel = single(arm) if single is not None else None

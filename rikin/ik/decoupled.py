@@ -73,7 +73,8 @@ def _rx(alpha: float) -> FloatArray:
 
 @dataclass(frozen=True)
 class WristModel:
-    """Constants of a spherical wrist: ``M = pre^T R_3_6 post^T = Rz(q4+o4) Ry(-s(q5+o5)) Rz(q6+o6)``."""
+    """Constants of a spherical wrist:
+    ``M = pre^T R_3_6 post^T = Rz(q4+o4) Ry(-s(q5+o5)) Rz(q6+o6)``."""
 
     pre: FloatArray  # (3, 3)
     post: FloatArray  # (3, 3)
@@ -701,5 +702,5 @@ def _rx_quarter(A: FloatArray) -> float:
 
 def _mul3(A: list[list[float]], B: list[list[float]]) -> list[list[float]]:
     """The product of two 3x3 matrices given as nested lists, in plain floats."""
-    cols = list(zip(*B))
+    cols = list(zip(*B, strict=True))
     return [[a0 * b0 + a1 * b1 + a2 * b2 for b0, b1, b2 in cols] for a0, a1, a2 in A]

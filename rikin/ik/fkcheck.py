@@ -32,6 +32,13 @@ from .._validate import FloatArray
 __all__ = ["FKCheck"]
 
 
+class _PerThread(threading.local):
+    """Each thread's buffers, by number of solutions."""
+
+    def __init__(self) -> None:
+        self.views: dict[int, tuple[Any, ...]] = {}
+
+
 class FKCheck:
     """Sum of squared FK errors of ``k`` solutions of one pose, for an all-revolute arm.
 
@@ -72,7 +79,7 @@ class FKCheck:
         self._W = np.ones((4, 4))
         self._W[:, 3] = w
         self._n, self._pairs = n, padded // 2
-        self._local = threading.local()
+        self._local = _PerThread()
 
     def _buffers(self, k: int) -> tuple[Any, ...]:
         """Views of this thread's buffers for ``k`` solutions, made once per ``k``."""
@@ -95,7 +102,7 @@ class FKCheck:
 
     def __call__(self, q: FloatArray, T: FloatArray) -> float:
         """The sum of squares above for ``q (k, n)`` (radians) and the world pose ``T (4, 4)``."""
-        views = self._local.__dict__
+        views = self._local.views
         b = views.get(len(q))
         if b is None:
             b = views[len(q)] = self._buffers(len(q))

@@ -24,7 +24,7 @@ import numpy as np
 
 from .._validate import FloatArray
 from ..tolerances import MAX_LENGTH, ORTHONORMAL_TOL, REACH_TOL, SINGULAR_TOL, STRETCH_TOL
-from ..transforms import zyz_branches as spherical_wrist  # the one ZYZ decomposition
+from ..transforms import zyz_branches as spherical_wrist  # noqa: F401  (re-exported: the one ZYZ decomposition)
 
 #: A batch of 3x3 matrices as a structure of arrays: ``X[i][j]`` is entry (i, j)
 #: of every matrix, an array of shape ``(n,)`` or ``(k, n)``.

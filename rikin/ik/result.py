@@ -164,9 +164,10 @@ class IKResult:
         block was replaced by the nearest rotation (``rotation_distance``), and
         when it was moved to the nearest reachable pose (``reach_distance``).
         """
-        if isinstance(decimals, (bool, np.bool_)) or not isinstance(decimals, (int, np.integer)) or (
-            not 0 <= decimals <= 15
-        ):
+        whole = isinstance(decimals, (int, np.integer)) and not isinstance(
+            decimals, (bool, np.bool_)
+        )
+        if not whole or not 0 <= decimals <= 15:
             raise InputError(f"decimals must be a whole number from 0 to 15, got {decimals!r}")
         k, n = self.q.shape
         head = f"{'#':>2}  {'branch':<22}" + "".join(f"{'q' + str(j + 1):>11}" for j in range(n))

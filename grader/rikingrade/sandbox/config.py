@@ -6,8 +6,8 @@ site-packages and the directory of each preloaded package that lives elsewhere (
 installed editable: its package directory alone, never the course repository). Everything
 else is absent: the course, the grader package with its hidden tests and reference, the
 submissions and the output folder (hidden even when they sit inside a bound directory).
-``/scratch`` (not /tmp, so a checkout under /tmp stays visible) is a small private tmpfs; there is no network, a new PID/IPC/UTS namespace and an
-unprivileged user.
+``/scratch`` (not /tmp, so a checkout under /tmp stays visible) is a small private tmpfs;
+there is no network, a new PID/IPC/UTS namespace and an unprivileged user.
 
 That is the ``bwrap`` mode. Where user namespaces are refused (a Docker container with the
 default seccomp profile, such as Gradescope's), a root grader uses the ``uid`` mode instead
