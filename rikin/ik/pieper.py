@@ -889,22 +889,22 @@ class Pieper6RSolver:
             U, sv, Vt = np.linalg.svd(J)
             Ue = np.swapaxes(U, -1, -2) @ e_b[..., None]
             safe = 1.0 / np.where(sv > 0, sv, 1.0)
-            best = None
-            for rcond, scale in ((POLISH_RCOND, t_b), (STRONG_RCOND, np.ones_like(t_b))):
-                inv = np.where(sv > rcond * sv[..., :1], safe, 0.0)
-                step = (np.swapaxes(Vt, -1, -2) @ (inv[..., None] * Ue))[..., 0]
-                cand = th_b + scale[:, None] * step
+
+            def candidate(rcond: float, scale: FloatArray, sub: Any) -> list[FloatArray]:
+                inv = np.where(sv[sub] > rcond * sv[sub][..., :1], safe[sub], 0.0)
+                step = (np.swapaxes(Vt[sub], -1, -2) @ (inv[..., None] * Ue[sub]))[..., 0]
+                cand = th_b[sub] + scale[:, None] * step
                 Tc, zc, oc = self._fk_frames(cand)
-                ec = self._pose_error(Tc, goal_b) * w
-                errc = np.abs(ec).max(-1)
-                if best is None:
-                    best = [cand, Tc, zc, oc, ec, errc]
-                    first_ok = errc < err_b
-                else:
-                    use = ~first_ok & (errc < best[5])
-                    best = [np.where(use[(...,) + (None,) * (x.ndim - use.ndim)], y, x)
-                            for x, y in zip(best, [cand, Tc, zc, oc, ec, errc], strict=True)]
-            assert best is not None
+                ec = self._pose_error(Tc, goal_b[sub]) * w
+                return [cand, Tc, zc, oc, ec, np.abs(ec).max(-1)]
+
+            best = candidate(POLISH_RCOND, t_b, slice(None))
+            retry = np.flatnonzero(~(best[5] < err_b))  # the second try only where it counts
+            if retry.size:
+                alt = candidate(STRONG_RCOND, np.ones(retry.size), retry)
+                use = alt[5] < best[5][retry]
+                for x, y in zip(best, alt, strict=True):
+                    x[retry[use]] = y[use]
             cand, Tc, zc, oc, ec, errc = best
             better = errc < err_b
             th[rows] = np.where(better[:, None], cand, th_b)
@@ -1020,7 +1020,9 @@ class Pieper6RSolver:
         valid = (valid_pos[:, :, None] & ok_w).reshape(N, -1)
         goal = np.broadcast_to(T_0_n[:, None], th.shape[:-1] + (4, 4))
         th = np.where(valid[..., None], th, 0.0)
-        th = self._polish(th, goal)
+        # only the slots that hold a solution: the others would take every step of the
+        # polish for nothing (2,000 random KR5 poses: 1,700 of 7,461 rows, 2/3 of the time)
+        th[valid] = self._polish(th[valid], goal[valid])
         res = self._residual(th, goal)
         valid &= res <= ACCEPT_TOL
         elbow = self._merge_coinciding(th, goal, valid, res)
