@@ -295,8 +295,8 @@ def _solve_regular(
 
     Returns None (the caller takes the general path, which validates, explains and
     handles singularities) unless ``target`` is a float64 4x4 pose that passes every
-    check of the general path exactly, lies away from every singularity, and every
-    solution passes the same FK check.
+    check of the general path exactly, lies away from every singularity, and its
+    solutions pass :class:`FKCheck`, which is the general path's FK check or stricter.
     """
     if target.shape != (4, 4) or target.dtype != np.float64:
         return None

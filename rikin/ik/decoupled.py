@@ -620,7 +620,7 @@ class SingleKernel:
         labels = self.labels
         pairs = None if o5 else self.pair_labels
         q_out: list[float] = []
-        keys: list[Branch] = []
+        branches: list[Branch] = []
         vertical_tol = SINGULAR_TOL * L2
         rem, tau = remainder, 2.0 * pi
         s00, s01, s02 = S0
@@ -681,15 +681,15 @@ class SingleKernel:
                           a6 - pi if a6 > 0.0 else a6 + pi)
                 slot = 4 * side + 2 * elbow
                 if pairs is None:  # sin(q5) of each flip: its label
-                    keys += (labels[slot][is_up][sin(q5a) >= 0.0],
+                    branches += (labels[slot][is_up][sin(q5a) >= 0.0],
                              labels[slot + 1][is_up][sin(q5b) >= 0.0])
                 else:  # no offset on joint 5: sin(q5) = -+s_w sin(theta), theta in (0, pi)
-                    keys += pairs[slot + is_up]
+                    branches += pairs[slot + is_up]
         if not q_out:
             return None
         if -pi in q_out:  # remainder's range is [-pi, pi]; wrap_angle's is (-pi, pi]
             q_out = [pi if v == -pi else v for v in q_out]
-        return q_out, keys
+        return q_out, branches
 
 
 def _rx_quarter(A: FloatArray) -> float:

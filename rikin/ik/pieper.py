@@ -852,6 +852,23 @@ class Pieper6RSolver:
         )
         return np.concatenate([dp, dw], axis=-1)
 
+    def _step(
+        self, th: FloatArray, goal: FloatArray, svd: tuple[FloatArray, ...], w: FloatArray,
+        rcond: float, scale: FloatArray,
+    ) -> list[FloatArray]:
+        """One Gauss-Newton step of :meth:`_polish` for ``m`` solutions ``th (m, 6)``: the
+        least-squares step through the SVD ``(sv, 1 / sv, Vt, U^T e)`` of the weighted
+        Jacobians, directions below ``rcond`` (relative) dropped, times ``scale (m,)``.
+        Returns the new joints and their flange poses, axes, origins, weighted errors and
+        largest error."""
+        sv, safe, Vt, Ue = svd
+        inv = np.where(sv > rcond * sv[..., :1], safe, 0.0)
+        step = (np.swapaxes(Vt, -1, -2) @ (inv[..., None] * Ue))[..., 0]
+        cand = th + scale[:, None] * step
+        Tc, zc, oc = self._fk_frames(cand)
+        ec = self._pose_error(Tc, goal) * w
+        return [cand, Tc, zc, oc, ec, np.abs(ec).max(-1)]
+
     def _polish(self, th: FloatArray, T_goal: FloatArray, steps: int = 16) -> FloatArray:
         """Gauss-Newton steps on the whole pose (least squares through the SVD), each
         shortened while it does not improve, until every error is at rounding level or
@@ -890,18 +907,12 @@ class Pieper6RSolver:
             Ue = np.swapaxes(U, -1, -2) @ e_b[..., None]
             safe = 1.0 / np.where(sv > 0, sv, 1.0)
 
-            def candidate(rcond: float, scale: FloatArray, sub: Any) -> list[FloatArray]:
-                inv = np.where(sv[sub] > rcond * sv[sub][..., :1], safe[sub], 0.0)
-                step = (np.swapaxes(Vt[sub], -1, -2) @ (inv[..., None] * Ue[sub]))[..., 0]
-                cand = th_b[sub] + scale[:, None] * step
-                Tc, zc, oc = self._fk_frames(cand)
-                ec = self._pose_error(Tc, goal_b[sub]) * w
-                return [cand, Tc, zc, oc, ec, np.abs(ec).max(-1)]
-
-            best = candidate(POLISH_RCOND, t_b, slice(None))
+            svd = (sv, safe, Vt, Ue)
+            best = self._step(th_b, goal_b, svd, w, POLISH_RCOND, t_b)
             retry = np.flatnonzero(~(best[5] < err_b))  # the second try only where it counts
             if retry.size:
-                alt = candidate(STRONG_RCOND, np.ones(retry.size), retry)
+                alt = self._step(th_b[retry], goal_b[retry], tuple(x[retry] for x in svd), w,
+                                 STRONG_RCOND, np.ones(retry.size))
                 use = alt[5] < best[5][retry]
                 for x, y in zip(best, alt, strict=True):
                     x[retry[use]] = y[use]

@@ -100,7 +100,7 @@ def _rows(M: np.ndarray) -> list[list[float]]:
 class PieperKernel:
     """:meth:`Pieper6RSolver.solve` for one regular pose, on Python floats (see the
     module docstring). Built once per arm; :meth:`solve` is the one-pose interface of
-    :func:`rikin.ik.api.solve` (``labels`` maps its branch keys to Branches)."""
+    :func:`rikin.ik.api.solve` (it hands back each solution's Branch from ``labels``)."""
 
     def __init__(self, solver: Pieper6RSolver, arm: SerialArm) -> None:
         from ..transforms import _inv_transform
@@ -350,7 +350,7 @@ class PieperKernel:
             cols.append((g00 * x + g01 * y + g02 * z, g10 * x + g11 * y + g12 * z,
                          g20 * x + g21 * y + g22 * z))
         q_out: list[float] = []
-        keys: list[Branch] = []
+        branches: list[Branch] = []
         labels = self.labels
         label_tol = LABEL * L
         for th2, c2, s2, th3, c3, s3, gx, gy, gz in positions:
@@ -421,12 +421,12 @@ class PieperKernel:
                 if abs(sq5) < LABEL:
                     return None
                 q_out += (a1, a2, a3, rem(th4 - o4, tau), q5, rem(th6 - o6, tau))
-                keys.append(labels[front][up][sq5 >= 0.0])
+                branches.append(labels[front][up][sq5 >= 0.0])
         if not q_out:
             return None
         if max(map(abs, q_out)) > WRAP_EDGE:
             return None
-        return q_out, keys
+        return q_out, branches
 
     def _wrist_general(self, rw):
         """Both wrist slots of a wrist with any twists (:meth:`Pieper6RSolver._wrist`);
