@@ -48,7 +48,7 @@ from .._validate import FloatArray, check_arm
 from ..errors import InputError
 from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL, SINGULAR_TOL
 from .base import RawSolutions, Singularity
-from .kernels import spherical_wrist
+from .kernels import spherical_wrist, wrap_in_place
 from .reach import nearest_reachable, rounding_note
 from .result import Branch
 
@@ -73,6 +73,10 @@ ACCEPT_TOL = max(REACH_TOL, 1e-10)
 
 #: Joint values closer than this (rad) are one root of the closed form.
 SAME_ROOT_TOL = 1e-7
+
+#: Roots of the quartic closer than this (relative) are left to the companion matrix's
+#: eigenvalues rather than Ferrari's formulas (``_ferrari``).
+SEPARATE_ROOTS = 1e-3
 
 #: Two position branches nearer than this (rad, each joint) are compared for
 #: coinciding (see ``Pieper6RSolver._merge_coinciding``); branches farther apart
@@ -113,6 +117,11 @@ STRONG_RCOND = 1e-6
 #: Polishing stops once every pose error (relative) is below this, or stops improving:
 #: rounding level (a pair of roots near a fold is told apart only there).
 POLISHED = 5e-16
+
+#: A solution with no other within ``NEAR_PAIR`` stops polishing already below this
+#: pose error: tens of rounding units, a millionth of the FK check's tolerance. (Only a
+#: close pair needs its ends at rounding level, to be told apart from one solution.)
+POLISHED_ALONE = 1e-14
 
 #: ... or once a solution's step has been shortened below this fraction.
 MIN_STEP = 1e-3
@@ -461,6 +470,80 @@ def _solve_sinusoid(
     return phi + delta, phi - delta, reachable, degenerate
 
 
+def _slot_pairs(n: int) -> tuple[list[tuple[int, int]], np.ndarray, np.ndarray]:
+    """The pairs of slots of different position branches among ``n`` (a branch's two
+    wrist slots are ``2 k`` and ``2 k + 1``), as a list and as index arrays."""
+    pairs = [(i, j) for i in range(n) for j in range(i + 1, n) if i // 2 != j // 2]
+    return pairs, np.array([i for i, _ in pairs]), np.array([j for _, j in pairs])
+
+
+def _close_pairs(
+    th: FloatArray, valid: np.ndarray, ii: np.ndarray, jj: np.ndarray, margin: float = 1.0
+) -> tuple[FloatArray, np.ndarray]:
+    """Half the wrapped difference of each pair's joints ``(N, P, 6)``, and which pairs
+    are both valid and within ``margin * NEAR_PAIR`` in every joint ``(N, P)``."""
+    half = wrap_in_place(th[:, jj] - th[:, ii]) / 2
+    close = valid[:, ii] & valid[:, jj] & (np.abs(half).max(-1) < margin * NEAR_PAIR)
+    return half, close
+
+
+def _ferrari(
+    A: FloatArray, B: FloatArray, C: FloatArray, D: FloatArray
+) -> tuple[FloatArray, np.ndarray]:
+    """The roots ``(M, 4)`` of the monic quartics ``z^4 + A z^3 + B z^2 + C z + D``
+    (complex arrays ``(M,)``) by Ferrari's method, each polished by one Newton step, and
+    ``(M,)`` whether they are confirmed: every step small and the roots' sum ``-A`` (four
+    distinct roots, none found twice), and none within ``SEPARATE_ROOTS`` of another. The
+    vectorised form of the one-pose kernel's ``_quartic``; where unconfirmed, the roots
+    are to be found otherwise."""
+    with np.errstate(all="ignore"):
+        a = A / 4
+        aa = a * a
+        p = B - 6 * aa
+        q = C - 2 * B * a + 8 * aa * a
+        r = D - C * a + B * aa - 3 * aa * aa
+        # resolvent cubic, depressed: x^3 + P x + Q with m = x - p / 3
+        P = -p * p / 12 - r
+        Q = -p * p * p / 108 + p * r / 3 - q * q / 8
+        disc = np.sqrt(Q * Q / 4 + P * P * P / 27)
+        u3 = np.where(np.abs(-Q / 2 - disc) > np.abs(-Q / 2 + disc), -Q / 2 - disc, -Q / 2 + disc)
+        u = u3 ** (1 / 3)
+        safe_u = np.where(u == 0, 1.0, u)
+        m = np.full(u.shape, -p / 3, dtype=complex)
+        best = np.full(u.shape, -1.0)
+        for w in (1.0, complex(-0.5, 0.8660254037844386), complex(-0.5, -0.8660254037844386)):
+            uw = safe_u * w
+            cand = np.where(u == 0, -p / 3, uw - P / (3 * uw) - p / 3)
+            bigger = np.abs(cand) > best
+            m, best = np.where(bigger, cand, m), np.where(bigger, np.abs(cand), best)
+        s = np.sqrt(2 * m)
+        qs = q / (2 * np.where(s == 0, 1.0, s))
+        half = p / 2 + m
+        roots = []
+        sure = (m != 0) & (s != 0)
+        for b, c in ((-s, half + qs), (s, half - qs)):  # y^2 + b y + c = 0
+            d = np.sqrt(b * b - 4 * c)
+            d = np.where((np.conj(b) * d).real < 0, -d, d)
+            t = -(b + d) / 2
+            sure &= t != 0
+            roots += [t - a, c / np.where(t == 0, 1.0, t) - a]
+        z = np.stack(roots, axis=-1)
+        f = (((z + A[:, None]) * z + B[:, None]) * z + C[:, None]) * z + D[:, None]
+        df = ((4 * z + 3 * A[:, None]) * z + 2 * B[:, None]) * z + C[:, None]
+        step = f / np.where(df == 0, 1.0, df)
+        z = z - step
+        sure &= (
+            np.all(np.isfinite(z), axis=-1) & np.all(df != 0, axis=-1)
+            & np.all(np.abs(step) <= 1e-6 * (1 + np.abs(z)), axis=-1)
+            & (np.abs(z.sum(-1) + A) <= 1e-9 * (np.abs(A) + 4 * np.abs(z).max(-1)))
+        )
+        # near a multiple root (a fold of the arm) the companion matrix's eigenvalues
+        # split it the way the fold handling downstream was tuned for: leave it to them
+        for i, j in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
+            sure &= np.abs(z[:, i] - z[:, j]) > SEPARATE_ROOTS * (1 + np.abs(z[:, i]))
+    return z, sure
+
+
 def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
     """Real roots of trigonometric polynomials of degree 2 sampled at 5 angles.
 
@@ -495,13 +578,18 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
     quartic = np.abs(c2) > 1e-12 * big
     if quartic.any():
         lead = c2[quartic]
-        C = np.zeros((int(quartic.sum()), 4, 4), dtype=complex)
-        C[:, 1:, :3] = np.eye(3)
-        C[:, 0, 0] = -c1[quartic] / lead
-        C[:, 0, 1] = -a0[quartic] / lead
-        C[:, 0, 2] = -np.conj(c1[quartic]) / lead
-        C[:, 0, 3] = -np.conj(lead) / lead
-        z = np.linalg.eigvals(C)
+        # monic: z^4 + A z^3 + B z^2 + C z + D; Ferrari's formulas, and the companion
+        # matrix's eigenvalues where they are not confirmed (a multiple root or worse)
+        A, B = c1[quartic] / lead, a0[quartic] / lead
+        C, D = np.conj(c1[quartic]) / lead, np.conj(lead) / lead
+        z, sure = _ferrari(A, B, C, D)
+        if not sure.all():
+            unsure = ~sure
+            M = np.zeros((int(unsure.sum()), 4, 4), dtype=complex)
+            M[:, 1:, :3] = np.eye(3)
+            for col, coef in enumerate((A, B, C, D)):
+                M[:, 0, col] = -coef[unsure]
+            z[unsure] = np.linalg.eigvals(M)
         th_q, real_q = np.angle(z), np.abs(np.abs(z) - 1.0) < ROOT_TOL
         # eigvals' order is LAPACK's: sort (real roots first, by angle) so that the slots,
         # and the solutions of arm.ik, come in an order the one-pose kernel can reproduce
@@ -869,10 +957,13 @@ class Pieper6RSolver:
         ec = self._pose_error(Tc, goal) * w
         return [cand, Tc, zc, oc, ec, np.abs(ec).max(-1)]
 
-    def _polish(self, th: FloatArray, T_goal: FloatArray, steps: int = 16) -> FloatArray:
+    def _polish(
+        self, th: FloatArray, T_goal: FloatArray, alone: np.ndarray, steps: int = 16
+    ) -> tuple[FloatArray, FloatArray]:
         """Gauss-Newton steps on the whole pose (least squares through the SVD), each
-        shortened while it does not improve, until every error is at rounding level or
-        stops improving (at most ``steps``).
+        shortened while it does not improve, until every error is at rounding level
+        (``POLISHED``; ``POLISHED_ALONE`` where ``alone``, shape ``th.shape[:-1]``) or
+        stops improving (at most ``steps``). Returns the joints and their flange poses.
 
         A simple root needs none or one. Near a fold of the arm (elbow at its reach, a
         non-orthogonal wrist with coplanar axes) a full step overshoots when the pose is
@@ -885,11 +976,12 @@ class Pieper6RSolver:
         th = th.reshape(-1, 6).copy()  # one row per solution; each step takes the busy ones
         goal = np.broadcast_to(T_goal, shape[:-1] + (4, 4)).reshape(-1, 4, 4)
         t = np.ones(len(th))  # the step's length, per solution
+        enough = np.where(alone.reshape(-1), POLISHED_ALONE, POLISHED)
         T, z, o = self._fk_frames(th)
         e = self._pose_error(T, goal) * w
         err = np.abs(e).max(-1)
         for _ in range(steps):
-            rows = np.flatnonzero((err > POLISHED) & (t > MIN_STEP))
+            rows = np.flatnonzero((err > enough) & (t > MIN_STEP))
             if not rows.size:
                 break
             th_b, T_b, z_b, o_b, e_b, err_b, t_b, goal_b = (
@@ -925,10 +1017,11 @@ class Pieper6RSolver:
             e[rows] = np.where(better[:, None], ec, e_b)
             err[rows] = np.where(better, errc, err_b)
             t[rows] = np.where(better, np.minimum(1.0, 2.0 * t_b), t_b / 4.0)
-        return th.reshape(shape)
+        return th.reshape(shape), T.reshape(shape[:-1] + (4, 4))
 
     def _merge_coinciding(
-        self, th: FloatArray, goal: FloatArray, valid: np.ndarray, res: FloatArray
+        self, th: FloatArray, goal: FloatArray, valid: np.ndarray, res: FloatArray,
+        near: np.ndarray,
     ) -> np.ndarray:
         """Make position branches the pose cannot tell apart one solution (in place), and
         say which they are, ``(N, 8)``.
@@ -941,31 +1034,29 @@ class Pieper6RSolver:
         (the elbow singularity, no free joint) when it does not: a pose within rounding
         of the fold, on either side. Halfway is measured on the valley's floor
         (:meth:`_valley`), not at the straight midpoint in joint space. The kept point is
-        the best of the two and that halfway point.
+        the best of the two and that halfway point. Only the poses ``near (N,)`` are
+        looked at: those with two branches near each other before the polish.
         """
-        n = th.shape[1]
         elbow = np.zeros(valid.shape, dtype=bool)
-        pairs = [(i, j) for i in range(n) for j in range(i + 1, n) if i // 2 != j // 2]
-        ii = np.array([i for i, _ in pairs])
-        jj = np.array([j for _, j in pairs])
-        half = np.angle(np.exp(1j * (th[:, jj] - th[:, ii]))) / 2
-        close = valid[:, ii] & valid[:, jj] & (np.abs(half).max(-1) < NEAR_PAIR)
+        pairs, ii, jj = _slot_pairs(th.shape[1])
+        sub = np.flatnonzero(near)
+        half, close = _close_pairs(th[sub], valid[sub], ii, jj)
         if not close.any():
             return elbow
-        mid = th[:, ii] + half
-        rows, _ = np.nonzero(close)
+        mid = th[sub][:, ii] + half
+        rows = sub[np.nonzero(close)[0]]
         mid[close] = self._valley(mid[close], goal[rows, 0])
         r_mid = np.full(close.shape, np.inf)
         r_mid[close] = self._residual(mid[close], goal[rows, 0])
-        ends = np.maximum(res[:, ii], res[:, jj])
+        ends = np.maximum(res[sub][:, ii], res[sub][:, jj])
         same = close & (r_mid <= np.maximum(COINCIDE_FACTOR * ends, COINCIDE_FLOOR))
         for k in zip(*np.nonzero(same), strict=True):
-            row, p = int(k[0]), int(k[1])
+            row, p = int(sub[k[0]]), int(k[1])
             i, j = pairs[p]
-            best = min((res[row, i], 0), (res[row, j], 1), (r_mid[row, p], 2))[1]
-            keep = (th[row, i], th[row, j], mid[row, p])[best].copy()
+            best = min((res[row, i], 0), (res[row, j], 1), (r_mid[k], 2))[1]
+            keep = (th[row, i], th[row, j], mid[k])[best].copy()
             th[row, i] = th[row, j] = keep
-            res[row, i] = res[row, j] = min(res[row, i], res[row, j], r_mid[row, p])
+            res[row, i] = res[row, j] = min(res[row, i], res[row, j], r_mid[k])
             elbow[row, i] = elbow[row, j] = True
         return elbow
 
@@ -997,7 +1088,11 @@ class Pieper6RSolver:
         return x.reshape(shape)
 
     def _residual(self, th: FloatArray, T_goal: FloatArray) -> FloatArray:
-        T, _, _ = self._fk_frames(th)
+        """FK error of joints ``th (..., 6)``: position over the arm's size, or rotation entry."""
+        return self._residual_of(self._fk_frames(th)[0], T_goal)
+
+    def _residual_of(self, T: FloatArray, T_goal: FloatArray) -> FloatArray:
+        """:meth:`_residual` of the flange poses ``T (..., 4, 4)``."""
         pos = np.linalg.norm(T[..., :3, 3] - T_goal[..., :3, 3], axis=-1) / self.model.scale
         rot = np.abs(T[..., :3, :3] - T_goal[..., :3, :3]).max(axis=(-1, -2))
         return np.maximum(pos, rot)
@@ -1033,10 +1128,17 @@ class Pieper6RSolver:
         th = np.where(valid[..., None], th, 0.0)
         # only the slots that hold a solution: the others would take every step of the
         # polish for nothing (2,000 random KR5 poses: 1,700 of 7,461 rows, 2/3 of the time)
-        th[valid] = self._polish(th[valid], goal[valid])
-        res = self._residual(th, goal)
+        res = np.full(valid.shape, np.inf)  # the slots without a solution stay out
+        _, ii, jj = _slot_pairs(th.shape[1])
+        _, close = _close_pairs(th, valid, ii, jj, margin=2.0)
+        paired = np.zeros(valid.shape, dtype=bool)
+        for k in range(len(ii)):
+            paired[:, ii[k]] |= close[:, k]
+            paired[:, jj[k]] |= close[:, k]
+        th[valid], T_valid = self._polish(th[valid], goal[valid], ~paired[valid])
+        res[valid] = self._residual_of(T_valid, goal[valid])
         valid &= res <= ACCEPT_TOL
-        elbow = self._merge_coinciding(th, goal, valid, res)
+        elbow = self._merge_coinciding(th, goal, valid, res, np.any(close, axis=1))
         q = th - off
         front, up = self._labels(th)
         q[~valid] = np.nan
