@@ -225,3 +225,46 @@ def test_vectorised_ferrari_agrees_with_eigenvalues_and_declines_double_roots():
         poly = np.array([np.poly(r) for r in roots])  # (500, 5), monic
         _, sure = _ferrari(*poly[:, 1:].T)
         assert not sure.any(), split
+
+
+def _wrist_centre(kernel, T):
+    """The kernel's wrist centre p' (frame of axis 1, solver units) of a pose ``T``."""
+    (r00, r01, r02, tx), (r10, r11, r12, ty), (r20, r21, r22, tz) = T.tolist()[:3]
+    u = kernel.unit
+    cx, cy, cz = kernel.c_tcp
+    w = (r00 * cx + r01 * cy + r02 * cz + tx * u, r10 * cx + r11 * cy + r12 * cz + ty * u,
+         r20 * cx + r21 * cy + r22 * cz + tz * u)
+    return [sum(g * x for g, x in zip(row, w, strict=True)) + t
+            for row, t in zip(kernel.G, kernel.Gt, strict=True)]
+
+
+@pytest.mark.parametrize("make", [m for m in GENERAL if m.__name__ != "puma560"])
+def test_planar_arms_closed_form_roots_are_the_quartics(make):
+    """The KR5, KR6 and C4 tables (axes 1 and 2 skew at right angles, axes 2 and 3
+    parallel) take the closed form; the IRB 120 (axes 1 and 2 meet) does not. On random
+    poses and poses 1e-9..3e-2 rad from each singularity, the closed form's joint-3 roots
+    are the quartic's (to 1e-9 rad, same order), or both decline, or the closed form
+    declines a pose the quartic solves only within ROOT_SEP (never the other way)."""
+    arm = make()
+    kernel = kernel_of(arm)
+    assert kernel.planar == (make.__name__ != "abb_irb120")
+    if not kernel.planar:
+        return
+    rng = np.random.default_rng(31)
+    poses = list(arm.fk(rng.uniform(-pi, pi, (400, 6))))
+    for kind in KINDS:
+        for delta in (0.0, 1e-9, 1e-6, 1e-4, 1e-3, 3e-2):
+            q = singular_q(arm, kind, rng)
+            q[CROSSING_JOINT[kind]] += delta * rng.choice([-1, 1])
+            poses.append(arm.fk(q))
+    solved = 0
+    for T in poses:
+        p = _wrist_centre(kernel, T)
+        closed, quartic = kernel._th3_planar(*p), kernel._th3_skew(*p)
+        if closed is None or quartic is None:
+            assert closed is None, (closed, quartic)  # the closed form is never bolder
+            continue
+        assert len(closed) == len(quartic)
+        assert np.abs(np.array(closed) - np.array(quartic)).max(initial=0.0) <= 1e-9
+        solved += len(closed) > 0
+    assert solved >= 380

@@ -78,6 +78,10 @@ SAME_ROOT_TOL = 1e-7
 #: eigenvalues rather than Ferrari's formulas (``_ferrari``).
 SEPARATE_ROOTS = 1e-3
 
+#: Ferrari's formulas take a batch of at least this many quartics (for fewer, numpy's
+#: cost per call makes one call of the eigenvalue solver cheaper).
+FERRARI_MIN = 32
+
 #: Two position branches nearer than this (rad, each joint) are compared for
 #: coinciding (see ``Pieper6RSolver._merge_coinciding``); branches farther apart
 #: are always distinct solutions.
@@ -582,7 +586,10 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
         # matrix's eigenvalues where they are not confirmed (a multiple root or worse)
         A, B = c1[quartic] / lead, a0[quartic] / lead
         C, D = np.conj(c1[quartic]) / lead, np.conj(lead) / lead
-        z, sure = _ferrari(A, B, C, D)
+        if len(A) >= FERRARI_MIN:
+            z, sure = _ferrari(A, B, C, D)
+        else:  # a few poses: one eigenvalue call costs less than Ferrari's forty
+            z, sure = np.zeros((len(A), 4), dtype=complex), np.zeros(len(A), dtype=bool)
         if not sure.all():
             unsure = ~sure
             M = np.zeros((int(unsure.sum()), 4, 4), dtype=complex)

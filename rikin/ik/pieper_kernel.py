@@ -162,6 +162,11 @@ class PieperKernel:
         if self.usable and self.case == "skew":
             self.inv_c2 = 1.0 / c2
             self.D = c2.conjugate() / c2
+        #: axes 1 and 2 skew at right angles, and the wrist centre's height along axis 2
+        #: constant (axes 2 and 3 parallel): the quartic is a quadratic in |g|^2
+        #: (:meth:`_th3_planar`), as for the KUKA KR5 and KR6 and the Epson C4
+        self.planar = (self.case == "skew" and abs(ca1) <= 1e-12
+                       and max(abs(zc), abs(zs)) <= 1e-12 * self.L)
         # wrist
         self.orthogonal = solver.orthogonal
         self.sigma, self.kappa = solver.sigma, solver.kappa
@@ -233,6 +238,52 @@ class PieperKernel:
             return None
         return [t for _, t in out]
 
+    def _th3_planar(self, px: float, py: float, pz: float) -> list[float] | None:
+        """:meth:`_th3_skew` for a planar arm (``self.planar``), in closed form.
+
+        With ``cos(al1) = 0`` and ``g_z = z0`` constant, ``F`` is a quadratic in
+        ``u = |g|^2 = n0 + nc cos(th3) + ns sin(th3)``: ``(P - u)^2 + 4 a1^2 (H^2 + z0^2 - u)``,
+        whose roots are ``u = P + 2 a1^2 +- 2 |a1| sqrt(rho^2 - z0^2)`` (``rho`` the wrist
+        centre's distance from axis 1, ``z0`` its offset along axis 2: the two shoulders);
+        each ``u`` is a sinusoid in ``th3`` (the two elbows). The same roots, sorted the
+        same way, with the quartic's margins for None: roots off the unit circle by less
+        than ``REAL_OUT``, or closer than ``ROOT_SEP`` to each other.
+        """
+        n0, nc, ns = self.n
+        z0 = self.z[0]
+        a1, d1 = self.a1, self.d1
+        P = px * px + py * py + pz * pz - a1 * a1 + d1 * d1 - 2.0 * d1 * pz
+        rho_n = hypot(nc, ns)
+        if rho_n <= 1e-300:
+            return None
+        lateral = px * px + py * py - z0 * z0
+        if lateral < 0.0:  # complex u: roots off the unit circle by ~ this much
+            if 2.0 * abs(a1) * sqrt(-lateral) / rho_n < REAL_OUT:
+                return None
+            return []
+        root = 2.0 * abs(a1) * sqrt(lateral)
+        phi = atan2(ns, nc)
+        out = []
+        for u in (P + 2.0 * a1 * a1 + root, P + 2.0 * a1 * a1 - root):
+            ratio = (u - n0) / rho_n
+            if abs(ratio) > 1.0:  # complex: roots off the unit circle by acosh(|ratio|)
+                if abs(ratio) - 1.0 >= REAL_OUT * REAL_OUT / 2:  # acosh(1 + x) ~ sqrt(2 x)
+                    continue
+                return None
+            delta = acos(ratio)
+            for th in (phi + delta, phi - delta):
+                th = remainder(th, _TAU)
+                if abs(th) > pi - 1e-8:  # the general solver sorts by angle in (-pi, pi]
+                    return None
+                out.append(th)
+        out.sort()
+        for i in range(1, len(out)):
+            if out[i] - out[i - 1] < ROOT_SEP:
+                return None
+        if len(out) > 1 and out[0] + _TAU - out[-1] < ROOT_SEP:
+            return None
+        return out
+
     def _sinusoid_th3(self, px: float, py: float, pz: float) -> list[float] | None:
         """``th3`` of the one equation in ``th3`` (axes 1 and 2 meet or are parallel),
         in the general solver's order, or None (near a double root or the reach edge)."""
@@ -284,7 +335,10 @@ class PieperKernel:
         g0, gc, gs = self.g0, self.gc, self.gs
         near2 = (NEAR * L) ** 2
         skew, meet = case == "skew", case == "meet"
-        roots = self._th3_skew(px, py, pz) if skew else self._sinusoid_th3(px, py, pz)
+        if self.planar:
+            roots = self._th3_planar(px, py, pz)
+        else:
+            roots = self._th3_skew(px, py, pz) if skew else self._sinusoid_th3(px, py, pz)
         if roots is None:
             return None
         d1, a1, ca1, sa1 = self.d1, self.a1, self.ca1, self.sa1
