@@ -13,7 +13,7 @@ after importing numpy and rikin).
 
 roboticstoolbox-python (``pip install "roboticstoolbox-python[ik]"``) is optional:
 when it is importable, its ``ik_LM`` is timed on the same poses, and its all-solution
-closed form ``DHRobot.analytic_ik().solve`` (derived first, 6-30 s) against rikin's
+closed form ``DHRobot.analytic_ik().solve`` (derived first: 3-4 s here) against rikin's
 ``arm.ik`` one pose at a time: both in alternating rounds on the same poses, best round
 of each, printed as a ratio.
 """
