@@ -268,3 +268,25 @@ def test_planar_arms_closed_form_roots_are_the_quartics(make):
         assert np.abs(np.array(closed) - np.array(quartic)).max(initial=0.0) <= 1e-9
         solved += len(closed) > 0
     assert solved >= 380
+
+
+@pytest.mark.parametrize("make", [m for m in GENERAL if m.__name__ != "puma560"])
+def test_wrist_centre_near_axis_1_takes_the_kernel_and_agrees(make):
+    """1e-4 to 1e-3 of the arm's size from axis 1 (the shoulder singularity of an arm
+    without shoulder offset, which random poses meet once in 500), the kernel takes the
+    pose and agrees with the general path; on the axis it declines."""
+    from rikin.ik.pieper_kernel import NEAR_AXIS1
+
+    arm = make()
+    kernel = kernel_of(arm)
+    rng = np.random.default_rng(41)
+    taken = 0
+    for _ in range(6):
+        q0 = singular_q(arm, "shoulder", rng)
+        assert kernel.solve(arm.fk(q0).tolist()) is None
+        lever = np.linalg.norm(arm.joint_axes(q0)[0][4] - arm.joint_axes(q0)[0][1])
+        for rel in (2 * NEAR_AXIS1, 5 * NEAR_AXIS1, 10 * NEAR_AXIS1):
+            q = q0.copy()
+            q[1] += rel * arm.scale / lever * rng.choice([-1, 1])  # moves the centre ~rel
+            taken += assert_fast_equals_general(arm, arm.fk(q))
+    assert taken >= 12
