@@ -238,10 +238,7 @@ class PieperKernel:
                 return None
             out.append((th, th - f / df))
         out.sort()
-        for i in range(1, len(out)):
-            if out[i][0] - out[i - 1][0] < ROOT_SEP:
-                return None
-        if len(out) > 1 and out[0][0] + _TAU - out[-1][0] < ROOT_SEP:
+        if not _apart([th for th, _ in out]):
             return None
         return [t for _, t in out]
 
@@ -284,12 +281,7 @@ class PieperKernel:
                     return None
                 out.append(th)
         out.sort()
-        for i in range(1, len(out)):
-            if out[i] - out[i - 1] < ROOT_SEP:
-                return None
-        if len(out) > 1 and out[0] + _TAU - out[-1] < ROOT_SEP:
-            return None
-        return out
+        return out if _apart(out) else None
 
     def _sinusoid_th3(self, px: float, py: float, pz: float) -> list[float] | None:
         """``th3`` of the one equation in ``th3`` (axes 1 and 2 meet or are parallel),
@@ -523,6 +515,13 @@ class PieperKernel:
             (r00, r10), (r01, r11) = rest
             out.append((th4, atan2(s, c5), atan2(r10 - r01, r00 + r11)))
         return out
+
+
+def _apart(angles: list[float]) -> bool:
+    """Whether sorted angles in (-pi, pi] are at least ``ROOT_SEP`` apart around the circle."""
+    if any(b - a < ROOT_SEP for a, b in zip(angles[:-1], angles[1:], strict=True)):
+        return False
+    return len(angles) < 2 or angles[0] + _TAU - angles[-1] >= ROOT_SEP
 
 
 def _quartic(A: complex, B: complex, C: complex, D: complex) -> list[complex] | None:
