@@ -522,6 +522,29 @@ def test_near_singular_poses_keep_every_solution(make, kind):
             assert distance_to(res, q, arm) < SAME_Q, (kind, delta, distance_to(res, q, arm))
 
 
+@pytest.mark.parametrize("make", GENERAL)
+def test_one_arm_configuration_one_shoulder_and_elbow_label(make):
+    """Solutions with the same joints 1-3 (the wrist slots of one position branch) carry
+    the same shoulder and elbow labels, also on and next to each singularity, where the
+    elbow or the wrist centre lies on the line between two labels: the label may be
+    either there, but not both for one arm configuration."""
+    arm = make()
+    rng = np.random.default_rng(5)
+    seen = 0
+    for kind in KINDS:
+        for delta in (0.0, 0.0, 1e-12, 1e-9):
+            q = singular_q(arm, kind, rng)
+            q[CROSSING_JOINT[kind]] += delta * rng.choice([-1, 1])
+            res = arm.ik(arm.fk(q), near=q)
+            for i in range(len(res.q)):
+                for j in range(i + 1, len(res.q)):
+                    if np.abs(rikin.wrap_angle(res.q[i, :3] - res.q[j, :3])).max() < 1e-10:
+                        seen += 1
+                        a, b = res.branches[i], res.branches[j]
+                        assert (a.shoulder, a.elbow) == (b.shoulder, b.elbow), (kind, delta, a, b)
+    assert seen >= 10, seen
+
+
 @pytest.mark.parametrize("make", [kuka_kr5, kuka_kr6, abb_irb120, epson_c4_table])
 def test_a_free_joint_comes_from_near_or_else_from_the_pose(make):
     """A wrist centre ~1e-11 of the arm's size off axis 1 is flagged (q1 free within

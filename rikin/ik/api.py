@@ -468,7 +468,11 @@ def solve_batch(
 
     def general(rows: slice | np.ndarray, T_chunk: FloatArray) -> None:
         """The general solver (every family; exact singular handling) for some poses."""
-        raw = solver.solve(arm, arm._world_to_base(T_chunk), None)
+        T_0_n = arm._world_to_base(T_chunk)
+        if getattr(solver, "labels_optional", False):
+            raw = solver.solve(arm, T_0_n, None, labels=False)
+        else:
+            raw = solver.solve(arm, T_0_n, None)
         raw, _, reach = _onto_reach(arm, solver, T_chunk, raw, None)
         reach_out[rows] = reach
         qq = _wrap(raw.q, arm.revolute)

@@ -52,7 +52,9 @@ class Solver(Protocol):
     """A closed-form IK of one arm family, working on ``T_0_n`` (no base, no tool).
 
     A family may also offer ``nearest_reachable(arm, T_world)``: the reachable poses it
-    solves instead of rounded ones that miss its reach (see :mod:`rikin.ik.reach`).
+    solves instead of rounded ones that miss its reach (see :mod:`rikin.ik.reach`), and
+    ``labels_optional = True``: its ``solve`` then takes ``labels=False`` and skips
+    ``elbow_up`` and ``shoulder_front``, which the batch path does not report.
     """
 
     target_kind: TargetKind
