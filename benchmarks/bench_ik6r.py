@@ -29,13 +29,14 @@ joint_limits=False)`` per pose. Printed per arm:
   size for positions);
 * ``res``: the largest FK residual of a side over all its solutions and poses;
 * ``us/pose``: wall time per pose on the regular poses, rikin ``arm.ik`` one float64 4x4
-  array at a time (the one-pose fast path), rikin's ``ik_batch`` of all of them, and
-  roboticstoolbox's ``solve``; the derivation apart. rikin and roboticstoolbox are timed
-  in alternating rounds on the same poses (best of ``--rounds``, so that a change of the
-  machine's load hits both), after freezing the garbage collector's view of the sympy
-  objects the derivation leaves (otherwise every collection walks them, and the side that
-  allocates more pays for the other's derivation); ``ratio`` is rtb time / rikin time, by
-  wall clock and by process CPU time.
+  array at a time (the one-pose fast path), rikin's ``ik_batch`` of all of them on one
+  thread (``workers=1``), and roboticstoolbox's ``solve``; the derivation apart. The three
+  are timed in alternating rounds on the same poses (best of ``--rounds``, so that a
+  change of the machine's load hits all), after freezing the garbage collector's view of
+  the sympy objects the derivation leaves (otherwise every collection walks them, and the
+  side that allocates more pays for the other's derivation); ``ratio`` is rtb time /
+  rikin ``arm.ik`` time, by wall clock and by process CPU time (``cpu``), and ``batch``
+  rtb time / ``ik_batch`` time (wall clock, one thread each).
 
     python benchmarks/bench_ik6r.py                          # 1,000 + 5 x 50 poses per arm
     python benchmarks/bench_ik6r.py --poses 50 --singular 10 # a smoke run
@@ -325,10 +326,12 @@ def solve_rtb(case: Case, Ts: np.ndarray):
     return out, time.perf_counter() - t0
 
 
-def time_one_pose(case: Case, Ts: np.ndarray, rounds: int) -> tuple[float, float, float, float]:
+def time_sides(case: Case, Ts: np.ndarray, rounds: int) -> tuple[float, float, float, float,
+                                                                 float]:
     """Best wall-clock and CPU seconds over all of ``Ts``: ``(rikin wall, rtb wall, rikin
-    cpu, rtb cpu)``, rikin's ``arm.ik`` and roboticstoolbox's ``solve`` in alternating
-    rounds on the same poses (module docstring)."""
+    cpu, rtb cpu, rikin batch wall)``, rikin's ``arm.ik``, roboticstoolbox's ``solve`` and
+    rikin's ``ik_batch`` on one thread in alternating rounds on the same poses (module
+    docstring)."""
     gc.collect()
     gc.freeze()
     poses = [np.array(T) for T in Ts]  # what a caller passes: one float64 4x4 array each
@@ -346,14 +349,19 @@ def time_one_pose(case: Case, Ts: np.ndarray, rounds: int) -> tuple[float, float
         for F in flange:
             solve(F, joint_limits=False)
 
-    best = [np.inf] * 4
+    batch = np.array(Ts)
+
+    def batch_round() -> None:
+        arm.ik_batch(batch, workers=1)
+
+    best = [np.inf] * 6
     for _ in range(rounds):
-        for k, fn in enumerate((rikin_round, rtb_round)):
+        for k, fn in enumerate((rikin_round, rtb_round, batch_round)):
             t0, c0 = time.perf_counter(), time.process_time()
             fn()
             best[k] = min(best[k], time.perf_counter() - t0)
-            best[2 + k] = min(best[2 + k], time.process_time() - c0)
-    return best[0], best[1], best[2], best[3]
+            best[3 + k] = min(best[3 + k], time.process_time() - c0)
+    return best[0], best[1], best[3], best[4], best[2]
 
 
 def main() -> None:
@@ -375,7 +383,7 @@ def main() -> None:
           f"{len(SINGULAR_KINDS)} x {args.singular} near singularities")
     head = (f"{'arm':<26}{'equal reg':>10}{'equal sing':>11}{'miss rikin/rtb':>15}"
             f"{'wrong':>7}{'res rikin':>10}{'res rtb':>9}{'rikin us':>9}{'batch us':>9}"
-            f"{'rtb us':>8}{'ratio':>7}{'cpu':>6}{'derive s':>9}")
+            f"{'rtb us':>8}{'ratio':>7}{'cpu':>6}{'batch':>7}{'derive s':>9}")
     rows, notes = [], []
     print(head, flush=True)  # each arm's row as it is done (the run takes a while)
     for case in cases():
@@ -387,7 +395,7 @@ def main() -> None:
         sols_r, free_r, t_r = solve_rikin(arm, T_reg)
         sols_s, free_s, _ = solve_rikin(arm, T_sing)
         t0 = time.perf_counter()
-        arm.ik_batch(T_reg)
+        arm.ik_batch(T_reg, workers=1)
         t_b = time.perf_counter() - t0
         # rikin alone: the generating q among the solutions (or in their singular family)
         lost = sum(
@@ -405,7 +413,7 @@ def main() -> None:
         attach_rtb(case, rng)
         rtb_r, _ = solve_rtb(case, T_reg)
         rtb_s, _ = solve_rtb(case, T_sing)
-        t_r, t_t, c_r, c_t = time_one_pose(case, T_reg, args.rounds)
+        t_r, t_t, c_r, c_t, t_b = time_sides(case, T_reg, args.rounds)
         reg, sing = Tally(), Tally()
         for i, T in enumerate(T_reg):
             compare(case, T, sols_r[i], free_r[i], rtb_r[i], reg, f"{case.name} random #{i}",
@@ -420,7 +428,7 @@ def main() -> None:
             f"{case.name:<26}{f'{reg.equal}/{reg.poses}':>10}{f'{sing.equal}/{sing.poses}':>11}"
             f"{f'{miss[0]}/{miss[1]}':>15}{f'{wrong[0]}/{wrong[1]}':>7}{res[0]:>10.1e}"
             f"{res[1]:>9.1e}{t_r * us:>9.0f}{t_b * us:>9.1f}{t_t * us:>8.0f}"
-            f"{t_t / t_r:>7.2f}{c_t / c_r:>6.1f}{case.derive_s:>9.1f}")
+            f"{t_t / t_r:>7.2f}{c_t / c_r:>6.1f}{t_t / t_b:>7.1f}{case.derive_s:>9.1f}")
         print(rows[-1], flush=True)
         notes.append(
             f"{case.name}: FK of rikin and roboticstoolbox agree to {case.fk_agreement:.1e}; "

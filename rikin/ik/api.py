@@ -455,9 +455,8 @@ def solve_batch(
     N = Tw.shape[0]
     make_kernel = getattr(solver, "batch_kernel", None)
     kernel = make_kernel(arm) if make_kernel is not None else None
-    if kernel is not None:
-        slots = kernel.slots
-    else:  # the slots of this family: solve one pose
+    slots = kernel.slots if kernel is not None else getattr(solver, "slots", None)
+    if slots is None:  # the slots of this family: solve one pose
         slots = solver.solve(arm, arm._world_to_base(np.eye(4))[None], None).slots
     k = len(slots)
     q_out = np.empty((N, k, arm.n))

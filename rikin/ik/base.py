@@ -54,7 +54,8 @@ class Solver(Protocol):
     A family may also offer ``nearest_reachable(arm, T_world)``: the reachable poses it
     solves instead of rounded ones that miss its reach (see :mod:`rikin.ik.reach`), and
     ``labels_optional = True``: its ``solve`` then takes ``labels=False`` and skips
-    ``elbow_up`` and ``shoulder_front``, which the batch path does not report.
+    ``elbow_up`` and ``shoulder_front``, which the batch path does not report; and
+    ``slots``, the ``RawSolutions.slots`` its ``solve`` always returns.
     """
 
     target_kind: TargetKind

@@ -679,15 +679,12 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
         theta[lin, 0], theta[lin, 1] = xp, xm
         real[lin, 0] = real[lin, 1] = ok
     # Newton on F(theta) = a0 + sum a_k cos k theta + b_k sin k theta
+    a1, a2, b1, b2 = a[0][:, None], a[1][:, None], b[0][:, None], b[1][:, None]
     for _ in range(3):
-        f = a0[:, None] + sum(
-            a[k - 1][:, None] * np.cos(k * theta) + b[k - 1][:, None] * np.sin(k * theta)
-            for k in (1, 2)
-        )
-        df = sum(
-            k * (-a[k - 1][:, None] * np.sin(k * theta) + b[k - 1][:, None] * np.cos(k * theta))
-            for k in (1, 2)
-        )
+        cos1, sin1 = np.cos(theta), np.sin(theta)
+        cos2, sin2 = cos1 * cos1 - sin1 * sin1, 2 * sin1 * cos1
+        f = a0[:, None] + a1 * cos1 + b1 * sin1 + a2 * cos2 + b2 * sin2
+        df = b1 * cos1 - a1 * sin1 + 2 * (b2 * cos2 - a2 * sin2)
         step = np.where(np.abs(df) > 1e-8 * big[:, None], f / np.where(df == 0, 1.0, df), 0.0)
         step = np.clip(step, -1e-3, 1e-3)
         theta = theta - step
