@@ -338,7 +338,7 @@ class SerialArm:
     def scale(self) -> float:
         """A characteristic length of the arm, for relative tolerances: the sum of |a| and
         |d| over its links (1 when they are all zero), in the arm's units."""
-        return self._scale  # type: ignore[attr-defined,no-any-return]
+        return self._scale  # type: ignore[attr-defined]
 
     def replace(self, **changes: Any) -> SerialArm:
         """A copy with some fields changed, e.g. ``arm.replace(tool=T)``."""

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -79,7 +79,7 @@ def _solver(arm: Any) -> Solver:
         from .pieper import general_solver
 
         return general_solver(arm)
-    return arm.solver  # type: ignore[no-any-return]
+    return arm.solver
 
 
 def _target_pose(arm: SerialArm, target: Any, kind: str) -> tuple[FloatArray, float]:
@@ -213,7 +213,8 @@ def solve(
             fast_path = None if kernel is None else (kernel, FKCheck(arm))
             object.__setattr__(arm, "_single_kernel", fast_path)
         if fast_path is not None:
-            fast = _solve_regular(arm, *fast_path, target)
+            kernel, fk_check = fast_path
+            fast = _solve_regular(arm, kernel, fk_check, target)
             if fast is not None:
                 return fast
     solver = _solver(arm)
@@ -469,7 +470,7 @@ def solve_batch(
         """The general solver (every family; exact singular handling) for some poses."""
         T_0_n = arm._world_to_base(T_chunk)
         if getattr(solver, "labels_optional", False):
-            raw = solver.solve(arm, T_0_n, None, labels=False)
+            raw = cast(Any, solver).solve(arm, T_0_n, None, labels=False)
         else:
             raw = solver.solve(arm, T_0_n, None)
         raw, _, reach = _onto_reach(arm, solver, T_chunk, raw, None)

@@ -590,7 +590,7 @@ class SingleKernel:
         """
         (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz) = T[0], T[1], T[2]
         if self.plain:  # G and H are the identity (no base rotation, no tool twist)
-            S0, S1, S2 = (r00, r01, r02), (r10, r11, r12), (r20, r21, r22)
+            S0, S1, S2 = [r00, r01, r02], [r10, r11, r12], [r20, r21, r22]
         else:
             S0, S1, S2 = self._GRH([[r00, r01, r02], [r10, r11, r12], [r20, r21, r22]])
         c0, c1_, c2 = self.c

@@ -48,7 +48,7 @@ import numpy as np
 from .._validate import FloatArray, check_arm
 from ..errors import InputError
 from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL, SINGULAR_TOL
-from .base import RawSolutions, Singularity
+from .base import RawSolutions, Singularity, TargetKind
 from .kernels import spherical_wrist, wrap_in_place
 from .reach import nearest_reachable, rounding_note
 from .result import Branch
@@ -501,7 +501,7 @@ def _chain_fk(
         cols = [_column_sum(plan[j], turned) for j in range(3)] + [
             _column_sum(plan[3], turned, cols[3]) if plan[3] else cols[3]
         ]
-    T = np.empty((n, 4, 4))
+    T: FloatArray = np.empty((n, 4, 4))
     for j in range(4):
         T[:, :3, j] = cols[j].T
     T[:, 3, :3] = 0.0
@@ -696,8 +696,8 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
 class Pieper6RSolver:
     """Closed-form IK of a 6R arm with a spherical wrist, from its DH table: up to 8 solutions."""
 
-    target_kind = "pose"
-    wrist_middle = 4
+    target_kind: TargetKind = "pose"
+    wrist_middle: int | None = 4
     labels_optional = True
     singularities = {
         "shoulder": SHOULDER,
@@ -969,7 +969,7 @@ class Pieper6RSolver:
             c5 > 0, abs(math.sin(b1 + b2)) <= GEOMETRY_TOL, abs(math.sin(b1 - b2)) <= GEOMETRY_TOL
         )
         outs = []
-        sing = None
+        sing_k_both = []
         for sgn in (1.0, -1.0):
             s5 = sgn * s5_abs
             th5 = np.arctan2(s5, c5)
@@ -986,8 +986,8 @@ class Pieper6RSolver:
             rest = np.swapaxes(lead, -1, -2) @ R_w
             th6 = np.arctan2(rest[..., 1, 0] - rest[..., 0, 1], rest[..., 0, 0] + rest[..., 1, 1])
             outs.append(np.stack([th4, th5, th6], axis=-1))
-            sing = sing_k if sing is None else sing | sing_k
-        assert sing is not None
+            sing_k_both.append(sing_k)
+        sing = sing_k_both[0] | sing_k_both[1]
         both = np.stack([ok, ok], axis=-1)
         # q5 = 0 or pi with axes 4 and 6 not aligned: the three axes in one plane, the tilt
         # between axes 4 and 6 at its least or most, and the two branches (+-q5) one. A
@@ -1195,7 +1195,7 @@ class Pieper6RSolver:
         )
         R_w = np.swapaxes(R_F4, -1, -2) @ T_0_n[:, None, :3, :3] @ M[6, :3, :3].T
         th456, ok_w, wsing, wfold = self._wrist(R_w, h4)  # (N, 4, 2, 3)
-        th = np.empty((N, POSITION_SLOTS, 2, 6))
+        th: FloatArray = np.empty((N, POSITION_SLOTS, 2, 6))
         th[..., :3] = th123[:, :, None, :]
         th[..., 3:] = th456
         th = th.reshape(N, 2 * POSITION_SLOTS, 6)

@@ -434,7 +434,7 @@ class PieperKernel:
                 return None
             up = hu > 0.0
             # R_w columns: Rx(-al3) Rz(-th3) Rx(-al2) Rz(-th2) Rx(-al1) Rz(-th1) S
-            rw = []
+            rw: list[float] = []
             for x, y, z in cols:
                 x1 = c1 * x + s1 * y
                 y1 = c1 * y - s1 * x
