@@ -331,6 +331,7 @@ def test_unreachable_says_by_how_much_like_the_lesson_solver(make):
     with pytest.raises(rikin.UnreachableError, match="out of reach of joints 1-3") as got:
         general.ik(T)
     assert got.value.excess == pytest.approx(want.value.excess, rel=1e-6)
+    assert str(got.value).count(f"{got.value.excess:.4g}") == 1  # said once, not twice
 
 
 # ------------------------------------------------------------------ complete sets, singular poses

@@ -1303,8 +1303,8 @@ class Pieper6RSolver:
         if not valid[0].any():
             gap = float(self._reach_nearest(p[None], np.inf)[0][0]) / self.unit  # exact
             return (
-                f"the wrist centre is {gap:.4g}{u} out of reach of joints 1-3 (the nearest "
-                f"point they can put it is {gap:.6g}{u} away)"
+                f"the wrist centre is {gap:.4g}{u} out of reach of joints 1-3 (that far "
+                "from the nearest point they can put it)"
                 + rounding_note(arm, p_w / self.unit),
                 gap,
             )
