@@ -39,7 +39,6 @@ import http.server
 import os
 import re
 import shutil
-import subprocess
 import sys
 import threading
 import time
@@ -49,6 +48,7 @@ from urllib.parse import unquote, urlsplit
 
 import pytest
 import yaml
+from book_build import run_build
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE_TIMEOUT_S = 60.0
@@ -107,7 +107,7 @@ def book_html(browser_paths: tuple[str, str], tmp_path_factory: pytest.TempPathF
     env = dict(os.environ, PYTHONHASHSEED="0", JUPYTER_PREFER_ENV_PATH="1")
     env.setdefault("MPLBACKEND", "Agg")
     env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
-    proc = subprocess.run(
+    proc = run_build(
         [
             str(exe),
             "build",
@@ -121,10 +121,6 @@ def book_html(browser_paths: tuple[str, str], tmp_path_factory: pytest.TempPathF
         ],
         cwd=out,
         env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        timeout=1800,
     )
     assert proc.returncode == 0, f"book build failed ({proc.returncode}):\n{proc.stdout[-20000:]}"
     return out / "_build" / "html"

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import os
-import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+from book_build import lost_port_race, run_build
 
 import rikin
 
@@ -45,15 +45,7 @@ def test_book_builds_fresh_and_strict(tmp_path: Path) -> None:
         "-n",
         "--keep-going",
     ]
-    proc = subprocess.run(
-        cmd,
-        cwd=tmp_path,
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-        timeout=1800,
-    )
+    proc = run_build(cmd, cwd=tmp_path, env=env)
     log = proc.stdout
     assert proc.returncode == 0, f"book build failed ({proc.returncode}):\n{log[-20000:]}"
 
@@ -64,3 +56,13 @@ def test_book_builds_fresh_and_strict(tmp_path: Path) -> None:
         "intro page does not show the rikin version printed by its code cell"
     )
     assert (html / "index.html").is_file()
+
+
+def test_only_a_kernel_port_race_is_retried() -> None:
+    """The build's one rerun is for a kernel that lost its port, not for a failing page."""
+    race = ("zmq.error.ZMQError: Address already in use (addr='tcp://127.0.0.1:41795')\n"
+            "RuntimeError: Kernel died before replying to kernel_info")
+    assert lost_port_race(race)
+    assert not lost_port_race("CellExecutionError: ... AssertionError")
+    assert not lost_port_race("RuntimeError: Kernel died before replying to kernel_info")
+    assert not lost_port_race("OSError: [Errno 98] Address already in use")

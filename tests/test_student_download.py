@@ -33,6 +33,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "book" / "_ext"))
 import rikin_site  # noqa: E402
+from book_build import run_build  # noqa: E402
 
 #: A chapter with drawings, sympy and every planar IK branch, and the chapter that reads
 #: the exercise notebooks (from the book, when it is not inside the repository).
@@ -132,11 +133,12 @@ def _build_book(base: str, out: Path) -> Path:
     env = dict(os.environ, PYTHONHASHSEED="0", JUPYTER_PREFER_ENV_PATH="1")
     env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
     try:
-        _run(
+        proc = run_build(
             [Path(sys.executable).parent / "jupyter-book", "build", ROOT, "--path-output", out,
              "--config", cfg, "--all"],
-            cwd=out, env=env, timeout=1800,
+            cwd=out, env=env,
         )
+        assert proc.returncode == 0, f"book build failed:\n{proc.stdout[-6000:]}"
     finally:
         cfg.unlink()
     return out / "_build" / "html"
