@@ -453,7 +453,7 @@ def as_dh_value(x: Any, name: str, *, angle: bool = False) -> Any:
         return x
     v = as_real(x, name)
     if angle:
-        check_radians(np.array(v), name, degrees_hint=False)
+        check_radians(np.array(v), name)  # theta1=90: degrees
     else:
         check_length_range(abs(v), name, lower=True)
     return v

@@ -33,7 +33,7 @@ from ._validate import (
     clean_pose,
 )
 from .errors import InputError
-from .tolerances import DEGREES_SUSPECT, MAX_ANGLE, MAX_LENGTH
+from .tolerances import DEGREES_SUSPECT, MAX_LENGTH
 from .transforms import _inv_transform
 
 #: rikin.ik.solve and solve_batch, registered by rikin.ik.api when it is imported.
@@ -97,8 +97,8 @@ class Link:
             object.__setattr__(self, fname, number)
             if fname in ("d", "a") or (fname == "offset" and self.joint == "P"):
                 check_length_range(abs(number), fname)
-            elif abs(number) > MAX_ANGLE:
-                check_radians(np.array(number), fname, degrees_hint=False)
+            elif abs(number) > DEGREES_SUSPECT:  # a twist typed in degrees (alpha=90)
+                check_radians(np.array(number), fname)
         if self.qlim is not None:
             try:
                 if getattr(self.qlim, "shape", (2,)) != (2,):
@@ -113,6 +113,9 @@ class Link:
                 raise InputError(
                     f"qlim must be (lower, upper) with lower <= upper, got {self.qlim}"
                 )
+            if self.joint == "R":  # (-170, 170) from a data sheet: degrees
+                finite = [v for v in (lo_f, hi_f) if math.isfinite(v)]
+                check_radians(np.array(finite), "qlim")
             object.__setattr__(self, "qlim", (lo_f, hi_f))
 
     @property

@@ -107,6 +107,22 @@ def test_degrees_in_fk_message():
         robots.aula10_6r().fk([0, 90, 0, 0, 0, 0])
 
 
+@pytest.mark.parametrize(("kwargs", "name", "value"), [
+    ({"alpha": 90}, "alpha", 90), ({"alpha": -90.0}, "alpha", -90), ({"offset": -90}, "offset", -90),
+    ({"joint": "P", "theta": 180}, "theta", 180), ({"qlim": (-170, 170)}, "qlim", -170),
+    ({"qlim": (-np.inf, 185)}, "qlim", 185),
+])
+def test_dh_table_angles_typed_in_degrees(kwargs, name, value):
+    """A twist, offset or limit copied in degrees from a data sheet is refused, naming it
+    and the radians it means; radians (and limits beyond a turn that are not round) pass."""
+    with pytest.raises(InputError, match=rf"{name} = {value:g} looks like degrees") as got:
+        Link(**kwargs)
+    assert f"{np.radians(value):.6g}" in str(got.value)
+    for ok in ({"alpha": np.pi / 2}, {"offset": -1.5708}, {"qlim": (-2.97, 2.97)},
+               {"qlim": (-7.0, 7.0)}, {"joint": "P", "qlim": (0, 300)}):
+        Link(**ok)
+
+
 def test_prismatic_values_are_not_taken_for_degrees():
     arm = robots.pprrr()
     arm.fk([40.0, 25.0, 0.1, 0.2, 0.3])  # lengths may be large

@@ -81,10 +81,11 @@ class IKResult:
         see ``reach_distance``); 0 when the block was a rotation to rounding (1e-12), or
         no 4x4 matrix was given.
     reach_distance : float
-        For a 5-DOF arm (PPRRR, RPRRR), which reaches only a 5-dimensional set
-        of poses: how far the target's wrist centre was from where joints 1-2
+        How far the target's wrist centre was from where the positioning joints
         can put it, in the arm's length units (the least TCP move, orientation
-        kept, that makes the pose reachable). A pose within
+        kept, that makes the pose reachable): for a 5-DOF arm (PPRRR, RPRRR),
+        which reaches only a 5-dimensional set of poses, and for a 6R pose just
+        beyond the arm's reach (stretched out, rounded). A pose within
         ``ROUNDED_POSE_TOL`` of that set (rounded, float32) is solved for the
         nearest reachable pose, which is ``target``'s: the least sum of squared
         changes of the entries of ``[R | p]``. 0 when the target was reachable
@@ -208,7 +209,11 @@ class BatchIKResult:
     Attributes
     ----------
     q : ndarray, shape (N, k, n)
-        Slot ``j`` of every pose is the same branch, ``branches[j]``.
+        Slot ``j`` of every pose is the same branch, ``branches[j]``. For an arm
+        solved from its DH table (:mod:`rikin.ik.pieper`) that fixes only the
+        wrist: ``branches[j]`` has shoulder and elbow None, since which root of
+        the position problem a slot holds depends on the pose (``arm.ik`` labels
+        every solution).
         Revolute values in radians, wrapped to (-pi, pi]. Slots that are not
         valid hold NaN: always read ``valid`` first.
     valid : ndarray of bool, shape (N, k)
@@ -221,9 +226,10 @@ class BatchIKResult:
         Per pose, as :attr:`IKResult.rotation_distance`: how far its rotation
         block was from the rotation it was solved for (0 for most poses).
     reach_distance : ndarray, shape (N,)
-        Per pose, as :attr:`IKResult.reach_distance`: how far (length units) a
-        5-DOF arm's pose was from reachable, when it was solved for the nearest
-        reachable pose (0 for every pose of every other arm).
+        Per pose, as :attr:`IKResult.reach_distance`: how far (length units) the
+        pose was from reachable, when it was solved for the nearest reachable
+        pose (a 5-DOF arm's rounded pose, or a 6R pose rounded just beyond its
+        reach); 0 for the others.
     """
 
     q: FloatArray
