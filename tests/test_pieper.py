@@ -523,6 +523,38 @@ def test_near_singular_poses_keep_every_solution(make, kind):
             assert distance_to(res, q, arm) < SAME_Q, (kind, delta, distance_to(res, q, arm))
 
 
+@pytest.mark.parametrize("make", [kuka_kr5, kuka_kr6, abb_irb120, epson_c4_table])
+def test_wrist_centre_on_axis_1_is_a_shoulder_not_an_elbow_singularity(make):
+    """With the wrist centre on axis 1 and the elbow bent, the two shoulders coincide (q1
+    free): the result says so, and not that the wrist centre is at the edge of what joints
+    1-3 reach (which the merge of the coinciding shoulders used to add)."""
+    arm = make()
+    rng = np.random.default_rng(11)
+    for _ in range(3):
+        q = singular_q(arm, "shoulder", rng)
+        res = arm.ik(arm.fk(q), near=q)
+        assert 1 in res.free_joints and "axis of joint 1" in res.singularity, res.singularity
+        assert "edge of what joints 1-3 reach" not in res.singularity, res.singularity
+
+
+def test_stretched_on_axis_1_is_both_singularities():
+    """An arm without shoulder offset stretched straight along axis 1: the wrist centre is
+    on the axis and at the edge of its reach, and the result names both."""
+    arm = abb_irb120()
+    q = singular_q(arm, "stretched", np.random.default_rng(2))
+    q[4] = 0.6  # no wrist singularity as well
+    for _ in range(60):  # q2 (then q3) onto the stretched line along axis 1
+        r = off_axis(arm, q, 1)
+        dq = np.zeros(6)
+        dq[1] = 1e-7
+        J = (off_axis(arm, q + dq, 1) - off_axis(arm, q - dq, 1)) / 2e-7
+        q[1] -= float(J @ r / (J @ J))
+    assert np.linalg.norm(off_axis(arm, q, 1)) < 1e-9 * arm.scale
+    res = arm.ik(arm.fk(q), near=q)
+    assert "axis of joint 1" in res.singularity, res.singularity
+    assert "edge of what joints 1-3 reach" in res.singularity, res.singularity
+
+
 @pytest.mark.parametrize("make", GENERAL)
 def test_one_arm_configuration_one_shoulder_and_elbow_label(make):
     """Solutions with the same joints 1-3 (the wrist slots of one position branch) carry

@@ -123,6 +123,11 @@ STRONG_RCOND = 1e-6
 #: rounding level (a pair of roots near a fold is told apart only there).
 POLISHED = 5e-16
 
+#: Joints 2 and 3 move the wrist centre along one line (the elbow at a fold) when the
+#: smaller of their velocities, across the larger's direction, is below this (relative to
+#: the arm's size): a pose within rounding of a fold is ~1e-8 from it, a bent arm ~1.
+ELBOW_FOLD = 1e-4
+
 #: A solution with no other within ``NEAR_PAIR`` stops polishing already below this
 #: pose error: tens of rounding units, a millionth of the FK check's tolerance. (Only a
 #: close pair needs its ends at rounding level, to be told apart from one solution.)
@@ -1210,6 +1215,7 @@ class Pieper6RSolver:
         res[valid] = self._residual_of(T_valid, goal[valid])
         valid &= res <= ACCEPT_TOL
         elbow = self._merge_coinciding(th, goal, valid, res, near)
+        elbow = self._elbow_or_shoulder(th, elbow, np.repeat(sing["shoulder"], 2, axis=1))
         q = th - off
         front = up = None
         if labels:  # per position branch: its two wrist slots share joints 1-3, and a label
@@ -1235,6 +1241,29 @@ class Pieper6RSolver:
                 "wrist_fold": wfold.reshape(N, -1) & valid,
             },
         )
+
+    def _elbow_or_shoulder(
+        self, th: FloatArray, elbow: np.ndarray, shoulder: np.ndarray
+    ) -> np.ndarray:
+        """``elbow (N, 8)`` without the merged slots whose coincidence is the shoulder's.
+
+        With the wrist centre on axis 1 the two shoulders are one solution (q1 free), and
+        the merge finds them coinciding although the elbow is not at a fold. The elbow is
+        at a fold (too) only where joints 2 and 3 move the wrist centre along one line:
+        their velocity vectors ``z_i x (w - o_i)`` parallel (the arm stretched or folded).
+        """
+        check = elbow & shoulder
+        if not check.any():
+            return elbow
+        T, z, o = self._fk_frames(th[check])
+        w = T[:, :3, :3] @ self.wrist.c_flange + T[:, :3, 3]
+        a = np.cross(z[:, 1], w - o[:, 1])
+        b = np.cross(z[:, 2], w - o[:, 2])
+        longer = np.maximum(np.linalg.norm(a, axis=-1), np.linalg.norm(b, axis=-1))
+        parallel = np.linalg.norm(np.cross(a, b), axis=-1) <= ELBOW_FOLD * self.model.scale * longer
+        out = elbow.copy()
+        out[check] = parallel
+        return out
 
     def _pairs_before_polish(
         self, th: FloatArray, valid: np.ndarray
