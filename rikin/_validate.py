@@ -192,9 +192,14 @@ def check_rotation_values(arr: FloatArray, name: str) -> None:
     err = np.abs(gram - np.eye(3)).max(axis=(-1, -2))
     if np.any(err > ORTHONORMAL_TOL):
         worst = float(err.max())
+        hint = (
+            "; if you copied it rounded, copy at least 4 decimals (3 leave up to ~2e-3)"
+            if worst < 1e-2 else ""
+        )
         raise InputError(
             f"{name} is not a rotation matrix: its columns are not orthonormal "
             f"(R^T R differs from the identity by {worst:.3g}, allowed {ORTHONORMAL_TOL:g})"
+            + hint
         )
     det = np.linalg.det(arr)
     if np.any(det < 0):
@@ -226,7 +231,15 @@ def as_pose(T: Any, name: str = "T") -> FloatArray:
                 check_length_range(big, f"the position in {name}")
             return arr
     if np.any(np.abs(bottom - np.array([0.0, 0.0, 0.0, 1.0])) > 1e-9):
-        raise InputError(f"{name} must have last row [0, 0, 0, 1], got {bottom.reshape(-1, 4)[0]}")
+        last_col = arr[..., :, 3].reshape(-1, 4)[0]
+        hint = (
+            " (its last column is [0, 0, 0, 1]: it looks transposed, with the position in the "
+            "last row; pass T.T)"
+            if np.all(np.abs(last_col - np.array([0.0, 0.0, 0.0, 1.0])) <= 1e-9) else ""
+        )
+        raise InputError(
+            f"{name} must have last row [0, 0, 0, 1], got {bottom.reshape(-1, 4)[0]}" + hint
+        )
     check_rotation_values(arr[..., :3, :3], f"the rotation part of {name}")
     big = float(np.abs(arr[..., :3, 3]).max(initial=0.0))
     if big > MAX_LENGTH:

@@ -148,3 +148,29 @@ def test_a_misspelled_option_is_an_input_error_naming_it():
     with pytest.raises(InputError, match="no option chunk; its options are chunk_size, workers"):
         arm.ik_batch(T[None], chunk=3)
     assert len(arm.ik(T, within_limits=False, near=np.zeros(6))) == 8
+
+
+def test_rounded_copy_and_transposed_pose_get_a_hint():
+    """A rotation copied with 3 decimals that misses the orthonormality check says to copy
+    more decimals; a transposed pose (position in the last row) says to pass T.T."""
+    arm = rikin.robots.aula10_6r()
+    rng = np.random.default_rng(4)
+    refused = 0
+    for q in rng.uniform(-np.pi, np.pi, (60, 6)):
+        T = np.round(arm.fk(q), 3)
+        try:
+            arm.ik(T)
+        except rikin.InputError as exc:
+            refused += 1
+            assert "copy at least 4 decimals" in str(exc), str(exc)
+        except rikin.UnreachableError:
+            pass
+    assert refused >= 3, refused
+    T = arm.fk(np.full(6, 0.3))
+    with pytest.raises(rikin.InputError, match=r"looks transposed.*pass T\.T"):
+        arm.ik(T.T)
+    with pytest.raises(rikin.InputError) as other:  # a wrong last row, not a transpose
+        bad = T.copy()
+        bad[3, 0] = 5.0
+        arm.ik(bad)
+    assert "transposed" not in str(other.value)
