@@ -316,7 +316,7 @@ class IKClass:
     closed_form : bool
     family : str
         The solver in words (e.g. ``"6R with a spherical wrist: axes 1 and 2
-        meet, so the wrist centre's position is a quadratic"``), or ``""``.
+        meet, so placing the wrist centre gives a quadratic equation in q3"``), or ``""``.
     reason : str
         Why there is no closed form, in the arm's terms; ``""`` when there is.
     """
@@ -369,11 +369,12 @@ def _general_reason(arm: SerialArm) -> tuple[str, str]:
             "configuration"
         )
     if meet12:
-        how = "axes 1 and 2 meet, so the wrist centre's position is a quadratic"
+        how = "axes 1 and 2 meet, so placing the wrist centre gives a quadratic equation in q3"
     elif parallel12:
-        how = "axes 1 and 2 are parallel, so the wrist centre's position is a quadratic"
+        how = ("axes 1 and 2 are parallel, so placing the wrist centre gives a quadratic "
+               "equation in q3")
     else:
-        how = "axes 1 and 2 are skew, so the wrist centre's position is a quartic"
+        how = "axes 1 and 2 are skew, so placing the wrist centre gives a quartic equation in q3"
     return f"6R with a spherical wrist (Pieper's decoupling): {how}", ""
 
 
