@@ -366,17 +366,17 @@ class SerialArm:
         )
         rows = [f"{'j':>2} {'type':>4} " + " ".join(f"{h:>11}" for h in head) + f" {'offset':>9}"]
         for i, lk in enumerate(self.links, 1):
-            th = f"q{i}" if lk.is_revolute else f"{float(lk.theta):.4g}"
-            d = f"{float(lk.d):.4g}" if lk.is_revolute else f"q{i}+{float(lk.d):.4g}"
+            th = f"q{i}" if lk.is_revolute else f"{float(lk.theta):.6g}"
+            d = f"{float(lk.d):.6g}" if lk.is_revolute else f"q{i}+{float(lk.d):.6g}"
             vals = (
-                (f"{float(lk.alpha):.4g}", f"{float(lk.a):.4g}", th, d)
+                (f"{float(lk.alpha):.6g}", f"{float(lk.a):.6g}", th, d)
                 if self.convention == "modified"
-                else (th, d, f"{float(lk.a):.4g}", f"{float(lk.alpha):.4g}")
+                else (th, d, f"{float(lk.a):.6g}", f"{float(lk.alpha):.6g}")
             )
             rows.append(
                 f"{i:>2} {lk.joint:>4} "
                 + " ".join(f"{v:>11}" for v in vals)
-                + f" {float(lk.offset):>9.4g}"
+                + f" {float(lk.offset):>9.6g}"
             )
         return "\n".join(rows)
 

@@ -199,3 +199,11 @@ def test_imports_flow_one_way_robots_dh_ik():
                 assert "robots" not in target, (module, target)
             elif isinstance(node, ast.Import):
                 assert not any(a.name.startswith("rikin.ik") for a in node.names), module
+
+
+def test_dh_table_text_keeps_the_typed_digits():
+    """``arm.dh_table()`` prints what was typed (the Puma's d3 = 0.15005, not 0.15)."""
+    arm = SerialArm([Link(d=0.6718, alpha=np.pi / 2), Link(a=0.4318),
+                     Link(d=0.15005, a=0.0203, alpha=-np.pi / 2)])
+    text = arm.dh_table()
+    assert "0.15005" in text and "0.6718" in text and "0.0203" in text and "1.5708" in text
