@@ -59,7 +59,13 @@ def test_moodle_blackboard_brightspace_names():
     assert (b.lms, b.lms_id) == ("blackboard", "jdoe")
     assert time.localtime(b.submitted_at)[:6] == (2026, 11, 20, 23, 10, 5)
     s = lms.parse_file("123-456 - Jane Doe - Nov 20, 2026 1110 PM - scara.ipynb")
-    assert (s.lms, s.name, s.lms_id) == ("brightspace", "Jane Doe", "456")
+    # Neither number is documented as the user's: Brightspace names students by name.
+    assert (s.lms, s.name, s.lms_id, s.key) == (
+        "brightspace",
+        "Jane Doe",
+        "",
+        "brightspace:name:doe jane",
+    )
     assert time.localtime(s.submitted_at)[:5] == (2026, 11, 20, 23, 10)
     assert lms.parse_folder("123-456 - Jane Doe - Nov 20, 2026 1110 PM").lms == "brightspace"
 
@@ -98,7 +104,7 @@ def test_blackboard_and_brightspace_attempts(tmp_path):
     touch(d2l / "11-456 - Jane Doe - Nov 20, 2026 1110 PM" / NB, "first")
     touch(d2l / "12-456 - Jane Doe - Nov 21, 2026 0905 AM" / NB, "second")
     subs, _ = discover([d2l], NB)
-    assert [(s.student, s.path.read_text()) for s in subs] == [("Jane_Doe_456", "second")]
+    assert [(s.student, s.path.read_text()) for s in subs] == [("Jane_Doe", "second")]
 
 
 def test_roster_matches_on_ids_and_names():

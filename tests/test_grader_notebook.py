@@ -64,7 +64,7 @@ def test_discover_student_folders_and_loose_files(tmp_path):
     (cls / "erin" / ".ipynb_checkpoints" / "fake2r-checkpoint.ipynb").write_text("{}")
     (tmp_path / "bob smith (late).ipynb").write_text("{}")
     subs, notes = discover([cls, tmp_path / "bob smith (late).ipynb"], "fake2r.ipynb")
-    got = {s.student: s.path.name for s in subs}
+    got = {s.student: s.path.name for s in subs if not s.refused}
     bob = [k for k in got if k.startswith("bob_smith_late-")]
     assert len(bob) == 1 and re.fullmatch(r"bob_smith_late-[0-9a-f]{6}", bob[0])
     assert got == {
@@ -73,8 +73,15 @@ def test_discover_student_folders_and_loose_files(tmp_path):
         "dave": "my work.ipynb",
         bob[0]: "bob smith (late).ipynb",
     }
+    # Every other file and folder ends in one place: refused, with the reason.
+    refused = {s.student: s.refused for s in subs if s.refused}
+    assert refused == {
+        "empty": "the folder is empty: nothing was handed in",
+        "erin": "no notebook in the folder, only Jupyter's checkpoint copies (.ipynb_checkpoints)",
+        "notes": "not a notebook (.txt)",
+    }
     text = "\n".join(notes)
-    assert "erin: no .ipynb inside" in text
+    assert "erin: not graded: no notebook in the folder" in text
     assert "carol: several notebooks found; graded fake2r.ipynb" in text
 
 

@@ -21,14 +21,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from . import __version__
+from . import __version__, repair
 from .assignment import Assignment, load_assignment
-from .gradebook import Gradebook
-from .lms import read_roster
+from .gradebook import Gradebook, GradebookDamaged
+from .intake import match_roster, stored_roster, time_notes
+from .lmsfiles import MISSING_BLANK, MISSING_ZERO
 from .notebook import Submission, discover, shown
 from .policy import PolicyError, Rules, parse_time
 from .progress import Progress, summarize, summary_text
 from .report import GRADER_ERROR, INVALID, SubmissionResult, TestResult
+from .roster import load_roster
 from .runner import RunOptions, SubmissionRunner
 from .sandbox import (
     Limits,
@@ -48,7 +50,7 @@ from .sandbox.config import (
 )
 from .sandbox.uidmode import SHARED_WRITABLE
 from .studentfiles import StudentFiles
-from .views import export, write_student
+from .views import export, write_one
 
 log = logging.getLogger("rikingrade")
 
@@ -88,6 +90,8 @@ def grade(
     regrade: bool = False,
     gradebook: str | None = None,
     roster: str | None = None,
+    lms_column: str | None = None,
+    missing: str | None = None,
     due: str | None = None,
     late_per_day: float = 0.0,
     late_cap: float = 100.0,
@@ -149,8 +153,20 @@ def grade(
         The course's SQLite gradebook (default ``<out>/gradebook.sqlite``); share one across
         assignments by passing the same file.
     roster : str or None
-        A roster CSV (id, name, email, SIS id, section; a Canvas gradebook export works):
-        submissions are matched to it by LMS id or name, and the LMS exports use its ids.
+        The class's roster as the LMS exports it (Canvas gradebook export, Moodle grading
+        worksheet or gradebook export, Blackboard Grade Center download, Brightspace grades
+        export; or a CSV with id, name, email, SIS id, section): submissions are matched to
+        it by the LMS's id, else by name (an ambiguity is reported, never guessed); the LMS
+        files use its ids, leave out students not on it and list those missing. Kept in the
+        gradebook for later runs until another is given.
+    lms_column : str or None
+        The assignment's column in the LMS: the roster export's header (``HW3 (4455)``,
+        ``HW3 [Total Pts: 10 Score] |12345``, ``HW3 Points Grade``) or a part of it found in
+        one column only. Default: the one column holding the exercise's name. Kept in the
+        gradebook.
+    missing : {"blank", "zero"} or None
+        What the LMS files give a student on the roster with no submission: nothing (the
+        LMS keeps what it has) or 0. Kept in the gradebook (default blank).
     due : str or None
         Due time (``2026-11-20 23:59``, local time, or ISO 8601 with an offset); with
         ``late_per_day`` it sets the late penalty. Recorded in the gradebook: later runs
@@ -203,13 +219,12 @@ def grade(
         a = load_assignment(assignment)
         if isinstance(submissions, (str, Path)):
             submissions = [submissions]
-        subs, notes = discover(list(submissions), a.notebook, reader)
-        if roster is not None:
-            notes += _match_roster(subs, read_roster(roster))
-        for n in notes:
-            log.warning("%s", n)
-            if not quiet:
-                print(f"rikin-grade: note: {n}", file=sys.stderr)
+        gb_path = Path(gradebook).resolve() if gradebook else out / "gradebook.sqlite"
+        ros = load_roster(roster) if roster is not None else None
+        entries = ros.entries if ros is not None else stored_roster(gb_path, a.exercise)
+        subs, notes = discover(list(submissions), a.notebook, reader, entries)
+        if entries:
+            notes += (ros.notes if ros is not None else []) + _match_roster(subs, entries)
         rules = Rules(parse_time(due) if due else None, late_per_day, late_cap, grace_minutes)
         ext_rows = _read_extensions(extensions, subs) if extensions else []
         limits = Limits(
@@ -229,13 +244,18 @@ def grade(
             reveal=bool(reveal),
         )
         key = _grader_key(a, seed, options, tmp_mb)
-        gb_path = Path(gradebook).resolve() if gradebook else out / "gradebook.sqlite"
-        gb = Gradebook.open(gb_path)
+        gb = _open_gradebook(gb_path, a.exercise, out, gradebook)
         gb.add_assignment(a.exercise, a.max_score, [(t.name, float(t.weight)) for t in a.tests])
         if due or late_per_day:
             gb.set_policy(a.exercise, rules.due, rules.per_day, rules.cap, rules.grace_minutes)
         for sid, when, why in ext_rows:
             gb.add_extension(sid, a.exercise, when, why)
+        notes += _class_settings(gb, a.exercise, ros, lms_column, missing)
+        notes += time_notes(subs, gb.policy(a.exercise))
+        for n in notes:
+            log.warning("%s", n)
+            if not quiet:
+                print(f"rikin-grade: note: {n}", file=sys.stderr)
         linked = {s.student for s in subs if s.refused}
         sub_ids = _record_submissions(gb, subs, a.exercise)  # reads (hashes) every file
         for s in subs:
@@ -276,8 +296,8 @@ def grade(
         todo: list[Submission] = []
         resumed = 0  # results reused from an earlier run (refused files are not)
         for s in subs:
-            if s.refused:  # a link, or a file its owner may not read: graded 0, with why
-                if s.refused.startswith("a "):  # a symbolic or hard link
+            if s.refused:  # a link, not a notebook, not readable: graded 0, with why
+                if s.refused.startswith(("a symbolic link", "a hard link")):
                     why = (
                         f"not graded: {s.shown_path} is {s.refused}; the grader reads only "
                         "notebook files handed in as they are (upload the .ipynb file itself)"
@@ -288,7 +308,7 @@ def grade(
                 res.problems = [why]
                 res.refused = s.refused
                 gb.record(run_id, sub_ids[s.student], res, a.exercise, seed)
-                write_student(out, res, a.exercise, None)
+                write_one(gb, a.exercise, a.exercise, out, s.student)
                 _log_result(res)
                 results[s.student] = res
                 continue
@@ -329,7 +349,7 @@ def grade(
                         if closing:  # interrupted: graded again by the next run
                             return False
                         gb.record(run_id, sub_ids[sub.student], res, a.exercise, seed)
-                        write_student(out, res, a.exercise, None)
+                        write_one(gb, a.exercise, a.exercise, out, sub.student)
                         return True
 
                 _run_pool(
@@ -358,6 +378,8 @@ def grade(
                     "seed": int(seed),
                     "run": run_id,
                     "state": state,
+                    # students the roster could not tell apart (reported by name, not matched)
+                    "ambiguous": sum(n.startswith("ambiguous:") for n in notes),
                 }
             )
             gb.end_run(run_id, state, summary)
@@ -371,18 +393,7 @@ def grade(
                 f"grades: {files['grades']}  report: {files['report'][0]}  "
                 f"log: {out / 'grading.log'}"
             )
-            for lms_name in ("canvas", "moodle"):
-                if lms_name in files:
-                    left = files[f"{lms_name}_skipped"]
-                    print(
-                        f"{lms_name.capitalize()} import: {files[lms_name]}"
-                        + (
-                            f" (left out, no {lms_name} id: {', '.join(left[:5])}"
-                            f"{' ...' if len(left) > 5 else ''})"
-                            if left
-                            else ""
-                        )
-                    )
+            print_lms_files(files)
         return GradeReport(out=out, results=ordered, summary=summary, notes=notes)
     finally:
         reader.close()
@@ -408,6 +419,8 @@ def _record_submissions(gb: Gradebook, subs: list[Submission], exercise: str) ->
             lms=s.lms,
             lms_id=s.lms_id,
         )
+        if s.roster_key:
+            gb.set_roster_key(s.student, s.roster_key)
         for e in s.earlier:
             gb.add_submission(
                 s.student,
@@ -426,36 +439,80 @@ def _record_submissions(gb: Gradebook, subs: list[Submission], exercise: str) ->
 
 def _match_roster(subs: list[Submission], roster: list) -> list[str]:
     """Fill in each submission's roster details; notes on what did not match."""
-    from .lms import match_roster, parse_file, parse_folder
+    return match_roster(subs, roster)
+
+
+def _open_gradebook(path: Path, assignment: str, out: Path, given: str | None) -> Gradebook:
+    """The gradebook, refused with the repair advice when it is damaged or lacks grades
+    that ``out`` holds (before anything is written)."""
+    gb = None
+    try:
+        gb = Gradebook.open(path)
+        repair.check(gb, out, assignment)
+        return gb
+    except GradebookDamaged as exc:
+        if gb is not None:
+            gb.close()
+        exc.advice = repair.advice(exc, assignment, out, given)
+        raise
+
+
+def _class_settings(gb: Gradebook, assignment: str, ros, lms_column, missing) -> list[str]:
+    """Record the roster given, the LMS's column and the missing-work policy; notes."""
+    from .roster import assignment_column
 
     notes = []
-    matched = set()
-    for s in subs:
-        parsed = parse_file(os.fsdecode(s.path.name)) or parse_folder(
-            os.fsdecode(s.path.parent.name)
+    if missing is not None:
+        if missing not in (MISSING_BLANK, MISSING_ZERO):
+            raise PolicyError(f"--missing is {MISSING_BLANK} or {MISSING_ZERO}, not {missing!r}")
+        gb.set_setting(assignment, "missing", missing)
+    if ros is not None:
+        gb.set_roster(assignment, ros.kind, ros.path, [(e.key, e.as_dict()) for e in ros.entries])
+    if ros is not None or lms_column:
+        column, note = (
+            assignment_column(ros, lms_column or "", assignment)
+            if ros is not None
+            else (lms_column or "", "")
         )
-        e = match_roster(parsed, s.name or s.student, roster)
-        if e is None:
-            notes.append(f"{s.student}: not on the roster ({s.shown_path})")
-            continue
-        matched.add(id(e))
-        s.name = e.name or s.name
-        s.email, s.sis_id, s.section, s.login = e.email, e.sis_id, e.section, e.login
-        if s.lms in ("canvas", "moodle") and not s.lms_id:
-            s.lms_id = e.id
-        elif not s.lms_id:
-            # No LMS id in the download names: the roster's id is the LMS id (a Canvas
-            # export's ID column, a Moodle worksheet's "Participant N").
-            s.lms_id = e.id.removeprefix("Participant ").strip()
-            s.lms = "moodle" if e.id.startswith("Participant ") else "canvas"
-    missing = [e for e in roster if id(e) not in matched]
-    if missing:
-        notes.append(
-            f"{len(missing)} student(s) on the roster have no submission: "
-            + ", ".join(e.name or e.id for e in missing[:10])
-            + (" ..." if len(missing) > 10 else "")
-        )
+        if note:
+            notes.append(note)
+        if column:
+            gb.set_setting(assignment, "lms_column", column)
     return notes
+
+
+_LMS_TITLES = {
+    "canvas": "Canvas import",
+    "moodle": "Moodle import",
+    "blackboard": "Blackboard import",
+    "brightspace": "Brightspace import",
+    "canvas_feedback": "Canvas feedback import (Re-upload submissions)",
+    "moodle_feedback": "Moodle feedback import (feedback files zip)",
+}
+
+
+def print_lms_files(files: dict[str, Any]) -> None:
+    """What the LMS files are and whom they left out; the roster's lists."""
+    for key, title in _LMS_TITLES.items():
+        if key in files:
+            left = files.get(f"{key}_skipped") or []
+            print(
+                f"{title}: {files[key]}"
+                + (
+                    f" (left out, no id for this LMS: {', '.join(left[:5])}"
+                    f"{' ...' if len(left) > 5 else ''})"
+                    if left
+                    else ""
+                )
+            )
+    for key, what in (
+        ("not_on_roster", "graded but not on the roster (left out of the LMS files)"),
+        ("missing", "on the roster, nothing handed in"),
+        ("ambiguous", "on the roster, not told apart (enter their grades by hand)"),
+    ):
+        who = [w if isinstance(w, str) else w.get("name") or "?" for w in files.get(key) or []]
+        if who:
+            print(f"{what}: {len(who)}: {', '.join(who[:8])}{' ...' if len(who) > 8 else ''}")
 
 
 def _read_extensions(path: str, subs: list[Submission]) -> list[tuple[str, float, str]]:

@@ -6,6 +6,8 @@ Commands::
     rikin-grade override ASSIGNMENT STUDENT --out DIR (--score X | --excused | --clear)
                 --reason TEXT                                 set a grade by hand
     rikin-grade export ASSIGNMENT --out DIR                       rewrite the views
+    rikin-grade backup --out DIR [--to FILE]                      one consistent copy
+    rikin-grade repair ASSIGNMENT --out DIR [--from-backup FILE]  rebuild a gradebook
     rikin-grade gradescope-bundle ASSIGNMENT --out bundle.zip     build a Gradescope autograder
     rikin-grade gradescope-run ASSIGNMENT [--submission DIR] [--results FILE]
     rikin-grade check-sandbox                                     show what student code can see
@@ -18,6 +20,7 @@ import inspect
 import json
 import sys
 from collections.abc import Callable, Sequence
+from pathlib import Path
 from typing import Any
 
 from . import __version__
@@ -39,6 +42,9 @@ other commands:
   rikin-grade override ASSIGNMENT STUDENT --out DIR --score 7 --reason "..."
                                                               set (or --excused, --clear) a grade
   rikin-grade export ASSIGNMENT --out DIR                     rewrite grades.csv, LMS files, report
+  rikin-grade backup --out DIR                                copy the gradebook, consistently
+  rikin-grade repair ASSIGNMENT --out DIR                     rebuild a damaged gradebook from
+                                                              OUT/results (or --from-backup FILE)
   rikin-grade gradescope-bundle ASSIGNMENT --out bundle.zip   build a Gradescope autograder zip
   rikin-grade gradescope-run ASSIGNMENT                       grade one upload (inside Gradescope)
   rikin-grade check-sandbox                                   probe what a notebook can see and do
@@ -47,21 +53,24 @@ other commands:
 examples:
   rikin-grade scara submissions/ --out graded/
   rikin-grade scara alice.ipynb bob.ipynb --out graded/ --workers 4 --reveal
-  rikin-grade scara canvas_download/ --out graded/ --roster roster.csv \
+  rikin-grade scara canvas_download/ --out graded/ --roster canvas_gradebook_export.csv \
       --due "2026-11-20 23:59" --late-per-day 10 --late-cap 50 --grace-minutes 15
   rikin-grade scara canvas_download/smithjohn_12345_67890_scara.ipynb --out graded/
                                              (regrade one student: the others keep their grade)
   rikin-grade path/to/my_hidden_tests.py class/ --out graded/ --timeout 10
 
-Grades go into a gradebook (SQLite) in OUT that keeps every run; grades.csv,
-canvas-ASSIGNMENT.csv (Canvas gradebook import), moodle-ASSIGNMENT.csv (Moodle grading
-worksheet upload), results/ (Gradescope JSON), feedback/ and report/ASSIGNMENT.html (the
-class report) are rewritten from it after each run, even after Ctrl-C.
+Grades go into a gradebook (SQLite) in OUT that keeps every run; grades.csv, the import
+files of the class's LMS (canvas-, moodle-, blackboard-, brightspace-ASSIGNMENT.csv, and
+canvas-/moodle-feedback-ASSIGNMENT.zip for their bulk feedback upload), results/ (Gradescope
+JSON, and what rebuilds the gradebook), feedback/ and report/ASSIGNMENT.html (the class
+report) are rewritten from it after each run, even after Ctrl-C. The instructor's guide
+(a part of the book) walks through each LMS.
 
-exit status: 0 graded (whatever the scores), 1 some submissions hit a grader error or were
-refused (a link, a file its folder's owner may not read: see the notes and the log), 2 bad
-arguments, assignment, submissions folder or gradebook in use, 3 the sandbox is
-unavailable.
+exit status: 0 graded (whatever the scores), 1 some submissions hit a grader error, were
+refused (a link, a file its folder's owner may not read, a .zip, a script or anything else
+that is not a notebook: see the notes and the log) or could not be told apart on the roster
+(see the notes), 2 bad arguments, assignment, submissions folder or roster, gradebook in use
+or damaged (the message gives the command that repairs it), 3 the sandbox is unavailable.
 """
 
 # (parameter of api.grade, help). Defaults are read from the function's signature.
@@ -105,8 +114,22 @@ GRADE_OPTIONS: list[tuple[str, str]] = [
     ),
     (
         "roster",
-        "roster CSV (id, name, email, SIS id, section; a Canvas gradebook export works): "
-        "submissions are matched on LMS id or name, the LMS import files use its ids",
+        "the class's roster as the LMS exports it (Canvas gradebook export, Moodle grading "
+        "worksheet or gradebook export, Blackboard Grade Center download, Brightspace grades "
+        "export) or a CSV with id, name, email, SIS id, section: submissions are matched on "
+        "the LMS's id, else by name (ambiguities are reported, never guessed); the LMS files "
+        "use its ids, leave out students not on it and list those missing; kept for later runs",
+    ),
+    (
+        "lms_column",
+        "the assignment's column in the LMS, as in the roster export (e.g. 'HW3 (4455)', "
+        "'HW3 [Total Pts: 10 Score] |12345', 'HW3 Points Grade') or a part of it; default: "
+        "the one column holding the exercise's name; kept for later runs",
+    ),
+    (
+        "missing",
+        "what the LMS files give a student on the roster with no submission: blank (the LMS "
+        "keeps what it has) or zero; kept for later runs (default: blank)",
     ),
     (
         "due",
@@ -303,48 +326,151 @@ def override_parser() -> argparse.ArgumentParser:
 def export_parser() -> argparse.ArgumentParser:
     return _gradebook_parser(
         "export",
-        "Rewrite grades.csv, summary.json, the Canvas and Moodle import files, "
-        "feedback and the class report from the gradebook alone (after a kill, or to "
-        "export another assignment of a shared gradebook).",
+        "Rewrite grades.csv, summary.json, the LMS import files, feedback and the class "
+        "report from the gradebook alone (after a kill, or to export another assignment of "
+        "a shared gradebook).",
     )
 
 
-def _gradebook_command(cmd: str, args_list: list[str]) -> int:
-    from pathlib import Path
+def repair_parser() -> argparse.ArgumentParser:
+    p = _gradebook_parser(
+        "repair",
+        "Make a gradebook usable again: one SQLite finds damaged, an empty one, or one that "
+        "lacks grades OUT/results holds (copied without its -wal file after a kill) is "
+        "rebuilt: the file is moved aside (never deleted), a backup is restored if given, and "
+        "every grade in OUT/results that the gradebook lacks is recorded again; then the "
+        "views are rewritten. Re-run with --roster to restore the roster.",
+    )
+    p.add_argument(
+        "--from-backup",
+        metavar="FILE",
+        help="a backup made by 'rikin-grade backup' to start from (the gradebook there is "
+        "moved aside)",
+    )
+    return p
 
-    from .gradebook import Gradebook
+
+def backup_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="rikin-grade backup",
+        description="Copy the gradebook into one consistent file with SQLite's backup API "
+        "(it holds what is still in the -wal file, and may run while grading goes on). Copy "
+        "this file, never gradebook.sqlite alone.",
+    )
+    p.add_argument("--out", "-o", required=True, metavar="DIR", help="the grading output folder")
+    p.add_argument("--gradebook", metavar="FILE", help="default: OUT/gradebook.sqlite")
+    p.add_argument(
+        "--to",
+        metavar="FILE",
+        help="the backup to write (default: OUT/backups/gradebook-<date>-<time>.sqlite)",
+    )
+    return p
+
+
+def _paths(ns) -> tuple[Path, Path]:
+    out = Path(ns.out).resolve()
+    return out, Path(ns.gradebook).resolve() if ns.gradebook else out / "gradebook.sqlite"
+
+
+def _override(gb, ns) -> int:
+    known = {r["student"] for r in gb.current(ns.assignment)}
+    if ns.student not in known:
+        print(
+            f"rikin-grade: no student {ns.student!r} graded for {ns.assignment} "
+            f"(known: {', '.join(sorted(known)[:8])}{' ...' if len(known) > 8 else ''})",
+            file=sys.stderr,
+        )
+        return EXIT_USAGE
+    kind = "excused" if ns.excused else "cleared" if ns.clear else "score"
+    max_score = gb.max_score(ns.assignment)
+    if kind == "score" and not 0 <= ns.score <= max_score:
+        print(f"rikin-grade: --score must be in [0, {max_score:g}]", file=sys.stderr)
+        return EXIT_USAGE
+    gb.add_override(ns.student, ns.assignment, kind, ns.score, ns.reason)
+    return EXIT_OK
+
+
+def _gradebook_command(cmd: str, args_list: list[str]) -> int:
+    from . import repair
+    from .gradebook import Gradebook, GradebookDamaged
     from .views import export
 
     ns = (override_parser() if cmd == "override" else export_parser()).parse_args(args_list)
-    out = Path(ns.out).resolve()
-    path = Path(ns.gradebook).resolve() if ns.gradebook else out / "gradebook.sqlite"
+    out, path = _paths(ns)
     if not path.exists():
         print(f"rikin-grade: no gradebook at {path}: grade the class first", file=sys.stderr)
         return EXIT_USAGE
-    with Gradebook.open(path) as gb:
-        known = {r["student"] for r in gb.current(ns.assignment)}
-        if not known:
+    try:
+        gb = Gradebook.open(path)
+        try:
+            repair.check(gb, out, ns.assignment)
+        except BaseException:
+            gb.close()
+            raise
+    except GradebookDamaged as exc:
+        exc.advice = repair.advice(exc, ns.assignment, out, ns.gradebook)
+        raise
+    with gb:
+        if not gb.current(ns.assignment):
             print(f"rikin-grade: {path} has no grades for {ns.assignment}", file=sys.stderr)
             return EXIT_USAGE
-        if cmd == "override":
-            if ns.student not in known:
-                print(
-                    f"rikin-grade: no student {ns.student!r} graded for {ns.assignment} "
-                    f"(known: {', '.join(sorted(known)[:8])}{' ...' if len(known) > 8 else ''})",
-                    file=sys.stderr,
-                )
-                return EXIT_USAGE
-            kind = "excused" if ns.excused else "cleared" if ns.clear else "score"
-            max_score = gb.max_score(ns.assignment)
-            if kind == "score" and not 0 <= ns.score <= max_score:
-                print(f"rikin-grade: --score must be in [0, {max_score:g}]", file=sys.stderr)
-                return EXIT_USAGE
-            gb.add_override(ns.student, ns.assignment, kind, ns.score, ns.reason)
+        if cmd == "override" and _override(gb, ns) != EXIT_OK:
+            return EXIT_USAGE
         info = export(gb, ns.assignment, ns.assignment, out)
+    _wrote(info)
+    return EXIT_OK
+
+
+def _wrote(info: dict[str, Any]) -> None:
+    from .views import LMS_NAMES
+
+    files = [info["grades"]] + [info[k] for k in LMS_NAMES if k in info] + [info["report"][0]]
+    print("wrote " + ", ".join(files))
+
+
+def _repair_command(args_list: list[str]) -> int:
+    from . import repair
+
+    ns = repair_parser().parse_args(args_list)
+    out, path = _paths(ns)
+    done = repair.repair(ns.assignment, out, ns.gradebook, ns.from_backup)
+    if done["aside"]:
+        print(f"moved the unusable gradebook aside: {done['aside']}")
+    if done.get("backup"):
+        print(f"restored the backup {done['backup']}")
     print(
-        f"wrote {info['grades']}"
-        + "".join(f", {info[k]}" for k in ("canvas", "moodle") if k in info)
-        + f", {info['report'][0]}"
+        f"restored {len(done['restored'])} grade(s) from {out / 'results'} into {path}"
+        + (f": {', '.join(done['restored'][:8])}" if done["restored"] else "")
+        + (" ..." if len(done["restored"]) > 8 else "")
+    )
+    if done["views"]:
+        _wrote(done["views"])
+    else:
+        print(f"no grades for {ns.assignment} in {path}: grade the class again", file=sys.stderr)
+    return EXIT_OK
+
+
+def _backup_command(args_list: list[str]) -> int:
+    import time
+
+    from .gradebook import backup
+
+    ns = backup_parser().parse_args(args_list)
+    out, path = _paths(ns)
+    if not path.exists():
+        print(f"rikin-grade: no gradebook at {path}", file=sys.stderr)
+        return EXIT_USAGE
+    stamp = time.strftime("%Y%m%d-%H%M%S")
+    dst = Path(ns.to).resolve() if ns.to else out / "backups" / f"gradebook-{stamp}.sqlite"
+    dst.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        backup(path, dst)
+    except FileExistsError as exc:
+        print(f"rikin-grade: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    print(
+        f"wrote {dst}: a consistent copy of {path} (restore: rikin-grade repair ... "
+        "--from-backup FILE)"
     )
     return EXIT_OK
 
@@ -352,10 +478,10 @@ def _gradebook_command(cmd: str, args_list: list[str]) -> int:
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of ``rikin-grade``; returns the exit status."""
     from .assignment import AssignmentError
-    from .gradebook import GradebookBusy
-    from .lms import RosterError
+    from .gradebook import GradebookBusy, GradebookDamaged
     from .notebook import SubmissionsError
     from .policy import PolicyError
+    from .roster import RosterError
     from .sandbox import SandboxUnavailable
 
     args_list = list(sys.argv[1:] if argv is None else argv)
@@ -390,6 +516,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             return EXIT_OK if info["ok"] else EXIT_SANDBOX
         if cmd in ("override", "export"):
             return _gradebook_command(cmd, args_list[1:])
+        if cmd == "repair":
+            return _repair_command(args_list[1:])
+        if cmd == "backup":
+            return _backup_command(args_list[1:])
         if cmd == "grade":
             args_list = args_list[1:]
         from .api import grade
@@ -397,8 +527,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         kw = vars(grade_parser().parse_args(args_list))
         report = grade(kw.pop("assignment"), kw.pop("submissions"), kw.pop("out"), **kw)
         s = report.summary
-        return EXIT_GRADER_ERRORS if s.get("grader_errors") or s.get("refused") else EXIT_OK
-    except (AssignmentError, SubmissionsError, GradebookBusy, PolicyError, RosterError) as exc:
+        attention = s.get("grader_errors") or s.get("refused") or s.get("ambiguous")
+        return EXIT_GRADER_ERRORS if attention else EXIT_OK
+    except (
+        AssignmentError,
+        SubmissionsError,
+        GradebookBusy,
+        GradebookDamaged,
+        PolicyError,
+        RosterError,
+    ) as exc:
         print(f"rikin-grade: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except SandboxUnavailable as exc:

@@ -31,13 +31,14 @@ import os
 import sqlite3
 import threading
 import time
+import uuid
 from pathlib import Path
 from typing import Any
 
 from .notebook import printable
 from .report import SubmissionResult
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 
 SCHEMA = """
 CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
@@ -52,7 +53,8 @@ CREATE TABLE IF NOT EXISTS students (
     moodle_id TEXT NOT NULL DEFAULT '',
     lms TEXT NOT NULL DEFAULT '',
     lms_id TEXT NOT NULL DEFAULT '',
-    first_seen REAL NOT NULL
+    first_seen REAL NOT NULL,
+    roster_key TEXT NOT NULL DEFAULT ''
 );
 CREATE TABLE IF NOT EXISTS assignments (
     name TEXT PRIMARY KEY,
@@ -150,6 +152,26 @@ CREATE TABLE IF NOT EXISTS overrides (
     reason TEXT NOT NULL,
     created_at REAL NOT NULL
 );
+-- Rosters as exported by the LMS, one import per --roster run (the newest applies).
+CREATE TABLE IF NOT EXISTS roster (
+    id INTEGER PRIMARY KEY,
+    import_id INTEGER NOT NULL,
+    assignment TEXT NOT NULL,
+    kind TEXT NOT NULL,
+    source TEXT NOT NULL,
+    key TEXT NOT NULL,
+    entry TEXT NOT NULL,
+    created_at REAL NOT NULL
+);
+CREATE INDEX IF NOT EXISTS roster_by_assignment ON roster (assignment, import_id);
+-- Per-assignment settings (the LMS's column, the policy for missing work); newest applies.
+CREATE TABLE IF NOT EXISTS settings (
+    id INTEGER PRIMARY KEY,
+    assignment TEXT NOT NULL,
+    key TEXT NOT NULL,
+    value TEXT NOT NULL,
+    created_at REAL NOT NULL
+);
 -- The grade that counts: each student's newest pick, with its result.
 CREATE VIEW IF NOT EXISTS current AS
 SELECT p.assignment, p.student, p.submission_id, p.run_id, r.id AS result_id, r.status,
@@ -167,9 +189,139 @@ class GradebookBusy(RuntimeError):
     """Another grader process holds the gradebook."""
 
 
+class GradebookDamaged(RuntimeError):
+    """The gradebook file cannot be used as it is (damaged, empty, not a gradebook, or
+    missing results that the output folder holds); ``why`` says what was found."""
+
+    def __init__(self, path: Path, why: str) -> None:
+        super().__init__(f"{path}: {why}")
+        self.path = Path(path)
+        self.why = why
+        self.advice = ""  # the paragraph for the instructor, with the repair command
+
+    def __str__(self) -> str:
+        return self.advice or super().__str__()
+
+
+_MAGIC = b"SQLite format 3\x00"
+
+
 def _text(s: Any) -> str:
     """Text SQLite and every output can hold (see :func:`rikingrade.notebook.printable`)."""
     return printable(str(s))
+
+
+def lock(path: str | Path) -> int:
+    """Take the one-writer lock of the gradebook ``path`` (``<path>.lock``); its fd.
+
+    Raises
+    ------
+    GradebookBusy
+        Another process holds it (the message gives its pid).
+    """
+    fd = os.open(f"{path}.lock", os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        holder = os.pread(fd, 32, 0).decode(errors="replace").strip()
+        os.close(fd)
+        raise GradebookBusy(
+            f"another rikin-grade (pid {holder or '?'}) is writing {path}; "
+            "wait for it to finish (one writer per gradebook)"
+        ) from None
+    os.ftruncate(fd, 0)
+    os.pwrite(fd, str(os.getpid()).encode(), 0)
+    return fd
+
+
+def _check_file(path: Path) -> None:
+    """Refuse a file that is not an SQLite database. (An empty file is a new database to
+    SQLite, as to the grader: the output folder's grades tell a gradebook emptied by
+    accident, see :func:`rikingrade.repair.check`.)"""
+    try:
+        with open(path, "rb") as f:
+            head = f.read(16)
+    except FileNotFoundError:
+        return
+    except OSError as exc:
+        raise GradebookDamaged(path, f"cannot be read ({exc.strerror})") from None
+    if head and head != _MAGIC:
+        raise GradebookDamaged(
+            path, "the file is not an SQLite database (damaged, or another file)"
+        )
+
+
+def _connect(path: Path, readonly: bool) -> sqlite3.Connection:
+    """Open and check the database: SQLite's quick check, and that it is a gradebook."""
+    existed = path.exists()
+    _check_file(path)
+    conn = sqlite3.connect(path, timeout=30, isolation_level=None, check_same_thread=False)
+    conn.row_factory = sqlite3.Row
+    try:
+        if existed:
+            bad = [r[0] for r in conn.execute("PRAGMA quick_check") if r[0] != "ok"]
+            if bad:
+                raise GradebookDamaged(path, f"SQLite finds it damaged ({bad[0]})")
+            tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_master")}
+            if tables and ("meta" not in tables or "results" not in tables):
+                raise GradebookDamaged(path, "an SQLite database, but not a rikin-grade gradebook")
+        if not readonly:
+            conn.execute("PRAGMA journal_mode=WAL")
+            conn.execute("PRAGMA synchronous=FULL")
+            conn.execute("PRAGMA foreign_keys=ON")
+            conn.executescript("BEGIN;" + SCHEMA + "COMMIT;")
+            _migrate(conn)
+            # A run still 'running' was killed (this process holds the lock now).
+            conn.execute(
+                "UPDATE runs SET state = 'interrupted' WHERE state = 'running' AND ended_at IS NULL"
+            )
+    except sqlite3.DatabaseError as exc:
+        conn.close()
+        raise GradebookDamaged(path, f"SQLite cannot read it ({exc})") from None
+    except BaseException:
+        conn.close()
+        raise
+    return conn
+
+
+def _migrate(conn: sqlite3.Connection) -> None:
+    """Bring a gradebook of an earlier version up to this schema (columns added only)."""
+    cols = {r[1] for r in conn.execute("PRAGMA table_info(students)")}
+    if "roster_key" not in cols:
+        conn.execute("ALTER TABLE students ADD COLUMN roster_key TEXT NOT NULL DEFAULT ''")
+    conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (str(SCHEMA_VERSION),))
+    conn.execute("UPDATE meta SET value = ? WHERE key = 'schema_version'", (str(SCHEMA_VERSION),))
+    conn.execute("INSERT OR IGNORE INTO meta VALUES ('gradebook_id', ?)", (uuid.uuid4().hex,))
+
+
+def backup(src: str | Path, dst: str | Path) -> Path:
+    """Copy the gradebook ``src`` into the one consistent file ``dst`` with SQLite's backup
+    API (it includes what is still in ``src``'s -wal; a grader may be writing meanwhile).
+
+    Raises
+    ------
+    GradebookDamaged
+        ``src`` cannot be read as a gradebook.
+    FileExistsError
+        ``dst`` exists (a backup is never overwritten).
+    """
+    src, dst = Path(src), Path(dst)
+    if dst.exists():
+        raise FileExistsError(f"{dst} exists: a backup is never overwritten")
+    conn = _connect(src, readonly=True)
+    tmp = dst.with_name(f".{dst.name}.tmp")
+    try:
+        out = sqlite3.connect(tmp)
+        try:
+            conn.backup(out)
+            out.execute("PRAGMA journal_mode=DELETE")
+        finally:
+            out.close()
+        os.replace(tmp, dst)
+    finally:
+        conn.close()
+        tmp.unlink(missing_ok=True)
+    return dst
 
 
 class Gradebook:
@@ -183,41 +335,37 @@ class Gradebook:
 
     # ------------------------------------------------------------------ opening
     @classmethod
-    def open(cls, path: str | Path, readonly: bool = False) -> Gradebook:
-        """Open (creating if needed) the gradebook at ``path`` as its only writer."""
+    def open(
+        cls, path: str | Path, readonly: bool = False, lock_fd: int | None = None
+    ) -> Gradebook:
+        """Open (creating if needed) the gradebook at ``path`` as its only writer
+        (``lock_fd``: the lock, already taken with :func:`lock`).
+
+        Raises
+        ------
+        GradebookBusy
+            Another process writes it.
+        GradebookDamaged
+            It cannot be used as it is (damaged, empty, not a gradebook).
+        """
         path = Path(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        lock_fd = None
-        if not readonly:
-            lock_fd = os.open(f"{path}.lock", os.O_RDWR | os.O_CREAT, 0o644)
-            try:
-                fcntl.flock(lock_fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-            except BlockingIOError:
-                holder = os.pread(lock_fd, 32, 0).decode(errors="replace").strip()
+        if not readonly and lock_fd is None:
+            lock_fd = lock(path)
+        try:
+            conn = _connect(path, readonly)
+        except BaseException:
+            if lock_fd is not None:
                 os.close(lock_fd)
-                raise GradebookBusy(
-                    f"another rikin-grade (pid {holder or '?'}) is writing {path}; "
-                    "wait for it to finish (one writer per gradebook)"
-                ) from None
-            os.ftruncate(lock_fd, 0)
-            os.pwrite(lock_fd, str(os.getpid()).encode(), 0)
-        conn = sqlite3.connect(path, timeout=30, isolation_level=None, check_same_thread=False)
-        conn.row_factory = sqlite3.Row
-        if not readonly:
-            conn.execute("PRAGMA journal_mode=WAL")
-            conn.execute("PRAGMA synchronous=FULL")
-            conn.execute("PRAGMA foreign_keys=ON")
-            conn.executescript("BEGIN;" + SCHEMA + "COMMIT;")
-            conn.execute(
-                "INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (str(SCHEMA_VERSION),)
-            )
-            # A run still 'running' was killed (this process holds the lock now).
-            conn.execute(
-                "UPDATE runs SET state = 'interrupted' WHERE state = 'running' AND ended_at IS NULL"
-            )
+            raise
         return cls(path, conn, lock_fd)
 
     def close(self) -> None:
+        if self._lock_fd is not None:
+            try:  # at rest the .sqlite alone holds every grade (a copy without -wal too)
+                self.conn.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+            except sqlite3.Error:
+                pass
         self.conn.close()
         if self._lock_fd is not None:
             os.close(self._lock_fd)
@@ -383,13 +531,16 @@ class Gradebook:
         assignment: str,
         seed: int,
         reuse: int | None = None,
+        graded_at: float | None = None,
     ) -> int:
         """Commit a result and make it the student's grade, in one transaction.
 
         ``reuse`` is the id of an earlier result with the same file and settings (a resumed
-        submission): only the pick is written, no second copy of the result.
+        submission): only the pick is written, no second copy of the result. ``graded_at``
+        (default now) is when it was graded (a result restored by a repair keeps its own).
         """
         now = time.time()
+        graded = now if graded_at is None else float(graded_at)
         with self._tx() as c:
             if reuse is None:
                 data = json.dumps(res.to_dict(), ensure_ascii=True)
@@ -409,7 +560,7 @@ class Gradebook:
                         res.score,
                         res.max_score,
                         res.elapsed,
-                        now,
+                        graded,
                         data,
                     ),
                 )
@@ -439,6 +590,15 @@ class Gradebook:
                 (run_id, res.student, assignment, submission_id, result_id, now),
             )
             return result_id
+
+    def has_result(self, student: str, assignment: str, sha256: str, key: str) -> bool:
+        """Whether this student's file was graded with these settings (any run)."""
+        row = self.conn.execute(
+            "SELECT 1 FROM results r JOIN submissions s ON s.id = r.submission_id "
+            "WHERE r.student = ? AND r.assignment = ? AND s.sha256 = ? AND r.key = ? LIMIT 1",
+            (student, assignment, sha256, key),
+        ).fetchone()
+        return row is not None
 
     def current(self, assignment: str) -> list[sqlite3.Row]:
         """Each student's grade that counts (newest pick), sorted by student id."""
@@ -522,6 +682,68 @@ class Gradebook:
         )
         out = {r["student"]: r for r in rows}
         return {k: v for k, v in out.items() if v["kind"] != "cleared"}
+
+    # ------------------------------------------------------------------ identity
+    def gradebook_id(self) -> str:
+        """A random id of this gradebook, written in every result file of its views."""
+        row = self.conn.execute("SELECT value FROM meta WHERE key = 'gradebook_id'").fetchone()
+        return row["value"] if row else ""
+
+    # ------------------------------------------------------------------ roster, settings
+    def set_roster(
+        self, assignment: str, kind: str, source: str, entries: list[tuple[str, dict]]
+    ) -> int:
+        """Record a roster import for ``assignment`` (``(key, row)`` pairs); it applies from
+        now on (earlier imports are kept). Returns the import's id."""
+        now = time.time()
+        with self._tx() as c:
+            row = c.execute("SELECT COALESCE(MAX(import_id), 0) + 1 FROM roster").fetchone()
+            imp = int(row[0])
+            c.executemany(
+                "INSERT INTO roster (import_id, assignment, kind, source, key, entry, created_at)"
+                " VALUES (?, ?, ?, ?, ?, ?, ?)",
+                [
+                    (imp, assignment, kind, _text(source), key, json.dumps(e, default=str), now)
+                    for key, e in entries
+                ],
+            )
+            return imp
+
+    def roster(self, assignment: str) -> tuple[str, list[tuple[str, dict]]]:
+        """The roster in force for ``assignment``: its kind and ``(key, row)`` pairs."""
+        rows = self.conn.execute(
+            "SELECT kind, key, entry FROM roster WHERE assignment = ? AND import_id = "
+            "(SELECT MAX(import_id) FROM roster WHERE assignment = ?) ORDER BY id",
+            (assignment, assignment),
+        ).fetchall()
+        if not rows:
+            return "", []
+        return rows[0]["kind"], [(r["key"], json.loads(r["entry"])) for r in rows]
+
+    def set_roster_key(self, student: str, key: str) -> None:
+        """Which roster row the student matched (``ambiguous:...``, ``absent``)."""
+        with self._tx() as c:
+            c.execute(
+                "UPDATE students SET roster_key = ? WHERE id = ? AND roster_key != ?",
+                (key, student, key),
+            )
+
+    def set_setting(self, assignment: str, key: str, value: str) -> None:
+        """Record a setting of ``assignment`` unless it is the one in force."""
+        if self.setting(assignment, key) == value:
+            return
+        with self._tx() as c:
+            c.execute(
+                "INSERT INTO settings (assignment, key, value, created_at) VALUES (?, ?, ?, ?)",
+                (assignment, key, _text(value), time.time()),
+            )
+
+    def setting(self, assignment: str, key: str, default: str | None = None) -> str | None:
+        row = self.conn.execute(
+            "SELECT value FROM settings WHERE assignment = ? AND key = ? ORDER BY id DESC LIMIT 1",
+            (assignment, key),
+        ).fetchone()
+        return row["value"] if row else default
 
     def check(self) -> list[str]:
         """Integrity problems (empty when consistent): SQLite's check and our invariants."""

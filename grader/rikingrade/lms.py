@@ -1,40 +1,53 @@
-"""Learning-management systems: the names their downloads give files, and the files they import.
+"""LMS downloads: who handed in each file, and when, read from what the LMS itself writes.
 
-Download names (each parsed into who submitted, the LMS's own id for them, and when)::
+Each LMS names the files of its "download all submissions" zip its own way, and some write a
+record beside them. Nothing here guesses an id from a fragment: a name that does not say
+who handed it in, unambiguously, is left for the caller to refuse with the reason.
 
-    Canvas       smithjohn_12345_67890_scara.ipynb        sortable name, user id, file id
-                 smithjohn_late_12345_67890_scara-1.ipynb  late; "-1" is a re-upload
-    Moodle       Jane Doe_12345_assignsubmission_file_/scara.ipynb   (folder per student)
-                 Jane Doe_12345_assignsubmission_file_scara.ipynb    (flat)
-                 12345 is the participant id the grading worksheet calls "Participant 12345"
-    Blackboard   HW 3_jdoe_attempt_2026-11-20-23-10-05_scara.ipynb   username, attempt time
-    Brightspace  123-456 - Jane Doe - Nov 20, 2026 1110 PM - scara.ipynb (or a folder without
-                 the last part): submission and user ids, name, submission time
-    nbgrader     submitted/<student>/<assignment>/scara.ipynb (+ timestamp.txt)
+Canvas       ``<name>[_LATE]_<user id>_<file id>_<file>``, e.g.
+             ``smithjohn_LATE_1000_5200_scara-1.ipynb``; ``<name>[_LATE]_<user id>_text.html``
+             and ``..._link.html`` for a text entry or a URL; ``anon_<id>_<file id>_<file>``
+             when grading is anonymous. Canvas writes the sortable name in lower case with
+             every non-word character removed ("O'Brien, Seán" -> ``obrienseán``), ``LATE``
+             (``late`` in older versions) when its own due date had passed, the user id (the
+             "ID" of its gradebook export) and the attachment id, then the student's file
+             name (``-1``, ``-2``: a file uploaded again under the same name). No time.
+Moodle       ``<Full Name>_<participant id>_assignsubmission_<plugin>_/<file>`` (a folder
+             per student), or ``..._assignsubmission_<plugin>_<file>`` flat. Moodle writes
+             ``_`` in a name as a space; the id is the grading worksheet's "Participant N".
+             No time in the name (the zip entries keep the file's time).
+Blackboard   ``<prefix>_<username>_attempt_<yyyy-mm-dd-hh-mm-ss>.txt``, the attempt's
+             record (``Name: First Last (username)``, ``Assignment:``, ``Date Submitted:``,
+             ``Files:`` with ``Original filename:`` and ``Filename:`` per file), and each
+             file as ``<prefix>_<username>_attempt_<ts>_<file>``. A username may hold ``_``,
+             so it is read from the record (or the record's prefix), never cut at a ``_``.
+Brightspace  ``<n>-<n> - <First Last> - <Mon d, yyyy hmm AM> - <file>`` (files) or
+             ``... - <Mon d, yyyy h:mm AM>`` (a folder per submission), and ``index.html``,
+             a table of who handed in which file when. Neither number is documented as the
+             user's: students are told apart by name, and namesakes by the roster.
+nbgrader     ``submitted/<student>/<assignment>/<file>`` with ``timestamp.txt``.
 
-Imports written from the gradebook (:func:`canvas_csv`, :func:`moodle_csv`):
-
-* Canvas's gradebook import reads a header ``Student, ID, SIS User ID, SIS Login ID,
-  Section`` followed by one column per assignment (``title`` or ``title (id)``; a new title
-  creates the assignment) and matches students on ID (the Canvas user id of the download
-  names), SIS User ID or SIS Login ID; a first data row starting ``Points Possible`` gives
-  the maximum; ``EX`` marks a grade excused.
-* Moodle's assignment "Upload grading worksheet" reads the columns ``Identifier``
-  (``Participant <id>``, the id of the download names), ``Grade`` and ``Last modified
-  (grade)`` (a grade changed in Moodle after that time is not overwritten unless the import
-  is told to ignore it), plus ``Feedback comments`` when that feedback type is on; the other
-  worksheet columns are read back unchanged.
+Times without a zone are the grading machine's local time, like ``--due``.
 """
 
 from __future__ import annotations
 
-import csv
-import io
 import re
 import time
-from dataclasses import dataclass
+import urllib.parse
+from dataclasses import dataclass, field
 from datetime import datetime
+from html.parser import HTMLParser
 from pathlib import Path
+
+from .lmsfiles import MOODLE_COLUMNS, _cell, canvas_csv, moodle_csv  # noqa: F401
+from .roster import (  # noqa: F401  (the names this module always offered)
+    RosterEntry,
+    RosterError,
+    match_roster,
+    name_key,
+    read_roster,
+)
 
 CANVAS = "canvas"
 MOODLE = "moodle"
@@ -44,85 +57,213 @@ NBGRADER = "nbgrader"
 FOLDER = "folder"  # a folder per student, id = folder name
 FILE = "file"  # a loose notebook, id = file name
 
-_CANVAS = re.compile(
-    r"^(?P<name>[^\W_]+)_(?:(?P<late>late|LATE)_)?(?P<uid>\d+)_(?P<fid>\d+)_"
-    r"(?P<orig>.+?)(?:-(?P<n>\d+))?(?P<ext>\.ipynb)$"
-)
-_MOODLE_DIR = re.compile(r"^(?P<name>.+?)_(?P<uid>\d+)_assignsubmission_(?P<plugin>[a-z]+)_?$")
+#: Files an LMS writes about the submissions, read and never graded.
+BRIGHTSPACE_INDEX = "index.html"
+
+_DIGITS = re.compile(r"^\d+$")
+_CANVAS_NAME = re.compile(r"^[^\W_]+(?:_[^\W_]+)*$")
+_CANVAS_ANON = re.compile(r"^(?:(?P<late>LATE|late)_)?anon_(?P<anon>[A-Za-z0-9]+)_(?P<rest>.+)$")
+_REUPLOAD = re.compile(r"^(?P<stem>.+?)-(?P<n>\d+)(?P<ext>\.[^.]*)?$")
+_MOODLE_DIR = re.compile(r"^(?P<name>[^_]+)_(?P<uid>\d+)_assignsubmission_(?P<plugin>[a-z]+)_?$")
 _MOODLE_FILE = re.compile(
-    r"^(?P<name>.+?)_(?P<uid>\d+)_assignsubmission_(?P<plugin>[a-z]+)_(?P<orig>.+)$"
+    r"^(?P<name>[^_]+)_(?P<uid>\d+)_assignsubmission_(?P<plugin>[a-z]+)_(?P<orig>.+)$"
 )
 _BLACKBOARD = re.compile(
-    r"^(?P<assignment>.+)_(?P<uid>[^_]+)_attempt_"
-    r"(?P<ts>\d{4}-\d{2}-\d{2}-\d{2}-\d{2}-\d{2})(?:_(?P<orig>.+))?$"
+    r"^(?P<stem>.+)_attempt_(?P<ts>\d{4}-\d{2}-\d{2}-\d{2}-\d{2}-\d{2})(?:_(?P<orig>.+))?$"
 )
+_D2L_DATE = r"[A-Z][a-z]{2} \d{1,2}, \d{4} \d{1,2}:?\d{2} [AP]M"
 _BRIGHTSPACE = re.compile(
-    r"^(?P<sid>\d+)-(?P<uid>\d+) - (?P<name>.+?) - "
-    r"(?P<date>[A-Z][a-z]{2} \d{1,2}, \d{4} \d{3,4} [AP]M)(?: - (?P<orig>.+))?$"
+    rf"^(?P<n1>\d+)-(?P<n2>\d+) - (?P<name>.+?) - (?P<date>{_D2L_DATE})(?: - (?P<orig>.+))?$"
 )
 
 
 @dataclass
 class Parsed:
-    """What a download name says about its submission."""
+    """What a download name (and the LMS's record, when there is one) says about a file.
+
+    ``lms_id`` is the LMS's own id for the student (Canvas user id, Moodle participant id,
+    Blackboard username); '' when the LMS gives none (Brightspace) or the name alone cannot
+    say (a Blackboard name whose username holds ``_``, without its record: ``unsure`` says
+    why). ``kind`` is ``file``, or ``text``/``link`` for a Canvas or Moodle text entry or URL.
+    """
 
     lms: str
     name: str  # the person as the LMS names them ("Jane Doe", "smithjohn", "jdoe")
-    lms_id: str  # Canvas user id, Moodle participant id, Blackboard username, D2L user id
+    lms_id: str
     order: tuple = ()  # sorts attempts of one student, oldest first
-    submitted_at: float | None = None  # seconds since the epoch, when the name says
-    late: bool = False  # the LMS flagged it late
+    submitted_at: float | None = None  # seconds since the epoch, when the LMS says
+    late: bool = False  # the LMS flagged it late (Canvas)
+    file_id: str = ""  # Canvas's attachment id (its re-upload pairs feedback with it)
+    orig: str = ""  # the student's own file name
+    kind: str = "file"
+    time_source: str = ""
+    unsure: str = ""  # why the name alone does not say who handed it in
 
     @property
     def key(self) -> str:
         """Who submitted: the same for every attempt of one student in one LMS."""
-        return f"{self.lms}:{self.lms_id}"
+        if self.lms_id:
+            return f"{self.lms}:{self.lms_id}"
+        return f"{self.lms}:name:{person_key(self.name)}"
 
 
-def parse_file(name: str) -> Parsed | None:
-    """A notebook file's download name, or None when no LMS pattern fits."""
-    m = _CANVAS.match(name)
-    if m:
-        return Parsed(
-            CANVAS,
-            m["name"],
-            m["uid"],
-            (int(m["fid"]), int(m["n"] or 0)),
-            late=bool(m["late"]),
-        )
-    stem = name[:-6] if name.lower().endswith(".ipynb") else name
-    m = _MOODLE_FILE.match(stem)
-    if m:
-        return Parsed(MOODLE, m["name"], m["uid"])
-    m = _BLACKBOARD.match(stem)
-    if m:
-        t = _time(m["ts"], "%Y-%m-%d-%H-%M-%S")
-        return Parsed(BLACKBOARD, m["uid"], m["uid"], (t or 0.0,), submitted_at=t)
-    m = _BRIGHTSPACE.match(stem)
-    if m:
-        t = _time(m["date"], "%b %d, %Y %I%M %p")
-        return Parsed(BRIGHTSPACE, m["name"], m["uid"], (t or 0.0, int(m["sid"])), t)
-    return None
+def person_key(name: str) -> str:
+    """A person's name as one key whatever the order ("Smith, John" is "John Smith")."""
+    return " ".join(sorted(k for k in (name_key(t) for t in re.split(r"[\s,]+", name)) if k))
+
+
+# ----------------------------------------------------------------------------- names
+def parse_file(name: str, usernames=(), prefixes=()) -> Parsed | None:
+    """A file's download name (any extension), or None when no LMS writes names like it.
+
+    ``usernames`` (a roster's) and ``prefixes`` (what Blackboard's records put before
+    ``_<username>_attempt_``) let a Blackboard name whose username holds ``_`` be read.
+    """
+    return (
+        _canvas(name)
+        or _moodle_file(name)
+        or _blackboard(name, usernames, prefixes)
+        or _brightspace(name, True)
+    )
 
 
 def parse_folder(name: str) -> Parsed | None:
     """A student folder's download name (Moodle, Brightspace), or None."""
     m = _MOODLE_DIR.match(name)
     if m:
-        return Parsed(MOODLE, m["name"], m["uid"])
+        kind = "file" if m["plugin"] == "file" else "text"
+        return Parsed(MOODLE, m["name"], m["uid"], kind=kind)
+    return _brightspace(name, False)
+
+
+def _canvas(name: str) -> Parsed | None:
+    m = _CANVAS_ANON.match(name)
+    if m:
+        pieces = m["rest"].split("_")
+        return _canvas_rest(f"anon_{m['anon']}", "", bool(m["late"]), pieces)
+    pieces = name.split("_")
+    first = next((i for i, p in enumerate(pieces) if _DIGITS.match(p)), None)
+    if first is None or first == 0 or first + 1 >= len(pieces):
+        return None
+    who = pieces[:first]
+    late = who[-1] in ("LATE", "late")
+    if late:
+        who = who[:-1]
+    if not who or not _CANVAS_NAME.match("_".join(who)):
+        return None
+    return _canvas_rest(pieces[first], "_".join(who), late, pieces[first + 1 :])
+
+
+def _canvas_rest(uid: str, who: str, late: bool, rest: list[str]) -> Parsed | None:
+    tail = "_".join(rest)
+    if tail in ("text.html", "link.html"):
+        return Parsed(CANVAS, who, uid, late=late, kind=tail[:4], orig=tail)
+    if len(rest) < 2 or not _DIGITS.match(rest[0]):
+        return None
+    orig = "_".join(rest[1:])
+    again = _REUPLOAD.match(orig)
+    order = (int(rest[0]), int(again["n"]) if again else 0)
+    return Parsed(CANVAS, who, uid, order, late=late, file_id=rest[0], orig=orig)
+
+
+def _moodle_file(name: str) -> Parsed | None:
+    m = _MOODLE_FILE.match(name)
+    if not m:
+        return None
+    kind = "file" if m["plugin"] == "file" else "text"
+    return Parsed(MOODLE, m["name"], m["uid"], orig=m["orig"], kind=kind)
+
+
+def _blackboard(name: str, usernames=(), prefixes=()) -> Parsed | None:
+    m = _BLACKBOARD.match(name)
+    record = m is None and name.endswith(".txt")
+    if record:
+        m = _BLACKBOARD.match(name[:-4])  # the attempt's record, ..._attempt_<ts>.txt
+    if m is None or (record and m["orig"]):
+        return None
+    t = local_time(m["ts"], "%Y-%m-%d-%H-%M-%S")
+    user, why = blackboard_username(m["stem"], usernames, prefixes)
+    return Parsed(
+        BLACKBOARD,
+        user,
+        user,
+        (t or 0.0,),
+        t,
+        orig="" if record else m["orig"] or "",
+        kind="record" if record else "file",
+        time_source="download name" if t else "",
+        unsure=why,
+    )
+
+
+def blackboard_username(stem: str, usernames=(), prefixes=()) -> tuple[str, str]:
+    """The username in ``<prefix>_<username>`` (the part before ``_attempt_``), or
+    ('', why not): from a record's known prefix, else the one roster username it ends with,
+    else only when the stem holds a single ``_``."""
+    for prefix in sorted(prefixes, key=len, reverse=True):
+        if prefix and stem.startswith(prefix + "_") and len(stem) > len(prefix) + 1:
+            return stem[len(prefix) + 1 :], ""
+    ends = [u for u in usernames if u and stem.endswith("_" + u)]
+    if len(ends) == 1:
+        return ends[0], ""
+    if len(ends) > 1:
+        return "", f"it could be the attempt of {' or '.join(sorted(ends))} (roster usernames)"
+    if stem.count("_") == 1:
+        return stem.split("_")[1], ""
+    return "", (
+        "the name does not say where the assignment's name ends and the username begins, "
+        "and Blackboard's record of the attempt (the .txt beside it) is missing"
+    )
+
+
+def _brightspace(name: str, is_file: bool) -> Parsed | None:
     m = _BRIGHTSPACE.match(name)
-    if m and not m["orig"]:
-        t = _time(m["date"], "%b %d, %Y %I%M %p")
-        return Parsed(BRIGHTSPACE, m["name"], m["uid"], (t or 0.0, int(m["sid"])), t)
-    return None
+    if not m or (is_file and not m["orig"]) or (not is_file and m["orig"]):
+        return None
+    t = brightspace_time(m["date"])
+    return Parsed(
+        BRIGHTSPACE,
+        m["name"],
+        "",
+        (t or 0.0, int(m["n1"])),
+        t,
+        orig=m["orig"] or "",
+        time_source="download name" if t else "",
+    )
 
 
-def _time(text: str, fmt: str) -> float | None:
+_MONTHS = {
+    m: i + 1 for i, m in enumerate("Jan Feb Mar Apr May Jun Jul Aug Sep Oct Nov Dec".split())
+}
+_D2L_PARTS = re.compile(r"^([A-Z][a-z]{2}) (\d{1,2}), (\d{4}) (\d{1,2}):?(\d{2}) ([AP]M)$")
+
+
+def brightspace_time(text: str) -> float | None:
+    """``Dec 4, 2026 110 PM`` (a file name: hour and minutes run together), or ``1:10 PM``,
+    as local time: the last two digits are the minutes, whatever the hour."""
+    m = _D2L_PARTS.match(" ".join(text.split()))
+    if not m or m[1] not in _MONTHS:
+        return None
+    hour, minute = int(m[4]), int(m[5])
+    if not 1 <= hour <= 12 or minute > 59:
+        return None
+    hour = hour % 12 + (12 if m[6] == "PM" else 0)
+    try:
+        dt = datetime(int(m[3]), _MONTHS[m[1]], int(m[2]), hour, minute)
+    except ValueError:
+        return None
+    return time.mktime(dt.timetuple())
+
+
+def local_time(text: str, fmt: str) -> float | None:
     """Local time as the LMS wrote it, in seconds since the epoch."""
     try:
         return time.mktime(datetime.strptime(text, fmt).timetuple())
     except (ValueError, OverflowError):
         return None
+
+
+_time = local_time  # the name this module used before
 
 
 def nbgrader_timestamp(folder: Path) -> float | None:
@@ -146,186 +287,251 @@ def nbgrader_timestamp(folder: Path) -> float | None:
     return None
 
 
-# ----------------------------------------------------------------------------- roster
+# ----------------------------------------------------------------------------- Blackboard
 @dataclass
-class RosterEntry:
-    """One row of an instructor's roster CSV."""
+class BlackboardRecord:
+    """One attempt's ``.txt``: who (name, username), when, which files."""
 
-    id: str
-    name: str = ""
-    email: str = ""
-    sis_id: str = ""
-    section: str = ""
-    login: str = ""
+    record: str  # the .txt's own name
+    name: str
+    username: str
+    assignment: str = ""
+    submitted_text: str = ""  # "Date Submitted:" as written
+    files: dict[str, str] = field(default_factory=dict)  # stored name -> original name
+    text: bool = False  # the attempt has text in its submission field
+    prefix: str = ""  # what Blackboard put before _<username>_attempt_ (from the name)
+    attempt: str = ""  # the attempt's time stamp in the names
 
 
-_ROSTER_COLUMNS = {
-    "id": ("id", "student id", "canvas id", "user id", "participant", "identifier", "username"),
-    "name": ("name", "student", "full name", "student name"),
-    "email": ("email", "email address", "e-mail"),
-    "sis_id": ("sis_id", "sis id", "sis user id", "student number", "id number", "idnumber"),
-    "section": ("section", "group", "class"),
-    "login": ("login", "sis login id", "login id", "netid"),
+_NO_TEXT = ("there is no student submission text data", "there are no student comments")
+
+
+def read_blackboard_record(record: str, text: str) -> BlackboardRecord | None:
+    """A Blackboard attempt record (``..._attempt_<ts>.txt``), or None if it is not one."""
+    m = _BLACKBOARD.match(record[:-4]) if record.endswith(".txt") else None
+    lines = text.replace("\r\n", "\n").split("\n")
+    head = re.match(r"^Name:\s*(.*?)\s*\(([^()]*)\)\s*$", lines[0].strip()) if lines else None
+    if m is None or m["orig"] or head is None or not head[2].strip():
+        return None
+    rec = BlackboardRecord(record, head[1].strip(), head[2].strip(), attempt=m["ts"])
+    stem = m["stem"]
+    if stem.endswith("_" + rec.username):
+        rec.prefix = stem[: -len(rec.username) - 1]
+    section, original = "", ""
+    for raw in lines[1:]:
+        line = raw.strip()
+        label, _, value = line.partition(":")
+        if not raw.startswith(("\t", " ")) and label in (
+            "Assignment",
+            "Date Submitted",
+            "Current Grade",
+            "Submission Field",
+            "Comments",
+            "Files",
+        ):
+            section = label
+            if label == "Assignment":
+                rec.assignment = value.strip()
+            elif label == "Date Submitted":
+                rec.submitted_text = value.strip()
+            continue
+        if section == "Submission Field" and line and not line.lower().startswith(_NO_TEXT):
+            rec.text = True
+        elif section == "Files" and label == "Original filename":
+            original = value.strip()
+        elif section == "Files" and label == "Filename":
+            rec.files[value.strip()] = original
+            original = ""
+    return rec
+
+
+# ----------------------------------------------------------------------------- Brightspace
+@dataclass
+class IndexRow:
+    """One row of a Brightspace ``index.html``: who, when, which files."""
+
+    name: str
+    when: float | None
+    when_text: str
+    files: list[str]
+    user_id: str = ""
+
+
+class _Tables(HTMLParser):
+    """Every table row of a page: its cells' text and links (``th`` marks a header row)."""
+
+    def __init__(self) -> None:
+        super().__init__(convert_charrefs=True)
+        self.rows: list[tuple[bool, list[tuple[str, list[str]]]]] = []
+        self._row: list[tuple[str, list[str]]] | None = None
+        self._cell: list[str] | None = None
+        self._links: list[str] = []
+        self._header = False
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "tr":
+            self._row, self._header = [], False
+        elif tag in ("td", "th") and self._row is not None:
+            self._cell, self._links = [], []
+            self._header = self._header or tag == "th"
+        elif tag == "a" and self._cell is not None:
+            href = dict(attrs).get("href") or ""
+            if href and not href.startswith(("#", "mailto:", "javascript:")):
+                self._links.append(urllib.parse.unquote(href.split("?")[0]).split("/")[-1])
+        elif tag == "br" and self._cell is not None:
+            self._cell.append("\n")
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th") and self._row is not None and self._cell is not None:
+            self._row.append(("".join(self._cell).strip(), self._links))
+            self._cell = None
+        elif tag == "tr" and self._row is not None:
+            if self._row:
+                self.rows.append((self._header, self._row))
+            self._row = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell.append(data)
+
+
+_ROLES = {
+    "id": ("orgdefinedid", "org defined id", "username", "user id", "userid"),
+    "name": ("submitted by", "student", "user", "name", "learner"),
+    "when": ("date", "submitted", "time"),
+    "files": ("file", "attachment", "submission"),
 }
 
 
-class RosterError(ValueError):
-    """A roster file that cannot be used; the message says why."""
-
-
-def read_roster(path: str | Path) -> list[RosterEntry]:
-    """The students of a roster CSV (columns id, name, email, SIS id, section; any case).
-
-    A Canvas gradebook export works as it is (Student, ID, SIS User ID, SIS Login ID,
-    Section); its "Points Possible" row is skipped.
-    """
+def read_brightspace_index(text: str) -> list[IndexRow]:
+    """The rows of a Brightspace download's ``index.html`` (``[]`` if it has no table with
+    columns for the student, the date and the files)."""
+    p = _Tables()
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise RosterError(f"cannot read the roster {path}: {exc}") from None
-    rows = list(csv.reader(io.StringIO(text)))
-    if not rows:
-        raise RosterError(f"the roster {path} is empty")
-    header = [h.strip().lower() for h in rows[0]]
+        p.feed(text)
+        p.close()
+    except Exception:  # html.parser is lenient; anything it still rejects is no index
+        return []
+    head = next((cells for is_head, cells in p.rows if is_head), None)
+    if head is None:
+        return []
     col: dict[str, int] = {}
-    for field, names in _ROSTER_COLUMNS.items():
-        for i, h in enumerate(header):
-            if h in names and i not in col.values():
-                col[field] = i
+    for role, words in _ROLES.items():
+        for i, (label, _) in enumerate(head):
+            lab = label.lower()
+            if i not in col.values() and any(w in lab for w in words):
+                col[role] = i
                 break
-    if "id" not in col and "sis_id" not in col and "email" not in col:
-        raise RosterError(
-            f"the roster {path} has no id column: found {', '.join(rows[0])}; "
-            "expected id (or SIS User ID or email), name, email, SIS id, section"
-        )
+    if not {"name", "when", "files"} <= set(col):
+        return []
     out = []
-    for r in rows[1:]:
-        if not any(c.strip() for c in r) or r[0].strip().startswith("Points Possible"):
+    for is_head, cells in p.rows:
+        if is_head or len(cells) <= max(col.values()):
             continue
-        get = {f: (r[i].strip() if i < len(r) else "") for f, i in col.items()}
-        e = RosterEntry(**{f: get.get(f, "") for f in _ROSTER_COLUMNS})
-        e.id = e.id or e.sis_id or e.email
-        out.append(e)
+        name = " ".join(cells[col["name"]][0].split())
+        when_text = " ".join(cells[col["when"]][0].split())
+        text_, links = cells[col["files"]]
+        files = links or [f.strip() for f in text_.split("\n") if f.strip()]
+        uid = cells[col["id"]][0].strip().lstrip("#") if "id" in col else ""
+        if name and files:
+            out.append(IndexRow(name, brightspace_time(when_text), when_text, files, uid))
     return out
 
 
-def _norm(text: str) -> str:
-    return "".join(ch for ch in text.lower() if ch.isalnum())
+# ----------------------------------------------------------------------------- a download
+#: Largest record (Blackboard .txt) or index.html read, bytes.
+MAX_RECORD_BYTES = 4 * 1024 * 1024
 
 
-def match_roster(parsed: Parsed | None, raw_name: str, roster: list[RosterEntry]):
-    """The roster row a submission belongs to, or None.
+def _read_text(path: Path) -> str | None:
+    from .studentfiles import ReadFailed, read_in_process
 
-    Matched on the LMS id (Canvas/Moodle/D2L user id, Blackboard username) against the
-    roster's id, SIS id, login or e-mail user part, else on the name with case, spaces and
-    punctuation ignored, in either order of first and last name ("smithjohn" is "John Smith").
+    try:  # a file in the download: no link followed, one name, capped
+        return read_in_process(path, MAX_RECORD_BYTES).decode("utf-8-sig", errors="replace")
+    except ReadFailed:
+        return None
+
+
+@dataclass
+class Download:
+    """What an LMS wrote about one class folder's files: Blackboard's attempt records and
+    Brightspace's ``index.html``; :meth:`owner` says who handed in each file.
+
+    ``consumed`` are the LMS's own files (records, index), read and never graded.
     """
-    ids = {parsed.lms_id} if parsed else set()
-    names = {_norm(parsed.name)} if parsed else set()
-    names.add(_norm(raw_name))
-    for e in roster:
-        theirs = {e.id, e.id.removeprefix("Participant ").strip(), e.sis_id, e.login}
-        if ids & (theirs | {e.email.split("@")[0]}) - {""}:
-            return e
-    for e in roster:
-        parts = [p for p in re.split(r"[\s,]+", e.name) if p]
-        forms = {_norm(e.name), _norm("".join(reversed(parts)))}
-        if "," in e.name:  # "Smith, John"
-            last, _, first = e.name.partition(",")
-            forms |= {_norm(first + last), _norm(last + first)}
-        if names & forms - {""}:
-            return e
-    return None
 
+    records: dict[str, BlackboardRecord] = field(default_factory=dict)  # file -> record
+    attempts: list[BlackboardRecord] = field(default_factory=list)
+    prefixes: set[str] = field(default_factory=set)
+    index: list[IndexRow] = field(default_factory=list)
+    usernames: tuple[str, ...] = ()
+    consumed: set[str] = field(default_factory=set)
+    notes: list[str] = field(default_factory=list)
 
-# ----------------------------------------------------------------------------- exports
-def _cell(text: str) -> str:
-    """A CSV cell a spreadsheet will not run as a formula (CSV injection)."""
-    text = str(text)
-    return "'" + text if text[:1] in ("=", "+", "-", "@", "\t", "\r") else text
+    @classmethod
+    def read(cls, folder: Path, names: list[str], usernames=(), reader=_read_text) -> Download:
+        """Read the records among ``names`` (the folder's file names that are not notebooks).
 
+        ``usernames`` are the roster's Blackboard usernames, if any.
+        """
+        d = cls(usernames=tuple(u for u in usernames if u))
+        for name in names:
+            p = _blackboard(name)
+            if p is not None and p.kind == "record":
+                text = reader(folder / name)
+                rec = read_blackboard_record(name, text) if text is not None else None
+                if rec is None:
+                    d.notes.append(f"{name}: not a Blackboard attempt record that can be read")
+                    continue
+                d.consumed.add(name)
+                d.attempts.append(rec)
+                if rec.prefix:
+                    d.prefixes.add(rec.prefix)
+                for stored in rec.files:
+                    d.records[stored] = rec
+            elif name == BRIGHTSPACE_INDEX and any(_brightspace(n, True) for n in names):
+                text = reader(folder / name)
+                d.index = read_brightspace_index(text or "")
+                d.consumed.add(name)  # Brightspace's own file, whatever it holds
+                if not d.index:
+                    d.notes.append(
+                        f"{name}: Brightspace's index of the download has no table of who "
+                        "handed in which file: students are told apart by the file names"
+                    )
+        return d
 
-def _num(x: float) -> str:
-    return f"{x:.6g}"
+    def owner(self, name: str) -> Parsed | None:
+        """Who handed in the file ``name`` of this folder (None: no LMS wrote the name)."""
+        rec = self.records.get(name)
+        if rec is not None:
+            t = local_time(rec.attempt, "%Y-%m-%d-%H-%M-%S")
+            return Parsed(
+                BLACKBOARD,
+                rec.name,
+                rec.username,
+                (t or 0.0,),
+                t,
+                orig=rec.files[name] or "",
+                time_source="download name" if t else "",
+            )
+        p = parse_file(name, self.usernames, tuple(self.prefixes))
+        if p is not None and p.lms == BRIGHTSPACE and self.index:
+            self._from_index(name, p)
+        return p
 
-
-def canvas_csv(rows: list[dict], title: str, max_score: float) -> tuple[str, list[str]]:
-    """Canvas's gradebook import file for one assignment, and the students left out.
-
-    ``rows`` are the gradebook's final grades (:meth:`Gradebook.final_grades`). A student
-    needs a Canvas user id (from Canvas download names or the roster) or a SIS id.
-    """
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\r\n")
-    w.writerow(["Student", "ID", "SIS User ID", "SIS Login ID", "Section", title])
-    w.writerow(["Points Possible", "", "", "", "", _num(max_score)])
-    skipped = []
-    for r in rows:
-        canvas_id = r.get("canvas_id") or ""
-        if not canvas_id and not r.get("sis_id"):
-            skipped.append(r["student"])
-            continue
-        grade = "EX" if r["excused"] else _num(r["final"])
-        w.writerow(
-            [
-                _cell(r.get("name") or r["student"]),
-                canvas_id,
-                _cell(r.get("sis_id") or ""),
-                _cell(r.get("login") or ""),
-                _cell(r.get("section") or ""),
-                grade,
-            ]
-        )
-    return buf.getvalue(), skipped
-
-
-MOODLE_COLUMNS = [
-    "Identifier",
-    "Full name",
-    "Email address",
-    "Status",
-    "Grade",
-    "Maximum Grade",
-    "Grade can be changed",
-    "Last modified (submission)",
-    "Last modified (grade)",
-    "Feedback comments",
-]
-
-
-def _moodle_time(t: float | None) -> str:
-    # Moodle reads it with PHP's strtotime: an unambiguous ISO local time.
-    return "-" if not t else time.strftime("%Y-%m-%d %H:%M:%S", time.localtime(t))
-
-
-def moodle_csv(rows: list[dict], max_score: float) -> tuple[str, list[str]]:
-    """Moodle's "Upload grading worksheet" file for one assignment, and the students left out.
-
-    A student needs a Moodle participant id (from Moodle download names or the roster's id
-    column written ``Participant 123``); excused students are left out (Moodle has no
-    excused grade in the worksheet).
-    """
-    buf = io.StringIO()
-    w = csv.writer(buf, lineterminator="\n")
-    w.writerow(MOODLE_COLUMNS)
-    skipped = []
-    for r in rows:
-        pid = r.get("moodle_id") or ""
-        if not pid or r["excused"]:
-            skipped.append(r["student"])
-            continue
-        w.writerow(
-            [
-                f"Participant {pid}",
-                _cell(r.get("name") or r["student"]),
-                _cell(r.get("email") or ""),
-                "Submitted for grading" if r.get("submitted_at") else "No submission",
-                _num(r["final"]),
-                _num(max_score),
-                "Yes",
-                _moodle_time(r.get("submitted_at")),
-                _moodle_time(r.get("changed_at")),
-                _cell(r.get("comment") or ""),
-            ]
-        )
-    return buf.getvalue(), skipped
+    def _from_index(self, name: str, p: Parsed) -> None:
+        mine = name_key(p.name)
+        rows = [r for r in self.index if name in r.files] or [
+            r
+            for r in self.index
+            if name_key(r.name) in (mine, name_key(" ".join(reversed(r.name.split(", ")))))
+            and (p.orig in r.files or not p.orig)
+            and (r.when is None or p.submitted_at is None or abs(r.when - p.submitted_at) < 60)
+        ]
+        if len(rows) != 1:
+            return
+        row = rows[0]
+        p.name, p.lms_id = row.name, row.user_id
+        if row.when is not None:
+            p.submitted_at, p.time_source = row.when, "Brightspace index.html"
+            p.order = (row.when, *p.order[1:])

@@ -87,6 +87,13 @@ class Submission:
     root: Path | None = None
     named: bool = False
     files: StudentFiles | None = field(default=None, repr=False, compare=False)
+    #: Canvas's attachment id of the file (its re-upload pairs feedback with it), and the
+    #: student's name as the download wrote it (the roster's may replace ``name``)
+    file_id: str = ""
+    download_name: str = ""
+    #: the roster row it matched (``roster.RosterEntry.key``), or why none:
+    #: ``ambiguous:<name>`` (several fit) or ``absent`` (not on the roster)
+    roster_key: str = ""
 
     def read_bytes(self, cap: int = MAX_NOTEBOOK_BYTES) -> bytes:
         """The file's bytes, read without privileges it should not need (see
@@ -309,18 +316,44 @@ def _refusal(entry: os.DirEntry | Path) -> str:
     return ""
 
 
+#: Files that systems leave in folders (never a student's work): skipped with a note.
+SYSTEM_FILES = {".ds_store", "thumbs.db", "desktop.ini"}
+_ARCHIVES = (".zip", ".tar", ".tgz", ".tar.gz", ".gz", ".7z", ".rar", ".bz2", ".xz")
+
+
+def not_a_notebook(name: str, kind: str = "file") -> str:
+    """Why a file handed in is not graded (it is not a notebook), in a few words."""
+    low = name.lower()
+    if kind == "text":
+        return f"an online text entry ({name}), not a notebook: ask for the .ipynb file"
+    if kind == "link":
+        return f"a web link ({name}), not a notebook: ask for the .ipynb file"
+    if low.endswith(_ARCHIVES):
+        return "a .zip (or other archive): unzip it first and grade the notebook inside"
+    if low.endswith(".py"):
+        return "an exported script, not a notebook: ask for the .ipynb file"
+    if ".ipynb" in low:
+        return (
+            f"named {name}, not .ipynb (renamed by a browser?): rename it to end in .ipynb "
+            "and grade it again"
+        )
+    ext = os.path.splitext(name)[1]
+    return f"not a notebook ({ext or 'a file with no extension'})"
+
+
 def _scan(
     folder: Path, notes: list[str], refused: list[tuple[Path, str]] | None = None
-) -> tuple[list[Path], list[Path], list[str]]:
-    """(notebook files, sub-folders, other file names) directly in ``folder``.
+) -> tuple[list[Path], list[Path], list[Path]]:
+    """(notebook files, sub-folders, other files) directly in ``folder``.
 
     Links are not followed: a symbolic link to a notebook or a folder, and a hard-linked
-    notebook, go into ``refused`` with the reason (and a note).
+    notebook, go into ``refused`` with the reason (and a note). Hidden files and folders
+    and the files systems leave (``.DS_Store``, ``Thumbs.db``) are skipped with a note.
     """
     refused = [] if refused is None else refused
     files: list[Path] = []
     dirs: list[Path] = []
-    other: list[str] = []
+    other: list[Path] = []
     try:
         entries = sorted(os.scandir(folder), key=lambda e: os.fsencode(e.name))
     except OSError as exc:
@@ -330,8 +363,7 @@ def _scan(
         path = Path(e.path)
         if e.is_symlink():
             notes.append(f"{shown(path)}: a symbolic link: links are not followed, skipped")
-            if e.name.lower().endswith(".ipynb") or os.path.isdir(path):
-                refused.append((path, "a symbolic link: links are not followed"))
+            refused.append((path, "a symbolic link: links are not followed"))
             continue
         if e.is_dir(follow_symlinks=False):
             if e.name in SKIP_DIRS:
@@ -343,32 +375,39 @@ def _scan(
                 )
                 continue
             dirs.append(path)
+        elif e.name.startswith(".") or e.name.lower() in SYSTEM_FILES:
+            what = "a hidden file (name starts with '.')" if e.name[:1] == "." else "a system file"
+            notes.append(f"{shown(path)}: {what}, skipped")
         elif e.name.lower().endswith(".ipynb"):
             why = _refusal(e)
             if why:
                 notes.append(f"{shown(path)}: {why}, skipped")
                 refused.append((path, why))
-            elif e.name.startswith("."):
-                notes.append(f"{shown(path)}: a hidden file (name starts with '.'), skipped")
             else:
                 files.append(path)
         else:
-            other.append(shown(e.name))
+            other.append(path)
     return files, dirs, other
 
 
 def _notebooks_in(
-    folder: Path, notes: list[str] | None = None, refused: list[tuple[Path, str]] | None = None
+    folder: Path,
+    notes: list[str] | None = None,
+    refused: list[tuple[Path, str]] | None = None,
+    others: list[Path] | None = None,
 ) -> list[Path]:
-    """Every notebook below ``folder`` (iteratively, links not followed, at most MAX_DEPTH)."""
+    """Every notebook below ``folder`` (iteratively, links not followed, at most MAX_DEPTH);
+    the other files found go into ``others``."""
     notes = [] if notes is None else notes
     out: list[Path] = []
     stack = [(Path(folder), 0)]
     deep = False
     while stack:
         d, depth = stack.pop()
-        files, dirs, _ = _scan(d, notes, refused)
+        files, dirs, other = _scan(d, notes, refused)
         out += files
+        if others is not None:
+            others += other
         if depth >= MAX_DEPTH:
             deep = deep or bool(dirs)
             continue
@@ -411,9 +450,10 @@ class _Found:
     submitted_at: float | None = None
     time_source: str = ""
     name: str = ""
-    refused: str = ""  # why the file was not read (a link)
+    refused: str = ""  # why the file is not read (a link, not a notebook)
     root: Path | None = None  # the submissions folder given (files are read relative to it)
     named: bool = False  # the instructor named this file itself
+    other: bool = False  # not a notebook: graded (0, with why) only if the student has none
 
 
 def _examples(paths: list, n: int = 4) -> str:
@@ -422,31 +462,70 @@ def _examples(paths: list, n: int = 4) -> str:
     return ", ".join(names[:n]) + more
 
 
-def _from_file(p: Path) -> _Found:
+def _lms_id(parsed) -> str:
+    """The student id of an LMS's student (its name and id: unique, and leads back)."""
     from . import lms
 
-    parsed = lms.parse_file(os.fsdecode(p.name))
-    if parsed is None:
-        sid = student_id(p.stem)
-        return _Found(f"file:{sid}", sid, p, name=shown(p.stem))
     if parsed.lms == lms.BLACKBOARD:
-        sid = student_id(parsed.lms_id)
+        return student_id(parsed.lms_id)
+    if not parsed.lms_id:
+        return safe_id(parsed.name)
+    return safe_id(f"{parsed.name}_{parsed.lms_id}" if parsed.name else parsed.lms_id)
+
+
+def _plain_stem(name: str) -> str:
+    stem = name[:-6] if name.lower().endswith(".ipynb") else os.path.splitext(name)[0]
+    return stem[:-6] if stem.lower().endswith(".ipynb") else stem
+
+
+def _from_file(p: Path, download=None) -> _Found:
+    """Who handed in the file ``p`` (a notebook, or any other file: ``other``)."""
+    from . import lms
+
+    raw = os.fsdecode(p.name)
+    other = not raw.lower().endswith(".ipynb")
+    parsed = download.owner(raw) if download is not None else lms.parse_file(raw)
+    if parsed is not None and parsed.lms == lms.BLACKBOARD and not parsed.lms_id:
+        sid = student_id(_plain_stem(raw))
+        why = f"whose attempt this is cannot be told: {parsed.unsure}"
+        return _Found(f"unknown:{sid}", sid, p, name=shown(raw), refused=why)
+    if parsed is None:
+        sid = student_id(_plain_stem(raw))
+        why = not_a_notebook(shown(raw)) if other else ""
+        return _Found(f"file:{sid}", sid, p, name=shown(_plain_stem(raw)), refused=why, other=other)
+    if parsed.kind in ("text", "link") or other:
+        why = not_a_notebook(shown(parsed.orig or raw), parsed.kind)
     else:
-        sid = safe_id(f"{parsed.name}_{parsed.lms_id}")
+        why = ""
     return _Found(
         parsed.key,
-        sid,
+        _lms_id(parsed),
         p,
         parsed,
         parsed.order,
         parsed.submitted_at,
-        "download name" if parsed.submitted_at else "",
+        parsed.time_source,
         parsed.name,
+        refused=why,
+        other=bool(why),
     )
 
 
-def _from_folder(d: Path, expected: str, notes: list[str], nbgrader: bool = False):
-    """The submission in one student's folder, or None (with a note)."""
+def _nothing_inside(d: Path, others: list[Path], links) -> str:
+    if others:
+        return (
+            "no notebook in the folder: "
+            + "; ".join(f"{shown(o.name)} ({not_a_notebook(shown(o.name))})" for o in others[:3])
+            + (f" and {len(others) - 3} more" if len(others) > 3 else "")
+        )
+    if (d / ".ipynb_checkpoints").is_dir():
+        return "no notebook in the folder, only Jupyter's checkpoint copies (.ipynb_checkpoints)"
+    return "the folder is empty: nothing was handed in"
+
+
+def _from_folder(d: Path, expected: str, notes: list[str], nbgrader: bool = False) -> _Found:
+    """The submission in one student's folder (refused with the reason when it holds no
+    notebook)."""
     from . import lms
 
     where = d
@@ -460,33 +539,37 @@ def _from_folder(d: Path, expected: str, notes: list[str], nbgrader: bool = Fals
             when = lms.nbgrader_timestamp(where)
             source = "nbgrader timestamp.txt" if when else ""
     links: list[tuple[Path, str]] = []
-    nbs = _notebooks_in(where, notes, links)
+    others: list[Path] = []
+    nbs = _notebooks_in(where, notes, links, others)
     nb, note = pick_notebook(nbs, expected)
+    refused, other = "", False
     if nb is None and links:  # only links: the student is graded 0 with the reason
         nb, refused = links[0]
-    else:
-        refused = ""
-    if nb is None:
-        notes.append(f"{shown(d)}: no .ipynb inside, skipped")
-        return None
+    elif nb is None:
+        nb, refused, other = (others[0] if others else d), _nothing_inside(d, others, links), True
     if note:
         notes.append(f"{shown(d.name)}: {note}")
     parsed = None if nbgrader else lms.parse_folder(os.fsdecode(d.name))
     if parsed is not None:
+        if parsed.kind != "file" and not refused:
+            refused, other = not_a_notebook(shown(nb.name), parsed.kind), True
         return _Found(
             parsed.key,
-            safe_id(f"{parsed.name}_{parsed.lms_id}"),
+            _lms_id(parsed),
             nb,
             parsed,
             parsed.order,
             parsed.submitted_at,
-            "download name" if parsed.submitted_at else "",
+            parsed.time_source,
             parsed.name,
             refused,
+            other=other,
         )
     sid = student_id(os.fsdecode(d.name))
     kind = "nbgrader" if nbgrader else "folder"
-    return _Found(f"{kind}:{sid}", sid, nb, None, (), when, source, shown(d.name), refused)
+    return _Found(
+        f"{kind}:{sid}", sid, nb, None, (), when, source, shown(d.name), refused, other=other
+    )
 
 
 def _looks_like_a_class(d: Path) -> str:
@@ -517,7 +600,36 @@ def _looks_like_a_class(d: Path) -> str:
     return ""
 
 
-def _class(p: Path, expected: str, notes: list[str]) -> list[_Found]:
+def _download(p: Path, other: list[Path], notes: list[str], roster):
+    """The LMS's records in the class folder ``p`` (Blackboard's .txt, Brightspace's
+    index.html), read once, and the students whose Blackboard attempt has no file."""
+    from . import lms
+
+    usernames = [e.username.lstrip("#") for e in roster or () if e.username]
+    usernames += [e.login for e in roster or () if e.login]
+    d = lms.Download.read(p, [os.fsdecode(o.name) for o in other], usernames)
+    notes += d.notes
+    textonly = []
+    for rec in d.attempts:  # an attempt with no file: the student handed in only text
+        if rec.files:
+            continue
+        parsed = lms.Parsed(lms.BLACKBOARD, rec.name, rec.username)
+        why = "the attempt has no file" + (" (only text typed into Blackboard)" if rec.text else "")
+        textonly.append(
+            _Found(
+                parsed.key,
+                _lms_id(parsed),
+                p / rec.record,
+                parsed,
+                name=rec.name,
+                refused=why,
+                other=True,
+            )
+        )
+    return d, textonly
+
+
+def _class(p: Path, expected: str, notes: list[str], roster=None) -> list[_Found]:
     """The submissions in a folder given on the command line."""
     nbgrader = False
     if (p / "submitted").is_dir() and not (p / "submitted").is_symlink():
@@ -532,28 +644,26 @@ def _class(p: Path, expected: str, notes: list[str]) -> list[_Found]:
         sid = student_id(raw[:-6] if raw.lower().endswith(".ipynb") else raw)
         refused.append(_Found(f"file:{sid}", sid, path, name=shown(path.name), refused=why))
     if nbgrader:
-        found = [_from_folder(d, expected, notes, nbgrader=True) for d in dirs]
-        return [f for f in found if f is not None] + refused
+        return [_from_folder(d, expected, notes, nbgrader=True) for d in dirs] + refused
     from . import lms
 
     student_dirs = []
+    empty_dirs = []
     for d in dirs:
-        why: list[str] = []
         inner: list[tuple[Path, str]] = []
-        if _notebooks_in(d, why, inner) or inner:
+        if _notebooks_in(d, [], inner) or inner:
             student_dirs.append(d)
         else:
-            notes += why + [f"{shown(d)}: no .ipynb inside, skipped"]
+            empty_dirs.append(d)
     plain = [f for f in files if lms.parse_file(os.fsdecode(f.name)) is None]
     exercise_named = [f for f in plain if f.name == expected]
     own = lms.parse_folder(os.fsdecode(p.name))
-    if (own is not None and files and not student_dirs) or (
+    if (own is not None and (files or other) and not student_dirs) or (
         files and not student_dirs and exercise_named == files
     ):
         # One student's folder (a Moodle/Brightspace student folder, or a folder holding
         # only the exercise's own notebook): the student is the folder.
-        f = _from_folder(p, expected, notes)
-        return [f] if f is not None else []
+        return [_from_folder(p, expected, notes)]
     if exercise_named and student_dirs:
         # The exercise's own notebook cannot be a student: this is the course folder, or a
         # class folder with the handout left in it.
@@ -568,11 +678,14 @@ def _class(p: Path, expected: str, notes: list[str]) -> list[_Found]:
         why = "" if lms.parse_folder(os.fsdecode(d.name)) else _looks_like_a_class(d)
         if why:
             raise SubmissionsError(
-                f"{shown(d)} holds {why}: it looks like a class, not one student's work. "
+                f"{shown(p)} holds {why}: it looks like a class, not one student's work. "
                 f"Pass {shown(d)} itself."
             )
-    if not files and not student_dirs and not refused:
-        zips = [o for o in other if o.lower().endswith(".zip")]
+    download, textonly = _download(p, other, notes, roster)
+    handed = [o for o in other if os.fsdecode(o.name) not in download.consumed]
+    lms_named = [o for o in handed if download.owner(os.fsdecode(o.name)) is not None]
+    if not files and not student_dirs and not refused and not lms_named:
+        zips = [o for o in handed if o.name.lower().endswith(".zip")]
         hint = (
             f" It holds {_examples(zips)}: unzip the LMS download first and pass the folder."
             if zips
@@ -580,15 +693,14 @@ def _class(p: Path, expected: str, notes: list[str]) -> list[_Found]:
             "student), or the .ipynb files themselves."
         )
         raise SubmissionsError(
-            f"no notebook found in {shown(p)} ({len(other)} other file(s)"
-            + (f": {_examples(other)}" if other else "")
+            f"no notebook found in {shown(p)} ({len(handed)} other file(s)"
+            + (f": {_examples(handed)}" if handed else "")
             + f", {len(dirs)} folder(s) without a notebook).{hint}"
         )
-    found = [_from_file(f) for f in files] + refused
-    for d in student_dirs:
-        f = _from_folder(d, expected, notes)
-        if f is not None:
-            found.append(f)
+    found = [_from_file(f, download) for f in files + handed] + refused
+    found += textonly
+    for d in student_dirs + empty_dirs:
+        found.append(_from_folder(d, expected, notes))
     return found
 
 
@@ -600,18 +712,26 @@ def _mtime(p: Path) -> float:
 
 
 def discover(
-    paths: list[Path | str], expected: str, files: StudentFiles | None = None
+    paths: list[Path | str],
+    expected: str,
+    files: StudentFiles | None = None,
+    roster: list | None = None,
 ) -> tuple[list[Submission], list[str]]:
     """The submissions in the files and folders given, with one note per thing skipped.
 
     Each ``.ipynb`` argument is one student. A folder holds a class: a notebook per student
-    (LMS download names are parsed, see :mod:`rikingrade.lms`; other names are the id), a
-    folder per student (Moodle and Brightspace folder names are parsed; the notebook named
-    ``expected`` is taken, or the only/most similar one), or an nbgrader ``submitted/``
-    tree. A folder holding only ``expected`` is one student's folder. Several attempts of
-    one student: the newest counts, the others are returned in ``earlier``. Symbolic links
-    are never followed (each is reported), nor hard-linked files read. The submissions
-    read their files through ``files`` (see :mod:`rikingrade.studentfiles`).
+    (LMS download names and the LMS's records beside them are read, see
+    :mod:`rikingrade.lms`; other names are the id), a folder per student (Moodle and
+    Brightspace folder names are parsed; the notebook named ``expected`` is taken, or the
+    only/most similar one), or an nbgrader ``submitted/`` tree. A folder holding only
+    ``expected`` is one student's folder. Several attempts of one student: the newest
+    counts, the others are returned in ``earlier``. Every other file and folder ends in
+    one place: a student who handed in no notebook (a .zip, a script, a text entry, an
+    empty folder) is a submission refused with the reason; another file of a student who
+    has a notebook is named in a note. Symbolic links are never followed (each is
+    reported), nor hard-linked files read. ``roster`` (:class:`rikingrade.roster.RosterEntry`
+    rows) tells Blackboard usernames holding ``_`` and Brightspace namesakes apart. The
+    submissions read their files through ``files`` (see :mod:`rikingrade.studentfiles`).
 
     Raises
     ------
@@ -635,7 +755,7 @@ def discover(
             f.root, f.named = p.parent, True
             found.append(f)
         elif p.is_dir():
-            for f in _class(p, expected, notes):
+            for f in _class(p, expected, notes, roster):
                 f.root = p
                 found.append(f)
         else:
@@ -646,33 +766,94 @@ def discover(
             + ", ".join(shown(Path(a)) for a in paths)
             + (": " + "; ".join(notes[:5]) if notes else "")
         )
+    _split_namesakes(found, roster, notes)
     groups: dict[str, list[_Found]] = {}
     for f in found:
         if f.submitted_at is None:
             f.submitted_at, f.time_source = _mtime(f.path), "file modification time"
         groups.setdefault(f.key, []).append(f)
-    subs: list[Submission] = []
-    for key, group in groups.items():
-        group.sort(key=lambda f: (f.order, f.submitted_at or 0.0, os.fsencode(f.path)))
-        if key.startswith(("file:", "folder:", "nbgrader:")) and len(group) > 1:
-            # The same plain name twice (two folders given): two students, not attempts.
-            notes.append(
-                f"{len(group)} submissions named {group[0].student} "
-                f"({', '.join(shown(f.path) for f in group)}): graded as separate students "
-                "with the path's hash added to the id"
-            )
-            for f in group:
-                f.student = f"{f.student}-{_tag(shown(f.path))}"
-                subs.append(_submission(f, []))
-            continue
-        newest = group[-1]
-        if len(group) > 1:
-            notes.append(
-                f"{newest.student}: {len(group)} attempts; the newest ({shown(newest.path.name)}) "
-                f"counts, earlier ones are kept in the gradebook: "
-                + ", ".join(shown(f.path.name) for f in group[:-1])
-            )
-        subs.append(_submission(newest, [_submission(f, []) for f in group[:-1]]))
+    subs = [s for key, group in groups.items() for s in _one_student(key, group, notes)]
+    _unique_ids(subs, notes)
+    subs.sort(key=lambda s: s.student)
+    for s in subs:
+        for one in (s, *s.earlier):
+            one.files = files
+    return subs, notes
+
+
+def _split_namesakes(found: list[_Found], roster, notes: list[str]) -> None:
+    """Files an LMS names by the student's name only (Brightspace), where the roster has
+    several students of that name: each file stays its own submission (never merged on a
+    guess), and the note says so."""
+    from . import lms
+
+    if not roster:
+        return
+    count: dict[str, int] = {}
+    for e in roster:
+        count[lms.person_key(e.name or f"{e.first} {e.last}")] = (
+            count.get(lms.person_key(e.name or f"{e.first} {e.last}"), 0) + 1
+        )
+    seen: dict[str, list[_Found]] = {}
+    for f in found:
+        if f.key.startswith("brightspace:name:"):
+            k = f.key.removeprefix("brightspace:name:")
+            if count.get(k, 0) > 1:
+                seen.setdefault(k, []).append(f)
+    for k, same in seen.items():
+        for f in same:
+            tag = _tag(shown(f.path))
+            f.key, f.student = f"{f.key}:{tag}", f"{f.student}-{tag}"
+        notes.append(
+            f"ambiguous: {count[k]} students on the roster are named {same[0].name}, and the "
+            f"download names students by name only: {len(same)} file(s) "
+            f"({_examples([f.path for f in same])}) graded each on its own, matched to no "
+            "roster row: give these grades by hand"
+        )
+
+
+def _one_student(key: str, group: list[_Found], notes: list[str]) -> list[Submission]:
+    """The submission(s) of one key: the newest notebook counts, earlier ones are kept; a
+    student with no notebook gets one refused submission; other files are noted."""
+    nbs = [f for f in group if not f.other]
+    others = [f for f in group if f.other]
+    if not nbs:
+        first = sorted(others, key=lambda f: (f.order, f.submitted_at or 0.0, os.fsencode(f.path)))
+        best = next((f for f in first if ".zip" in f.refused), first[-1])
+        for f in others:
+            if f is not best:
+                notes.append(f"{best.student}: also handed in {shown(f.path.name)}: {f.refused}")
+        notes.append(f"{shown(best.path)}: not graded: {best.refused}")
+        return [_submission(best, [])]
+    for f in others:
+        notes.append(
+            f"{nbs[0].student}: also handed in {shown(f.path.name)}, not graded: {f.refused}"
+        )
+    group = nbs
+    group.sort(key=lambda f: (f.order, f.submitted_at or 0.0, os.fsencode(f.path)))
+    if key.startswith(("file:", "folder:", "nbgrader:", "unknown:")) and len(group) > 1:
+        # The same plain name twice (two folders given): two students, not attempts.
+        notes.append(
+            f"{len(group)} submissions named {group[0].student} "
+            f"({', '.join(shown(f.path) for f in group)}): graded as separate students "
+            "with the path's hash added to the id"
+        )
+        out = []
+        for f in group:
+            f.student = f"{f.student}-{_tag(shown(f.path))}"
+            out.append(_submission(f, []))
+        return out
+    newest = group[-1]
+    if len(group) > 1:
+        notes.append(
+            f"{newest.student}: {len(group)} attempts; the newest ({shown(newest.path.name)}) "
+            f"counts, earlier ones are kept in the gradebook: "
+            + ", ".join(shown(f.path.name) for f in group[:-1])
+        )
+    return [_submission(newest, [_submission(f, []) for f in group[:-1]])]
+
+
+def _unique_ids(subs: list[Submission], notes: list[str]) -> None:
     by_id: dict[str, list[Submission]] = {}
     for s in subs:
         by_id.setdefault(s.student, []).append(s)
@@ -684,11 +865,6 @@ def discover(
             )
             for s in same:
                 s.student = f"{sid}-{_tag(s.shown_path)}"
-    subs.sort(key=lambda s: s.student)
-    for s in subs:
-        for one in (s, *s.earlier):
-            one.files = files
-    return subs, notes
 
 
 def _submission(f: _Found, earlier: list[Submission]) -> Submission:
@@ -706,4 +882,6 @@ def _submission(f: _Found, earlier: list[Submission]) -> Submission:
         refused=f.refused,
         root=f.root,
         named=f.named,
+        file_id=getattr(parsed, "file_id", ""),
+        download_name=f.name,
     )

@@ -57,11 +57,16 @@ def feedback_lines(res: SubmissionResult) -> list[tuple[str, str, str, str]]:
     ]
 
 
-def feedback_markdown(res: SubmissionResult, exercise: str) -> str:
-    """The student's Markdown feedback: the notebook's problems (the real cause, once) at
-    the top, then one line per test. Every text is escaped as Markdown (never HTML)."""
-    out = [f"# {exercise}: feedback for {_md(res.student)}", ""]
-    out.append(f"**Score: {_fmt(round(res.score, 4))} / {_fmt(res.max_score)}**")
+def _score_line(res: SubmissionResult) -> str:
+    return f"Score: {_fmt(round(res.score, 4))} / {_fmt(res.max_score)}"
+
+
+def feedback_markdown(res: SubmissionResult, exercise: str, final: str = "", who: str = "") -> str:
+    """The student's Markdown feedback: the final score (``final``, when a grading policy
+    applies; else the autograder's score) first, the notebook's problems (the real cause,
+    once), then one line per test. Every text is escaped as Markdown (never HTML)."""
+    out = [f"# {exercise}: feedback for {_md(who or res.student)}", ""]
+    out.append(f"**{_md(final or _score_line(res))}**")
     out.append("")
     if res.problems:
         out += ["## Your notebook", ""]
@@ -75,8 +80,10 @@ def feedback_markdown(res: SubmissionResult, exercise: str) -> str:
     return "\n".join(out)
 
 
-def feedback_html(res: SubmissionResult, exercise: str) -> str:
+def feedback_html(res: SubmissionResult, exercise: str, final: str = "", who: str = "") -> str:
+    """The student's HTML feedback (see :func:`feedback_markdown`)."""
     e = html.escape
+    who = who or res.student
     colors = {"pass": "#1a7f37", "partial": "#9a6700", "fail": "#cf222e"}
     rows = "\n".join(
         f'<tr><td style="color:{colors[v]};font-weight:bold">{v}</td><td>{e(n)}</td>'
@@ -89,13 +96,13 @@ def feedback_html(res: SubmissionResult, exercise: str) -> str:
         probs = f"<h2>Your notebook</h2>\n<ul>\n{items}\n</ul>"
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8">
-<title>{e(exercise)}: feedback for {e(res.student)}</title>
+<title>{e(exercise)}: feedback for {e(who)}</title>
 <style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}
 table{{border-collapse:collapse}}
 td,th{{border:1px solid #ccc;padding:.3em .6em;text-align:left}}</style>
 </head><body>
-<h1>{e(exercise)}: feedback for {e(res.student)}</h1>
-<p><strong>Score: {_fmt(round(res.score, 4))} / {_fmt(res.max_score)}</strong></p>
+<h1>{e(exercise)}: feedback for {e(who)}</h1>
+<p><strong>{e(final or _score_line(res))}</strong></p>
 {probs}
 <h2>Tests</h2>
 <table><tr><th>result</th><th>test</th><th>points</th><th>feedback</th></tr>

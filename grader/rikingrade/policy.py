@@ -14,6 +14,11 @@ import time
 from dataclasses import dataclass, field
 from datetime import datetime
 
+#: The time source of a file time that is not when the file was handed in (the class's
+#: file times all fall within a minute, or all after the due date: an unzip or a copy
+#: that did not keep them). It never makes work late.
+UNRELIABLE_TIME = "file modification time, which is not when it was handed in"
+
 
 class PolicyError(ValueError):
     """A due date, extension or override that cannot be used; the message says why."""
@@ -80,6 +85,7 @@ def apply(
     rules: Rules,
     extension: tuple[float, str] | None = None,
     override: tuple[str, float | None, str] | None = None,
+    lms_late: bool | None = None,
 ) -> Grade:
     """The grade of one submission under ``rules``, an extension and an override.
 
@@ -94,6 +100,11 @@ def apply(
     extension : (due, reason) or None
     override : (kind, score, reason) or None
         ``kind`` "score" sets the grade to ``score``; "excused" excuses the student.
+    lms_late : bool or None
+        The LMS's own late mark, where its download gives one and no time (Canvas): not
+        late is on time whatever the file's time; late is at least one day late (more when
+        the submission time says so). None: the time decides. An extension makes the time
+        decide again (the LMS's mark was made against its own due date).
     """
     g = Grade(raw=raw, max_score=max_score, final=raw)
     due = rules.due
@@ -101,7 +112,14 @@ def apply(
         due = extension[0]
         g.notes.append(f"Extension: due {show_time(due)} ({extension[1]}).")
     g.due = due
-    if due is not None and submitted_at is not None:
+    if lms_late is not None and extension is None and due is not None:
+        trusted = submitted_at if time_source != UNRELIABLE_TIME else None
+        _lms_mark(g, raw, max_score, trusted, rules, due, lms_late)
+    elif due is not None and time_source == UNRELIABLE_TIME:
+        g.notes.append(
+            "When you handed it in is not known (the file's time is not it): no late penalty."
+        )
+    elif due is not None and submitted_at is not None:
         late_s = submitted_at - due - rules.grace_minutes * 60
         if late_s > 0 and rules.per_day > 0:
             g.late_days = math.ceil(late_s / 86400)
@@ -136,6 +154,36 @@ def apply(
             )
     g.final = round(g.final, 6)
     return g
+
+
+def _lms_mark(
+    g: Grade,
+    raw: float,
+    max_score: float,
+    submitted_at: float | None,
+    rules: Rules,
+    due: float,
+    late: bool,
+) -> None:
+    """The late penalty from the LMS's mark (Canvas's LATE): its download gives no time, so
+    a late submission counts the days its file time gives when that time can be trusted
+    and is after the due time, else one day."""
+    if not late:
+        return
+    late_s = (submitted_at or 0.0) - due - rules.grace_minutes * 60
+    g.late_days = math.ceil(late_s / 86400) if submitted_at is not None and late_s > 0 else 1
+    if rules.per_day <= 0:
+        g.notes.append("Marked late by the LMS (no late penalty).")
+        return
+    pct = min(rules.cap, rules.per_day * g.late_days)
+    g.penalty = min(raw, max_score * pct / 100)
+    g.final = raw - g.penalty
+    g.notes.append(
+        f"Late: marked late by the LMS, due {show_time(due)}: counted {g.late_days} day(s) "
+        f"late, {rules.per_day:g}% per day"
+        + (f" (at most {rules.cap:g}%)" if rules.cap < 100 else "")
+        + f", -{_pts(g.penalty)} points."
+    )
 
 
 def _pts(x: float) -> str:

@@ -9,9 +9,25 @@ from typing import TextIO
 
 from .report import CELL_ERRORS, CRASHED, GRADER_ERROR, INVALID, OK, TIMEOUT, SubmissionResult
 
+#: Statuses counted as failures on the progress bar (the notebook did not run through).
+FAILED = (INVALID, GRADER_ERROR, CRASHED, TIMEOUT)
+
+
+def _clock(seconds: float) -> str:
+    """``1:05:09``, ``5:09`` or ``9 s``."""
+    s = int(round(seconds))
+    h, m = divmod(s, 3600)
+    m, sec = divmod(m, 60)
+    if h:
+        return f"{h}:{m:02d}:{sec:02d}"
+    return f"{m}:{sec:02d}" if m else f"{sec} s"
+
 
 class Progress:
-    """``[#####.....] 37/200  12.3/s  alice`` on a TTY; one line per submission otherwise."""
+    """``[#####.....] 37/200  12/min  left 13:35  failed 2  alice`` on a TTY; one line per
+    submission otherwise. The time left is estimated from the notebooks graded in this run
+    (resumed ones cost nothing); failures are the notebooks that did not run through
+    (not readable, crashed, timed out, grader error)."""
 
     def __init__(
         self,
@@ -19,38 +35,59 @@ class Progress:
         enabled: bool | None = None,
         stream: TextIO | None = None,
         quiet: bool = False,
+        clock=time.monotonic,
     ) -> None:
         self.total = total
         self.done = 0
+        self.graded = 0  # graded in this run (not resumed)
+        self.failed = 0
         self.stream = stream or sys.stderr
         isatty = self.stream.isatty()
         self.tty = isatty and enabled is not False
         self.lines = enabled is True and not isatty
         self.quiet = quiet
-        self.t0 = time.monotonic()
+        self.clock = clock
+        self.t0 = clock()
         self.lock = threading.Lock()
+
+    def eta(self) -> float | None:
+        """Seconds left at the rate of this run, or None before the first graded notebook."""
+        if not self.graded:
+            return None
+        rate = self.graded / max(1e-9, self.clock() - self.t0)
+        return (self.total - self.done) / rate
+
+    def line(self, res: SubmissionResult) -> str:
+        """The bar as shown after ``res``."""
+        width = 30
+        filled = int(width * self.done / max(1, self.total))
+        rate = self.graded / max(1e-9, self.clock() - self.t0) * 60
+        left = self.eta()
+        return (
+            f"[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} "
+            f"{rate:5.0f}/min  left {'?' if left is None else _clock(left):>7}  "
+            f"failed {self.failed}  {res.student[:30]:<30}"
+        )
 
     def update(self, res: SubmissionResult, resumed: bool = False) -> None:
         with self.lock:
             self.done += 1
+            self.graded += not resumed
+            self.failed += res.status in FAILED
             if self.quiet:
                 return
             if self.tty:
-                width = 30
-                filled = int(width * self.done / max(1, self.total))
-                rate = self.done / max(1e-9, time.monotonic() - self.t0) * 60
-                line = (
-                    f"\r[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} "
-                    f"{rate:6.0f} nb/min  {res.student[:30]:<30}"
-                )
-                self.stream.write(line)
+                self.stream.write("\r" + self.line(res))
                 if self.done == self.total:
                     self.stream.write("\n")
             elif self.lines:
                 tag = " (resumed)" if resumed else ""
+                left = self.eta()
                 self.stream.write(
                     f"{self.done}/{self.total} {res.student}: {res.score:.4g}/"
-                    f"{res.max_score:.4g} {res.status}{tag}\n"
+                    f"{res.max_score:.4g} {res.status}{tag}"
+                    + (f" (left {_clock(left)}, failed {self.failed})" if left else "")
+                    + "\n"
                 )
             self.stream.flush()
 

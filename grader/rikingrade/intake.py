@@ -1,0 +1,147 @@
+"""Before grading: the submissions matched to the roster, and their times checked.
+
+:func:`match_roster` fills in each submission's roster row (name, e-mail, section, every
+LMS id) or says why none: not on the roster, or ambiguous (several rows, or several
+students for one row: reported by name, matched to nobody). :func:`time_notes` says when
+the times used for lateness cannot be what they claim: file times that all fall within a
+few seconds (an unzip or a copy) or all after the due date (those are then not used), and
+Canvas's LATE mark disagreeing with the file's time (the mark is used).
+"""
+
+from __future__ import annotations
+
+import sqlite3
+from pathlib import Path
+
+from .lms import person_key
+from .notebook import Submission
+from .policy import UNRELIABLE_TIME, show_time
+from .roster import MOODLE_WORKSHEET, Person, RosterEntry, match_people
+
+#: Fewest files whose times are judged together, and the spread under which they are the
+#: time of an unzip or a copy (seconds).
+SAME_TIME_FILES = 5
+SAME_TIME_SECONDS = 5.0
+
+
+def stored_roster(path: Path, assignment: str) -> list[RosterEntry]:
+    """The roster the gradebook ``path`` keeps for ``assignment`` ([] if none, or if the
+    file cannot be read: opening it says why)."""
+    if not Path(path).is_file():
+        return []
+    try:
+        conn = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+        try:
+            rows = conn.execute(
+                "SELECT entry FROM roster WHERE assignment = ? AND import_id = "
+                "(SELECT MAX(import_id) FROM roster WHERE assignment = ?) ORDER BY id",
+                (assignment, assignment),
+            ).fetchall()
+        finally:
+            conn.close()
+    except sqlite3.Error:
+        return []
+    import json
+
+    fields = RosterEntry.__dataclass_fields__
+    return [RosterEntry(**{k: v for k, v in json.loads(r[0]).items() if k in fields}) for r in rows]
+
+
+def _fill(s: Submission, e: RosterEntry) -> None:
+    """The roster row's details into the submission (the LMS id from the download stays)."""
+    s.name = e.name or s.name
+    s.email, s.sis_id, s.section = e.email or s.email, e.sis_id or s.sis_id, e.section
+    s.login = e.login or s.login
+    s.roster_key = e.key
+    if s.lms == "moodle" and e.kind == MOODLE_WORKSHEET and e.submitted_at:
+        s.submitted_at, s.time_source = e.submitted_at, "Moodle grading worksheet"
+    if s.lms in ("canvas", "moodle", "blackboard", "brightspace"):
+        return
+    # No LMS in the download names (plain folders): the roster's ids are the LMS's.
+    if e.canvas_id:
+        s.lms, s.lms_id = "canvas", e.canvas_id
+    elif e.moodle_id or e.id.startswith("Participant "):
+        s.lms, s.lms_id = "moodle", e.moodle_id or e.id.removeprefix("Participant ").strip()
+    elif e.kind == "blackboard" and e.username:
+        s.lms, s.lms_id = "blackboard", e.username
+    elif not s.lms_id and e.kind == "csv":
+        s.lms, s.lms_id = "canvas", e.id
+
+
+def match_roster(subs: list[Submission], roster: list[RosterEntry]) -> list[str]:
+    """Match each submission to the roster (see the module); notes on what did not match
+    and on who on the roster has no submission."""
+    people = [
+        Person(s.student, s.lms, s.lms_id, s.download_name or s.name, s.student) for s in subs
+    ]
+    found = match_people(people, roster)
+    notes: list[str] = []
+    used: set[str] = set()
+    unsure: set[str] = set()
+    for s in subs:
+        m = found[s.student]
+        if m.status == "matched" and m.entry is not None:
+            _fill(s, m.entry)
+            used.add(m.entry.key)
+        elif m.status == "ambiguous":
+            s.roster_key = "ambiguous:" + person_key(m.rows[0].name if m.rows else s.name)
+            unsure |= {e.key for e in m.rows}
+            notes.append(f"ambiguous: {s.student} ({s.shown_path}): {m.note}")
+        else:
+            s.roster_key = "absent"
+            notes.append(f"{s.student}: {m.note} ({s.shown_path})")
+    missing = [e for e in roster if e.key not in used and e.key not in unsure]
+    if missing:
+        notes.append(
+            f"{len(missing)} student(s) on the roster have no submission: "
+            + ", ".join(e.name or e.id for e in missing[:10])
+            + (" ..." if len(missing) > 10 else "")
+        )
+    return notes
+
+
+def _examples(subs: list[Submission], n: int = 4) -> str:
+    names = [s.student for s in subs]
+    return ", ".join(names[:n]) + (f" and {len(names) - n} more" if len(names) > n else "")
+
+
+def time_notes(subs: list[Submission], policy) -> list[str]:
+    """Warnings on the submission times (see the module); file times that cannot be the
+    hand-in times get the time source :data:`rikingrade.policy.UNRELIABLE_TIME`."""
+    due = policy["due"] if policy is not None else None
+    grace = (policy["grace_minutes"] if policy is not None else 0.0) * 60
+    notes = []
+    mt = [s for s in subs if s.time_source == "file modification time" and not s.refused]
+    times = [s.submitted_at or 0.0 for s in mt]
+    same = len(mt) >= SAME_TIME_FILES and max(times) - min(times) <= SAME_TIME_SECONDS
+    after = len(mt) >= 3 and due is not None and min(times) > due + grace
+    if same or after:
+        why = (
+            f"all within {SAME_TIME_SECONDS:g} s of each other (the time of an unzip or a copy)"
+            if same
+            else f"all after the due date ({show_time(due)})"
+        )
+        notes.append(
+            f"the file times of the {len(mt)} submissions that have no other time are {why}: "
+            "they are not when the work was handed in, so they are not used for lateness. "
+            "Keep the times when unzipping the LMS's download (unzip does; copy with cp -p or "
+            "rsync -t), or give the times by --extensions"
+        )
+        for s in mt:
+            s.time_source = UNRELIABLE_TIME
+    if due is None:
+        return notes
+    canvas = [s for s in subs if s.lms == "canvas" and s.time_source != UNRELIABLE_TIME]
+    early = [s for s in canvas if s.late and (s.submitted_at or 0.0) <= due + grace]
+    late = [s for s in canvas if not s.late and (s.submitted_at or 0.0) > due + grace]
+    if late:
+        notes.append(
+            f"{len(late)} Canvas submission(s) without Canvas's LATE mark have a file time after "
+            f"the due date ({_examples(late)}): Canvas's mark is used, they are on time"
+        )
+    if early:
+        notes.append(
+            f"{len(early)} Canvas submission(s) marked LATE by Canvas have a file time before "
+            f"the due date ({_examples(early)}): Canvas's mark is used, each counts 1 day late"
+        )
+    return notes
