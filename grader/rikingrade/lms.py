@@ -470,7 +470,7 @@ class Download:
 
     @classmethod
     def read(cls, folder: Path, names: list[str], usernames=(), reader=_read_text) -> Download:
-        """Read the records among ``names`` (the folder's file names that are not notebooks).
+        """Read the LMS's records among ``names`` (the folder's file names).
 
         ``usernames`` are the roster's Blackboard usernames, if any.
         """

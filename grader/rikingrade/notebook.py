@@ -600,14 +600,14 @@ def _looks_like_a_class(d: Path) -> str:
     return ""
 
 
-def _download(p: Path, other: list[Path], notes: list[str], roster):
+def _download(p: Path, files: list[Path], other: list[Path], notes: list[str], roster):
     """The LMS's records in the class folder ``p`` (Blackboard's .txt, Brightspace's
     index.html), read once, and the students whose Blackboard attempt has no file."""
     from . import lms
 
     usernames = [e.username.lstrip("#") for e in roster or () if e.username]
     usernames += [e.login for e in roster or () if e.login]
-    d = lms.Download.read(p, [os.fsdecode(o.name) for o in other], usernames)
+    d = lms.Download.read(p, [os.fsdecode(o.name) for o in files + other], usernames)
     notes += d.notes
     textonly = []
     for rec in d.attempts:  # an attempt with no file: the student handed in only text
@@ -681,7 +681,7 @@ def _class(p: Path, expected: str, notes: list[str], roster=None) -> list[_Found
                 f"{shown(p)} holds {why}: it looks like a class, not one student's work. "
                 f"Pass {shown(d)} itself."
             )
-    download, textonly = _download(p, other, notes, roster)
+    download, textonly = _download(p, files, other, notes, roster)
     handed = [o for o in other if os.fsdecode(o.name) not in download.consumed]
     lms_named = [o for o in handed if download.owner(os.fsdecode(o.name)) is not None]
     if not files and not student_dirs and not refused and not lms_named:

@@ -391,7 +391,7 @@ def _lms_files(gb, assignment, exercise, out, rows, info) -> dict[str, list]:
     kind, roster = gb.roster(assignment)
 
     class_lms = {LMS_OF.get(kind, "")} | {r["lms"] for r in rows}
-    withdrawn = [r["student"] for r in rows if roster and not r["on_roster"]]
+    withdrawn = [r["student"] for r in rows if roster and r["roster_key"] in ("", "absent")]
     keep = [r for r in rows if not roster or r["on_roster"] or _own_id(r)]
     keep = [r for r in keep if r["student"] not in withdrawn]
     gone = missing_rows(gb, assignment, rows) if roster else {"missing": [], "ambiguous": []}

@@ -1,0 +1,211 @@
+"""A class of 60 in the four LMS download layouts, with each LMS's roster export: nobody
+lost, merged, mismatched or misdated, and each LMS's files right for everyone.
+
+The class is :mod:`grader_fixtures.lmsclass`. Here the notebooks' cells are not run: the
+sandboxed run (tested in test_grader_sandbox.py and the others) is replaced by one that
+scores each notebook from the points its metadata carries, so the test follows every
+other step of a real ``grade`` (discovery, roster, gradebook, policy, exports) for 300
+files in seconds. ``test_grader_lms_e2e.py`` grades a smaller class per LMS for real.
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import io
+import json
+import math
+import zipfile
+from pathlib import Path
+
+import pytest
+from grader_fixtures import lmsclass as L
+from grader_fixtures.helpers import ASSIGNMENT
+from rikingrade import api
+from rikingrade.report import SubmissionResult, TestResult
+
+LATE_PER_DAY = 10.0
+
+
+def _fake_pool(a, calls, options, key, config, todo, workers, done, bar, results):
+    """Grade each notebook by the points its metadata gives (no cell is run)."""
+    for s in todo:
+        meta = json.loads(s.read_bytes())["metadata"]["rikin_test"]
+        tests = [
+            TestResult(t.name, float(t.weight), f, "ok" if f >= 1 else "not right")
+            for t, f in zip(a.tests, meta["fractions"], strict=True)
+        ]
+        res = SubmissionResult(
+            s.student, s.shown_path, s.hash(), "ok", tests=tests, max_score=a.max_score, key=key
+        )
+        assert done(s, res)
+        results[s.student] = res
+        bar.update(res)
+
+
+def _grade(tmp_path, layout, monkeypatch, **kw):
+    people = L.make_class()
+    folder, roster = L.write(people, layout, tmp_path)
+    monkeypatch.setattr(api, "_run_pool", _fake_pool)
+    out = tmp_path / "out"
+    report = api.grade(
+        str(ASSIGNMENT),
+        [folder],
+        out,
+        roster=str(roster),
+        due=L.DUE_TEXT,
+        late_per_day=LATE_PER_DAY,
+        unsafe_no_sandbox=True,
+        quiet=True,
+        **kw,
+    )
+    return people, out, report
+
+
+def _final(p: L.Person, lms: str) -> float:
+    raw = p.newest.raw
+    days = p.late_days(lms)
+    return round(raw - min(raw, L.MAX_SCORE * min(100.0, LATE_PER_DAY * days) / 100), 6)
+
+
+def _rows(out: Path) -> list[dict[str, str]]:
+    return list(csv.DictReader(io.StringIO((out / "grades.csv").read_text(encoding="utf-8"))))
+
+
+LAYOUTS = ["canvas", "moodle", "moodle-worksheet", "blackboard", "brightspace"]
+
+
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_a_class_of_60_nobody_lost_merged_mismatched_or_misdated(tmp_path, monkeypatch, layout):
+    lms = layout.split("-")[0]
+    people, out, report = _grade(tmp_path, layout, monkeypatch)
+    rows = _rows(out)
+    seen: dict[int, list[dict[str, str]]] = {}
+    for r in rows:
+        path = Path(r["notebook"])
+        if path.suffix == ".ipynb":
+            who, attempt = L.token(path.read_bytes())
+            assert attempt == len(people[who].attempts) - 1, (r["student"], "not the newest")
+        else:  # the .zip and the .py: refused with the reason, graded 0
+            who = L.ZIPPED if path.suffix == ".zip" else L.SCRIPT
+            assert r["status"] == "invalid" and r["score"] == "0", r
+        seen.setdefault(who, []).append(r)
+    handed = {p.idx for p in people if p.attempts}
+    assert set(seen) == handed, "lost: " + ", ".join(people[i].name for i in handed - set(seen))
+    merged = {i: len(v) for i, v in seen.items() if len(v) > 1}
+    assert not merged, f"one person graded twice: {merged}"
+    students = [r["student"] for r in rows]
+    assert len(set(students)) == len(students) == len(handed), "two people share a row"
+    for i, (r,) in seen.items():
+        p = people[i]
+        if p.handed != "notebook":
+            continue
+        assert float(r["raw_score"]) == pytest.approx(p.newest.raw), (p.name, r)
+        assert int(r["late_days"]) == p.late_days(lms), ("misdated", p.name, r)
+        assert float(r["score"]) == pytest.approx(_final(p, lms)), (p.name, r)
+    _check_lms_file(people, out, lms, layout)
+    _check_summary(people, out, layout, report)
+
+
+def _expected_ambiguous(layout: str) -> set[int]:
+    """Whom the roster cannot tell apart: the John Smiths, where only names match."""
+    return {0, 1} if layout in ("moodle", "brightspace") else set()
+
+
+def _check_summary(people, out: Path, layout: str, report) -> None:
+    summary = json.loads((out / "summary.json").read_text(encoding="utf-8"))
+    roster = summary["roster"]
+    assert [_who(people, n) for n in roster["missing"]] == [L.MISSING]
+    withdrawn = [r for r in _rows(out) if r["roster"] == "not on roster"]
+    assert [r["student"] for r in withdrawn] == roster["not_on_roster"]
+    assert len(withdrawn) == 1
+    path = Path(withdrawn[0]["notebook"])
+    assert L.token(path.read_bytes())[0] == L.WITHDRAWN
+    unsure = _expected_ambiguous(layout)
+    assert len(roster["ambiguous"]) == len(unsure)
+    assert {_who(people, n) for n in roster["ambiguous"]} <= unsure
+    assert summary["refused"] == 2  # the .zip and the .py: the exit status is 1
+    assert (summary["ambiguous"] > 0) == bool(unsure)
+
+
+def _who(people, name: str) -> int:
+    """The person a roster export names ("First Last", or Canvas's "Last, First")."""
+    found = [p.idx for p in people if name in (p.name, f"{p.last}, {p.first}")]
+    return found[0] if found else -1
+
+
+def _lms_table(out: Path, lms: str) -> tuple[list[str], list[list[str]]]:
+    text = (out / f"{lms}-{L.EXERCISE}.csv").read_text(encoding="utf-8")
+    rows = list(csv.reader(io.StringIO(text)))
+    return rows[0], rows[1:]
+
+
+def _check_lms_file(people, out: Path, lms: str, layout: str) -> None:
+    """Each person on the roster who handed something in appears once, under their own
+    LMS id, with their grade; the withdrawn and the missing do not appear."""
+    head, body = _lms_table(out, lms)
+    if lms == "canvas":
+        assert head == ["Student", "ID", "SIS User ID", "SIS Login ID", "Section", L.CANVAS_COLUMN]
+        assert body[0][0] == "Points Possible" and body[0][5] == "5"
+        body = body[1:]
+        got = {r[1]: r[5] for r in body}
+        ids = {p.canvas_id: p for p in people}
+    elif lms == "moodle":
+        assert head[:5] == ["Identifier", "Full name", "Email address", "Status", "Grade"]
+        got = {r[0].removeprefix("Participant "): r[4] for r in body}
+        ids = {p.moodle_id: p for p in people}
+    elif lms == "blackboard":
+        assert head == ["Last Name", "First Name", "Username", L.BLACKBOARD_COLUMN]
+        got = {r[2]: r[3] for r in body}
+        ids = {p.username: p for p in people}
+    else:
+        assert head == ["OrgDefinedId", "Username", "Last Name", "First Name", "Email"] + [
+            L.BRIGHTSPACE_ITEM,
+            "End-of-Line Indicator",
+        ]
+        assert all(r[-1] == "#" for r in body)
+        got = {r[0]: r[5] for r in body}
+        ids = {p.org_id: p for p in people}
+    assert len(got) == len(body), "a student twice in the LMS file"
+    unsure = _expected_ambiguous(layout) if lms == "brightspace" else set()
+    wanted = {i: p for i, p in enumerate(people) if p.on_roster and p.attempts and i not in unsure}
+    assert {ids[k].idx for k in got} == set(wanted), "wrong people in the LMS file"
+    for k, grade in got.items():
+        p = ids[k]
+        want = 0.0 if p.handed != "notebook" else _final(p, lms)
+        assert math.isclose(float(grade), want, abs_tol=1e-9), (lms, p.name, grade, want)
+
+
+@pytest.mark.parametrize("lms", ["canvas", "moodle-worksheet"])
+def test_feedback_zips_pair_each_file_with_its_student_as_the_lms_reads_names(
+    tmp_path, monkeypatch, lms
+):
+    """Canvas's re-upload reads the first two all-digit ``_`` pieces of a name as the user
+    id and the submitted file's id; Moodle's feedback upload splits a name at its first
+    four ``_`` into name, participant id, plugin type and plugin name."""
+    people, out, _ = _grade(tmp_path, lms, monkeypatch)
+    zpath = out / f"{lms.split('-')[0]}-feedback-{L.EXERCISE}.zip"
+    with zipfile.ZipFile(zpath) as z:
+        names = z.namelist()
+        pages = {n: z.read(n).decode() for n in names}
+    by_canvas = {p.canvas_id: p for p in people}
+    by_moodle = {p.moodle_id: p for p in people}
+    download = {f.name for f in (tmp_path / f"{lms}-download").rglob("*")}
+    graded = {p.idx for p in people if p.attempts}
+    assert len(names) == len(graded)
+    for name in names:
+        if lms == "canvas":
+            uid, fid = [x for x in name.split("_") if x.isdigit()][:2]
+            p = by_canvas[uid]
+            # the file id is the one of the file this student handed in
+            assert any(f.split("_")[:0] == [] and f"_{uid}_{fid}_" in f for f in download), name
+        else:
+            info = name.split("_", 4)
+            assert info[2:4] == ["assignsubmission", "file"] and info[4]
+            p = by_moodle[info[1]]
+        page = html.unescape(pages[name])
+        # the final score first, in the page's header
+        head = page[page.index("<h1>") : page.index("</p>")]
+        if p.handed == "notebook" and p.late_days(lms.split("-")[0]):
+            assert f"Final score: {_final(p, lms.split('-')[0]):.4g} / 5" in head, head
+        assert p.name in head or L.canvas_name(p) in head or p.first in head, head
