@@ -500,3 +500,210 @@ def test_statistics_list_who_failed_to_run():
     assert [t["student"] for t in stats["failed_to_run_or_timed_out"]] == ["b", "c"]
     # b's "not run" failures are not counted as failure messages (b is listed above).
     assert all("b" not in f["examples"] for f in stats["failures"])
+
+
+# ----------------------------------------------------------------------------- issue 27
+def test_brightspace_times_every_hour_and_minute():
+    """``Dec 4, 2026 110 PM`` is 13:10: the last two digits are the minutes, whatever the
+    hour (file names run hour and minutes together; folders and index.html write 1:10)."""
+    for half, offset in (("AM", 0), ("PM", 12)):
+        for hour in range(1, 13):
+            for minute in range(60):
+                want = datetime(2026, 12, 4, hour % 12 + offset, minute)
+                for clock in (f"{hour}{minute:02d}", f"{hour}:{minute:02d}"):
+                    name = f"81017-700000 - Jane Doe - Dec 4, 2026 {clock} {half}"
+                    p = lms.parse_file(name + " - scara.ipynb") if ":" not in clock else None
+                    p = p or lms.parse_folder(name)
+                    got = datetime.fromtimestamp(p.submitted_at)
+                    assert got == want, (name, got)
+
+
+def _bb_record(folder, user, stamp, name, files=("scara.ipynb",), prefix="HW_3 IK"):
+    stem = f"{prefix}_{user}_attempt_{stamp}"
+    lines = [f"Name: {name} ({user})", "Assignment: HW 3 IK", "Date Submitted: x", ""]
+    lines += ["Submission Field:", "There is no student submission text data for this "]
+    lines += ["assignment.", "", "Comments:", "There are no student comments.", "", "Files:"]
+    for f in files:
+        lines += [f"\tOriginal filename: {f}", f"\tFilename: {stem}_{f}", ""]
+        touch(folder / f"{stem}_{f}", json.dumps({"who": user, "at": stamp}))
+    touch(folder / f"{stem}.txt", "\n".join(lines))
+
+
+def test_blackboard_usernames_holding_underscores_are_read_from_the_records(tmp_path):
+    """Usernames li_wei, zhang_wei and four *_mensah: each a student of their own, read
+    from Blackboard's .txt beside each attempt (never cut at a '_')."""
+    bb = tmp_path / "bb"
+    users = ["li_wei", "zhang_wei", "kwame_mensah", "ama_mensah", "kofi_mensah", "yaw_mensah"]
+    for i, u in enumerate(users):
+        _bb_record(bb, u, f"2026-11-20-23-1{i}-05", u.replace("_", " ").title())
+    _bb_record(bb, "ama_mensah", "2026-11-21-09-00-00", "Ama Mensah")  # a resubmission
+    subs, notes = discover([bb], NB)
+    assert sorted(s.lms_id for s in subs) == sorted(users)
+    ama = next(s for s in subs if s.lms_id == "ama_mensah")
+    assert json.loads(ama.path.read_text())["at"] == "2026-11-21-09-00-00"
+    assert len(ama.earlier) == 1 and ama.name == "Ama Mensah"
+    assert time.localtime(ama.submitted_at)[:6] == (2026, 11, 21, 9, 0, 0)
+    # Without its record, a name is read with the prefix the other records show ...
+    (bb / "HW_3 IK_li_wei_attempt_2026-11-20-23-10-05.txt").unlink()
+    subs, _ = discover([bb], NB)
+    assert sorted(s.lms_id for s in subs) == sorted(users)
+    # ... or the roster's usernames; and with neither it is refused with the reason.
+    alone = tmp_path / "alone"
+    alone.mkdir()
+    name = "HW_3 IK_li_wei_attempt_2026-11-20-23-10-05_scara.ipynb"
+    (alone / name).write_bytes((bb / name).read_bytes())
+    roster = [lms.RosterEntry("li_wei", "Wei Li", username="li_wei", kind="blackboard")]
+    subs, _ = discover([alone], NB, roster=roster)
+    assert [s.lms_id for s in subs] == ["li_wei"]
+    subs, notes = discover([alone], NB)
+    assert subs[0].refused.startswith("whose attempt this is cannot be told")
+    assert any("not graded: whose attempt" in n for n in notes)
+
+
+def test_rosters_as_each_lms_exports_them(tmp_path):
+    from grader_fixtures import lmsclass as L
+    from rikingrade.roster import assignment_column, load_roster
+
+    people = L.make_class()
+    want = {p.name for p in people if p.on_roster}
+    for layout, kind, column in (
+        ("canvas", "canvas", L.CANVAS_COLUMN),
+        ("moodle", "moodle", "Assignment: HW3 fake2r (Real)"),
+        ("moodle-worksheet", "moodle-worksheet", ""),
+        ("blackboard", "blackboard", L.BLACKBOARD_COLUMN),
+        ("brightspace", "brightspace", L.BRIGHTSPACE_ITEM),
+    ):
+        path = L.WRITERS[layout][1](people, tmp_path / f"{layout}.csv")
+        r = load_roster(path)
+        assert r.kind == kind
+        names = {
+            e.name if "," not in e.name else " ".join(reversed(e.name.split(", ")))
+            for e in r.entries
+        }
+        assert names == want, layout  # Points Possible, Manual Posting, Test Student: out
+        assert assignment_column(r, "", "fake2r")[0] == column, layout
+        smith = [e for e in r.entries if "Smith" in e.name]
+        assert len(smith) == 2 and smith[0].key != smith[1].key, layout
+    bb = load_roster(tmp_path / "blackboard.csv")
+    assert {e.username for e in bb.entries} >= {"li_wei", "kwame_mensah"}
+    d2l = load_roster(tmp_path / "brightspace.csv")
+    assert d2l.entries[0].org_id == "#20260000" and d2l.entries[0].username == "#jsmith"
+    # Blackboard's .xls download: tab-delimited UTF-16
+    text = (tmp_path / "blackboard.csv").read_text(encoding="utf-8").replace('","', '"\t"')
+    (tmp_path / "bb.xls").write_bytes(text.encode("utf-16"))
+    assert [e.username for e in load_roster(tmp_path / "bb.xls").entries] == [
+        e.username for e in bb.entries
+    ]
+    ws = load_roster(tmp_path / "moodle-worksheet.csv")
+    jose = next(e for e in ws.entries if e.name == "José Núñez")
+    assert jose.moodle_id == people[2].moodle_id
+    assert abs(jose.submitted_at - people[2].newest.when) < 60
+    # a column named by --lms-column, or a part of it
+    assert assignment_column(bb, "HW_2", "fake2r")[0] == "HW_2 [Total Pts: 10 Score] |12344"
+
+
+def test_namesakes_are_never_matched_on_a_guess():
+    from rikingrade.roster import Person, match_people
+
+    roster = [
+        lms.RosterEntry("1000", "Smith, John", "js1@uni.edu", canvas_id="1000", kind="canvas"),
+        lms.RosterEntry("1007", "Smith, John", "js2@uni.edu", canvas_id="1007", kind="canvas"),
+        lms.RosterEntry("2000", "Ng, Amy", "amy@uni.edu", canvas_id="2000", kind="canvas"),
+    ]
+    # Canvas's ids tell the two John Smiths apart; each gets their own row.
+    people = [
+        Person("a", "canvas", "1007", "smithjohn"),
+        Person("b", "canvas", "1000", "smithjohn"),
+    ]
+    got = match_people(people, roster)
+    assert (got["a"].entry.email, got["b"].entry.email) == ("js2@uni.edu", "js1@uni.edu")
+    # A name alone (Brightspace): two rows fit, so nobody is matched, and it is said.
+    d2l = match_people([Person("c", "brightspace", "", "John Smith")], roster)["c"]
+    assert d2l.status == "ambiguous" and d2l.entry is None
+    assert "2 roster rows are named John Smith" in d2l.note
+    # Two students (two ids) whose name fits one row: neither is matched.
+    plain = [lms.RosterEntry("x", "Amy Ng"), lms.RosterEntry("y", "Bo Li")]
+    two = match_people(
+        [Person("d", "folder", "", "Amy Ng"), Person("e", "folder", "", "amy ng")], plain
+    )
+    assert {m.status for m in two.values()} == {"ambiguous"}
+    # An id the roster does not have: not on the roster, though a row has the same name.
+    gone = match_people([Person("f", "canvas", "3000", "ngamy")], roster)["f"]
+    assert gone.status == "absent" and "Ng, Amy" in gone.note
+    assert (
+        lms.match_roster(lms.parse_file("smithjohn_1007_5_scara.ipynb"), "x", roster).id == "1007"
+    )
+
+
+def test_every_file_of_a_class_is_graded_or_refused_with_the_reason(tmp_path):
+    c = tmp_path / "canvas"
+    touch(c / "ngamy_1001_5001_scara.ipynb")
+    touch(c / "ngamy_1001_5002_helper.py")  # beside a notebook: named in a note
+    touch(c / "smithjohn_1000_5000_scara.zip")
+    touch(c / "lefevrefrancois_LATE_1002_text.html")
+    touch(c / "rossimarco_1003_link.html")
+    touch(c / "ossobo_1004_5004_scara.py")
+    touch(c / "anon_Xy7Qz_5005_scara.ipynb")
+    touch(c / ".DS_Store")
+    subs, notes = discover([c], NB)
+    got = {s.student: s.refused for s in subs}
+    assert got == {
+        "ngamy_1001": "",
+        "smithjohn_1000": "a .zip (or other archive): unzip it first and grade the notebook inside",
+        "lefevrefrancois_1002": "an online text entry (text.html), not a notebook: ask for the "
+        ".ipynb file",
+        "rossimarco_1003": "a web link (link.html), not a notebook: ask for the .ipynb file",
+        "ossobo_1004": "an exported script, not a notebook: ask for the .ipynb file",
+        "anon_Xy7Qz": "",
+    }
+    text = "\n".join(notes)
+    assert "ngamy_1001: also handed in ngamy_1001_5002_helper.py, not graded" in text
+    assert ".DS_Store: a system file, skipped" in text
+    late = next(s for s in subs if s.student == "lefevrefrancois_1002")
+    assert late.late and late.lms_id == "1002"
+    # Moodle: an online text folder beside the file folder is the same student's
+    m = tmp_path / "moodle"
+    touch(m / "Jane Doe_70001_assignsubmission_file_" / NB)
+    touch(m / "Jane Doe_70001_assignsubmission_onlinetext_" / "onlinetext.html")
+    touch(m / "Bo Li_70002_assignsubmission_file_" / "scara.zip")
+    subs, notes = discover([m], NB)
+    assert {s.student: bool(s.refused) for s in subs} == {
+        "Jane_Doe_70001": False,
+        "Bo_Li_70002": True,
+    }
+    assert "unzip it first" in next(s.refused for s in subs if s.refused)
+
+
+def test_canvas_late_mark_decides_and_file_times_are_checked(tmp_path):
+    from rikingrade.intake import time_notes
+    from rikingrade.policy import UNRELIABLE_TIME
+
+    due = 1000 * DAY
+    copied = due + 30 * DAY  # unzipped a month later, without the times
+    c = tmp_path / "canvas"
+    for i in range(12):
+        late = "_LATE" if i < 2 else ""
+        touch(c / f"student{i:02d}{late}_{100 + i}_{500 + i}_scara.ipynb", mtime=copied)
+    subs, _ = discover([c], NB)
+    notes = time_notes(subs, {"due": due, "grace_minutes": 0.0})
+    assert any("are all within 5 s of each other" in n for n in notes), notes
+    assert all(s.time_source == UNRELIABLE_TIME for s in subs)
+    rules = Rules(due=due, per_day=10)
+    for s in subs:
+        g = apply(5, 5, s.submitted_at, s.time_source, rules, lms_late=s.late)
+        assert g.late_days == (1 if s.late else 0), s.student  # not 31 days, not 0
+    # Times kept, and one disagreeing with Canvas's mark: the mark is used, and it is said.
+    d = tmp_path / "kept"
+    touch(d / "a_100_1_scara.ipynb", mtime=due - 3600)
+    touch(d / "b_101_2_scara.ipynb", mtime=due + 2 * DAY)  # no LATE mark
+    touch(d / "c_LATE_102_3_scara.ipynb", mtime=due + 1.5 * DAY)
+    touch(d / "e_LATE_103_4_scara.ipynb", mtime=due - 60)  # LATE, file time on time
+    subs, _ = discover([d], NB)
+    notes = "\n".join(time_notes(subs, {"due": due, "grace_minutes": 0.0}))
+    assert "1 Canvas submission(s) without Canvas's LATE mark have a file time after" in notes
+    assert "1 Canvas submission(s) marked LATE by Canvas have a file time before" in notes
+    days = {
+        s.student[0]: apply(5, 5, s.submitted_at, s.time_source, rules, lms_late=s.late).late_days
+        for s in subs
+    }
+    assert days == {"a": 0, "b": 0, "c": 2, "e": 1}

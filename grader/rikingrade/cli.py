@@ -240,6 +240,13 @@ def bundle_parser() -> argparse.ArgumentParser:
             ("cell_timeout", "wall-clock seconds per notebook cell"),
             ("memory_mb", "memory (MiB) a notebook may allocate on top of the preloaded libraries"),
             (
+                "late_per_day",
+                "late penalty, percent of the maximum per started day after the student's due "
+                "date, by Gradescope's own times (submission_metadata.json)",
+            ),
+            ("late_cap", "largest late penalty, percent of the maximum"),
+            ("grace_minutes", "minutes after the due date that are not late"),
+            (
                 "unsafe_no_sandbox",
                 "run student code with no isolation inside Gradescope (normally not needed: "
                 "without user namespaces the bundle uses the uid sandbox; with this, "
@@ -272,6 +279,13 @@ def run_parser() -> argparse.ArgumentParser:
             ("timeout", "wall-clock seconds per test call (default: each test's own)"),
             ("cell_timeout", "wall-clock seconds per notebook cell"),
             ("memory_mb", "memory (MiB) a notebook may allocate on top of the preloaded libraries"),
+            (
+                "late_per_day",
+                "late penalty, percent of the maximum per started day late (by "
+                "submission_metadata.json beside the submission folder)",
+            ),
+            ("late_cap", "largest late penalty, percent of the maximum"),
+            ("grace_minutes", "minutes after the due date that are not late"),
             ("sandbox", "bwrap, uid or auto (the strongest that works here)"),
             ("unsafe_no_sandbox", "run without bubblewrap (no isolation)"),
         ],

@@ -271,6 +271,8 @@ def _connect(path: Path, readonly: bool) -> sqlite3.Connection:
             conn.execute("PRAGMA foreign_keys=ON")
             conn.executescript("BEGIN;" + SCHEMA + "COMMIT;")
             _migrate(conn)
+            # the .sqlite alone holds everything committed before this run (and its id)
+            conn.execute("PRAGMA wal_checkpoint(TRUNCATE)")
             # A run still 'running' was killed (this process holds the lock now).
             conn.execute(
                 "UPDATE runs SET state = 'interrupted' WHERE state = 'running' AND ended_at IS NULL"

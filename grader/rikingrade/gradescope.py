@@ -3,9 +3,13 @@
 Gradescope unzips the bundle into ``/autograder/source``, runs ``setup.sh`` once when the
 image is built, then for each submission copies ``run_autograder`` to
 ``/autograder/run_autograder``, runs it with the upload in ``/autograder/submission`` and
-reads ``/autograder/results/results.json``. ``AUTOGRADER_ROOT`` (default ``/autograder``)
-and ``RIKIN_GRADE_PYTHON`` override those locations, which is how the tests run a bundle
-locally.
+``/autograder/submission_metadata.json`` beside it (when it was handed in, the due date, the
+student's own due date after an extension), and reads ``/autograder/results/results.json``.
+``AUTOGRADER_ROOT`` (default ``/autograder``) and ``RIKIN_GRADE_PYTHON`` override those
+locations, which is how the tests run a bundle locally.
+
+``setup.sh`` uses the image's own ``python3`` (3.10 or newer: Ubuntu 22.04 or newer, the
+plain variant of the base image) and refuses an older one with that advice.
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ from .api import DEFAULT_SEED, grade
 from .assignment import load_assignment
 from .notebook import MAX_NOTEBOOK_BYTES, _notebooks_in, _too_large, pick_notebook
 from .outputs import atomic_write
+from .policy import Rules, apply
 from .report import GRADER_ERROR, SubmissionResult
 from .sandbox.config import SandboxUnavailable, package_dir
 from .studentfiles import TOO_LARGE, ReadFailed, read_in_process
@@ -48,6 +53,12 @@ apt-get install -y -o DPkg::Lock::Timeout=600 --no-install-recommends \\
     bubblewrap python3 python3-venv
 umask 022
 # The system Python: the sandbox's uid must be able to run it (not one under /root).
+if ! /usr/bin/python3 -c 'import sys; sys.exit(sys.version_info < (3, 10))'; then
+    echo "ERROR: rikin needs Python 3.10 or newer; this image's python3 is" \
+        "$(/usr/bin/python3 -V 2>&1). On Gradescope's Configure Autograder page choose the" \
+        "base image Ubuntu 22.04 (Python 3.10) or newer, the plain variant." >&2
+    exit 1
+fi
 /usr/bin/python3 -m venv --clear "$VENV"
 "$VENV/bin/pip" install --disable-pip-version-check --progress-bar off \\
     ./packages/rikin "ipython>=8,<10"
@@ -171,6 +182,9 @@ def gradescope_bundle(
     timeout: float | None = None,
     cell_timeout: float = 30.0,
     memory_mb: int = 1024,
+    late_per_day: float = 0.0,
+    late_cap: float = 100.0,
+    grace_minutes: float = 0.0,
     unsafe_no_sandbox: bool = False,
 ) -> Path:
     """Write the Gradescope autograder zip for ``assignment``; returns its path.
@@ -180,6 +194,9 @@ def gradescope_bundle(
     (none of the other exercises'), and, when the assignment was given as a ``.py`` path,
     ``assignment.py``. ``setup.sh`` installs the grader root-only and checks that a sandbox
     works (bubblewrap, or the uid mode where the container refuses user namespaces).
+    ``late_per_day`` (with ``late_cap``, ``grace_minutes``) takes a late penalty by
+    Gradescope's own times (``submission_metadata.json``: the hand-in time against the
+    student's due date, extensions included).
     """
     import rikin
 
@@ -200,6 +217,12 @@ def gradescope_bundle(
         opts.append(f"--timeout {float(timeout):g}")
     if reveal:
         opts.append("--reveal")
+    if late_per_day:
+        opts += [
+            f"--late-per-day {float(late_per_day):g}",
+            f"--late-cap {float(late_cap):g}",
+            f"--grace-minutes {float(grace_minutes):g}",
+        ]
     if unsafe_no_sandbox:
         opts.append("--unsafe-no-sandbox")
     kept = [exercise] if exercise else []
@@ -271,6 +294,9 @@ def gradescope_run(
     timeout: float | None = None,
     cell_timeout: float = 30.0,
     memory_mb: int = 1024,
+    late_per_day: float = 0.0,
+    late_cap: float = 100.0,
+    grace_minutes: float = 0.0,
     sandbox: str = "auto",
     unsafe_no_sandbox: bool = False,
 ) -> SubmissionResult:
@@ -281,6 +307,11 @@ def gradescope_run(
     failure with no score, for the instructor to fix and rerun, instead of a 0. The reason
     is printed (Gradescope keeps it in the autograder output). A missing notebook is the
     student's to fix: it gets a results.json with 0 that says what to submit.
+
+    Lateness comes from Gradescope's ``submission_metadata.json`` beside the submission
+    folder: ``created_at`` against the student's due date (``users[].assignment.due_date``,
+    an extension, else ``assignment.due_date``); with ``late_per_day`` the score is reduced
+    as :func:`rikingrade.policy.apply` says, and the output says why.
     """
     a = load_assignment(assignment)
     sub_dir = Path(submission)
@@ -354,12 +385,55 @@ def gradescope_run(
             _not_graded(results_path, f"{res.reason}\n\n{log_text[-5000:]}")
             return res
         data = json.loads((work / "out" / "results" / f"{res.student}.json").read_text())
+        data.get("extra_data", {}).pop("rikin", None)  # the local gradebook's record
         if note:
             data["output"] = note + "\n\n" + data.get("output", "")
+        _late(data, res, sub_dir, Rules(None, late_per_day, late_cap, grace_minutes))
         atomic_write(results_path, json.dumps(data, indent=2))
         return res
     finally:
         shutil.rmtree(work, ignore_errors=True)
+
+
+def submission_times(metadata: dict) -> tuple[float | None, float | None]:
+    """(handed in, due) from Gradescope's ``submission_metadata.json``: the student's own due
+    date when an extension gave one, else the assignment's."""
+    from .policy import PolicyError, parse_time
+
+    def when(text) -> float | None:
+        try:
+            return parse_time(text) if text else None
+        except PolicyError:
+            return None
+
+    users = metadata.get("users") or [{}]
+    own = (users[0] or {}).get("assignment") or {}
+    due = own.get("due_date") or (metadata.get("assignment") or {}).get("due_date")
+    return when(metadata.get("created_at")), when(due)
+
+
+def _late(data: dict, res: SubmissionResult, sub_dir: Path, rules: Rules) -> None:
+    """Apply the late rules to results.json by Gradescope's own times (when it says them)."""
+    path = sub_dir.parent / "submission_metadata.json"
+    try:
+        meta = json.loads(read_in_process(path, 1 << 20))
+    except (ReadFailed, ValueError):
+        return
+    if not isinstance(meta, dict):
+        return
+    handed, due = submission_times(meta)
+    if due is None or handed is None:
+        return
+    g = apply(
+        res.score,
+        res.max_score,
+        handed,
+        "Gradescope's submission time",
+        Rules(due, rules.per_day, rules.cap, rules.grace_minutes),
+    )
+    if g.notes:
+        data["score"] = round(g.final, 6)
+        data["output"] = "\n".join(g.notes) + "\n\n" + data.get("output", "")
 
 
 def _not_graded(results_path: Path, why: str) -> None:

@@ -376,7 +376,8 @@ def _scan(
                 continue
             dirs.append(path)
         elif e.name.startswith(".") or e.name.lower() in SYSTEM_FILES:
-            what = "a hidden file (name starts with '.')" if e.name[:1] == "." else "a system file"
+            system = e.name.lower() in SYSTEM_FILES or e.name.startswith("._")
+            what = "a system file" if system else "a hidden file (name starts with '.')"
             notes.append(f"{shown(path)}: {what}, skipped")
         elif e.name.lower().endswith(".ipynb"):
             why = _refusal(e)
@@ -830,6 +831,9 @@ def _one_student(key: str, group: list[_Found], notes: list[str]) -> list[Submis
             f"{nbs[0].student}: also handed in {shown(f.path.name)}, not graded: {f.refused}"
         )
     group = nbs
+    for f in group:
+        if key.startswith("unknown:"):
+            notes.append(f"{shown(f.path)}: not graded: {f.refused}")
     group.sort(key=lambda f: (f.order, f.submitted_at or 0.0, os.fsencode(f.path)))
     if key.startswith(("file:", "folder:", "nbgrader:", "unknown:")) and len(group) > 1:
         # The same plain name twice (two folders given): two students, not attempts.

@@ -408,3 +408,23 @@ def write(
     folder_writer, roster_writer = WRITERS[layout]
     folder = folder_writer(chosen, where / f"{layout}-download")
     return folder, roster_writer(chosen, where / f"{layout}-roster.csv")
+
+
+def fake_pool(a, calls, options, key, config, todo, workers, done, bar, results):
+    """Stands for :func:`rikingrade.api._run_pool`: grades each notebook by the points its
+    metadata gives (no cell is run), committing each result as the real pool does."""
+    from rikingrade.report import SubmissionResult, TestResult
+
+    for s in todo:
+        meta = json.loads(s.read_bytes())["metadata"]["rikin_test"]
+        tests = [
+            TestResult(t.name, float(t.weight), f, "ok" if f >= 1 else "not right")
+            for t, f in zip(a.tests, meta["fractions"], strict=True)
+        ]
+        res = SubmissionResult(
+            s.student, s.shown_path, s.hash(), "ok", tests=tests, max_score=a.max_score, key=key
+        )
+        assert done(s, res)
+        results[s.student] = res
+        bar.update(res)
+
