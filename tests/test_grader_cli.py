@@ -252,3 +252,48 @@ def test_gradescope_setup_fails_the_image_build_without_a_sandbox(tmp_path):
         assert ("exit 1" in check.group(2)) != unsafe
         assert ("WARNING" in check.group(2)) == unsafe
         assert ("--unsafe-no-sandbox" in run) == unsafe
+
+
+def test_gradescope_lateness_from_submission_metadata(tmp_path):
+    """Gradescope's submission_metadata.json says when the student handed in and their own
+    due date (an extension); the score is reduced by those times, and the output says why."""
+    from rikingrade.gradescope import submission_times
+
+    meta = {
+        "created_at": "2026-11-22T10:00:00.000000-05:00",
+        "assignment": {"due_date": "2026-11-20T23:59:00.000000-05:00", "title": "HW3"},
+        "users": [{"name": "Ana", "email": "a@x.edu", "id": 1, "assignment": {}}],
+    }
+    handed, due = submission_times(meta)
+    assert handed - due == pytest.approx(34 * 3600 + 60)
+    ext = dict(meta, users=[{"assignment": {"due_date": "2026-11-23T23:59:00-05:00"}}])
+    assert submission_times(ext)[1] - due == pytest.approx(3 * 86400)  # the student's own
+    require_bwrap()
+    root = tmp_path / "autograder"
+    (root / "submission").mkdir(parents=True)
+    (root / "submission" / "fake2r.ipynb").write_bytes(SOLUTION.read_bytes())
+    (root / "submission_metadata.json").write_text(json.dumps(meta))
+    res = gradescope_run(
+        str(ASSIGNMENT),
+        submission=str(root / "submission"),
+        results=str(root / "results" / "results.json"),
+        late_per_day=10,
+        cell_timeout=5,
+        memory_mb=512,
+    )
+    assert res.score == 5
+    data = json.loads((root / "results" / "results.json").read_text())
+    assert data["score"] == 4.0  # 2 started days late, 10% of 5 each
+    assert data["output"].startswith("Late: submitted") and "2 day(s) late" in data["output"]
+    assert "rikin" not in data.get("extra_data", {})  # the grader's record stays local
+
+
+def test_gradescope_bundle_refuses_an_old_python_and_passes_the_late_rules(tmp_path):
+    bundle = gradescope_bundle(ASSIGNMENT, tmp_path / "b.zip", late_per_day=5, late_cap=20)
+    with zipfile.ZipFile(bundle) as z:
+        setup = z.read("setup.sh").decode()
+        run = z.read("run_autograder").decode()
+    assert "sys.version_info < (3, 10)" in setup and "Ubuntu 22.04" in setup
+    assert "--late-per-day 5 --late-cap 20 --grace-minutes 0" in run
+    r = subprocess.run(["bash", "-n", "-c", setup], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr

@@ -15,6 +15,7 @@ import html
 import io
 import json
 import math
+import urllib.parse
 import zipfile
 from pathlib import Path
 
@@ -192,3 +193,62 @@ def test_feedback_zips_pair_each_file_with_its_student_as_the_lms_reads_names(
         if p.handed == "notebook" and p.late_days(lms.split("-")[0]):
             assert f"Final score: {_final(p, lms.split('-')[0]):.4g} / 5" in head, head
         assert p.name in head or L.canvas_name(p) in head or p.first in head, head
+
+
+def test_the_class_report_names_links_lists_sections_and_spread(tmp_path, monkeypatch):
+    people, out, _ = _grade(tmp_path, "canvas", monkeypatch)
+    stats = json.loads((out / "report" / f"{L.EXERCISE}.json").read_text(encoding="utf-8"))
+    rows = _rows(out)
+    finals = sorted(float(r["score"]) for r in rows)
+    sp = stats["spread"]
+    n = len(finals)
+    mean = sum(finals) / n
+    assert sp["n"] == n and sp["mean"] == pytest.approx(mean)
+    assert sp["sd"] == pytest.approx(math.sqrt(sum((x - mean) ** 2 for x in finals) / (n - 1)))
+    assert (sp["min"], sp["max"]) == (finals[0], finals[-1])
+    assert sp["p50"] == pytest.approx(
+        (finals[n // 2 - 1] + finals[n // 2]) / 2 if n % 2 == 0 else finals[n // 2]
+    )
+    sections = {s["section"]: s for s in stats["sections"]}
+    assert set(sections) == {"Section A", "Section B", "(no section)"}  # (the withdrawn)
+    for name, sec in sections.items():
+        mine = [float(r["score"]) for r in rows if (r["section"] or "(no section)") == name]
+        assert (sec["n"], sec["mean"]) == (len(mine), pytest.approx(sum(mine) / len(mine)))
+    for t in stats["tests"]:
+        assert sum(t["histogram"].values()) == t["students"] == n
+    page = (out / "report" / f"{L.EXERCISE}.html").read_text(encoding="utf-8")
+    for p in people:
+        if p.on_roster and p.attempts:
+            # names from the roster (Canvas's export writes "Last, First")
+            assert html.escape(f"{p.last}, {p.first}") in page, p.name
+    missing = people[L.MISSING]
+    assert '<h2 id="missing">Missing: on the roster, nothing handed in (1)</h2>' in page
+    assert html.escape(f"{missing.last}, {missing.first}") in page
+    late = [r for r in rows if int(r["late_days"])]
+    assert f'<h2 id="late">Late ({len(late)})</h2>' in page
+    assert '<h2 id="failed">Failed to run, crashed or timed out (2)</h2>' in page  # zip, py
+    for r in rows:  # every row links to that student's feedback, which exists
+        link = f'href="../feedback/{urllib.parse.quote(r["student"])}.html"'
+        assert link in page, r["student"]
+        assert (out / "feedback" / f"{r['student']}.html").exists()
+    png = (out / "report" / f"{L.EXERCISE}-tests.png").read_bytes()
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and 'src="fake2r-tests.png"' in page
+
+
+def test_progress_bar_time_left_and_failures():
+    from rikingrade.progress import Progress
+    from rikingrade.report import SubmissionResult
+
+    now = [0.0]
+    stream = io.StringIO()
+    stream.isatty = lambda: True  # type: ignore[method-assign]
+    bar = Progress(10, stream=stream, clock=lambda: now[0])
+    bar.update(SubmissionResult("old", "", "", "ok", max_score=5), resumed=True)
+    assert "left       ?" in stream.getvalue()  # nothing graded in this run yet
+    for i, status in enumerate(["ok", "invalid", "ok", "timeout"]):
+        now[0] += 3.0
+        bar.update(SubmissionResult(f"s{i}", "", "", status, max_score=5))
+    # 4 graded in 12 s: 5 left at 3 s each
+    assert bar.eta() == pytest.approx(15.0)
+    last = stream.getvalue().split("\r")[-1]
+    assert "5/10" in last and "left    15 s" in last and "failed 2" in last, last
