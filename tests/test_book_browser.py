@@ -72,7 +72,8 @@ def _toc_pages() -> list[str]:
     """Every page of the book (``_toc.yml``) as an HTML path, plus Sphinx's own pages."""
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
     files = [toc["root"]]
-    for entry in toc.get("chapters", []):
+    parts = toc.get("parts") or [{"chapters": toc.get("chapters", [])}]
+    for entry in (c for part in parts for c in part["chapters"]):
         files.append(entry["file"])
         files += [sub["file"] for sub in entry.get("sections", [])]
     return [f"{f}.html" for f in files] + ["index.html", "genindex.html", "search.html"]

@@ -26,15 +26,18 @@ TOC = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
 
 def _toc_files() -> list[str]:
     files = [TOC["root"]]
-    for entry in TOC.get("chapters", []):
+    parts = TOC.get("parts") or [{"chapters": TOC.get("chapters", [])}]
+    for entry in (c for part in parts for c in part["chapters"]):
         files.append(entry["file"])
         files += [sub["file"] for sub in entry.get("sections", [])]
     return files
 
 
 PAGES = _toc_files()
+#: The instructor's guide (a part of its own): plain MyST markdown, nothing executed.
+INSTRUCTOR = [p for p in PAGES if p.startswith("book/instructor/")]
 #: Reference pages: plain MyST markdown, nothing executed, no errata.
-REFERENCE_PAGES = ["book/glossary", "book/references"]
+REFERENCE_PAGES = ["book/glossary", "book/references", *INSTRUCTOR]
 NOTEBOOK_PAGES = [p for p in PAGES if p not in REFERENCE_PAGES]
 #: Sections that teach beyond the lessons (no lesson, so no errata of one).
 SECTIONS = ["book/own_arm"]
@@ -58,7 +61,7 @@ def _code_cells(text: str) -> list[str]:
 
 
 def test_toc_lists_the_chapters() -> None:
-    names = [Path(p).name for p in PAGES[1:]]
+    names = [Path(p).name for p in PAGES[1:] if p not in INSTRUCTOR]
     assert names == [
         "what_is_ik",
         "conventions",
@@ -72,6 +75,26 @@ def test_toc_lists_the_chapters() -> None:
         "glossary",
         "references",
     ], names
+
+
+def test_the_instructors_guide_is_a_part_of_the_book() -> None:
+    parts = {p["caption"]: p["chapters"] for p in TOC["parts"]}
+    guide = parts["Instructor's guide"]
+    files = [guide[0]["file"]] + [s["file"] for s in guide[0]["sections"]]
+    assert [Path(f).name for f in files] == [
+        "index",
+        "hosting",
+        "releasing",
+        "grading",
+        "lms",
+        "gradescope",
+        "gradebook",
+        "report",
+    ]
+    for f in files:
+        assert (ROOT / f"{f}.md").is_file(), f
+    for png in ("class-report.png", "class-report-tests.png"):
+        assert (BOOK / "instructor" / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
 @pytest.mark.parametrize("page", NOTEBOOK_PAGES)

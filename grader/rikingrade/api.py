@@ -116,9 +116,11 @@ def grade(
         like a class is refused with what was found.
     out : path
         Output folder: the gradebook (``gradebook.sqlite`` unless ``gradebook`` is given)
-        and its views: ``grades.csv``, ``summary.json``, ``canvas-<exercise>.csv``,
-        ``moodle-<exercise>.csv``, ``report/``, ``results/<student>.json`` (Gradescope
-        format), ``feedback/<student>.md`` and ``.html``; ``grading.log``.
+        and its views: ``grades.csv``, ``summary.json``, the class's LMS files
+        (``<lms>-<exercise>.csv``, ``<lms>-feedback-<exercise>.zip``, see
+        :mod:`rikingrade.views`), ``report/``, ``results/<student>.json`` (Gradescope format,
+        with what rebuilds the gradebook), ``feedback/<student>.md`` and ``.html``;
+        ``grading.log``.
     workers : int
         Submissions graded in parallel, one sandbox each.
     seed : int
@@ -208,6 +210,11 @@ def grade(
         says what failed.
     GradebookBusy
         Another grader is writing the same gradebook.
+    GradebookDamaged
+        The gradebook is damaged, or lacks grades the output folder holds; the message
+        says so and gives the command that repairs it (nothing was written).
+    RosterError
+        The roster cannot be read.
     """
     t0 = time.monotonic()
     out = Path(out).resolve()

@@ -1,7 +1,8 @@
 """The files each LMS imports: grades, and feedback files in bulk.
 
 Grades (one row per student; ``rows`` are :func:`rikingrade.views.final_grades` rows, and
-``missing`` the roster's students with no submission, written blank or 0 by policy):
+``missing`` the roster's students with no submission, given 0 by the ``zero`` policy; with
+``blank``, the default, they are left out and the LMS keeps what it has):
 
 Canvas       gradebook import: ``Student, ID, SIS User ID, SIS Login ID, Section, <title>``;
              a ``Points Possible`` row; students matched on ID (the Canvas user id), SIS User
