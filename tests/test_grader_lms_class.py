@@ -15,6 +15,8 @@ import html
 import io
 import json
 import math
+import subprocess
+import sys
 import urllib.parse
 import zipfile
 from pathlib import Path
@@ -252,3 +254,29 @@ def test_progress_bar_time_left_and_failures():
     assert bar.eta() == pytest.approx(15.0)
     last = stream.getvalue().split("\r")[-1]
     assert "5/10" in last and "left    15 s" in last and "failed 2" in last, last
+
+
+def test_missing_work_is_left_out_or_given_zero_by_policy(tmp_path, monkeypatch):
+    only = {2, 3, L.MISSING, L.WITHDRAWN}
+    people = L.make_class()
+    folder, roster = L.write(people, "blackboard", tmp_path, only)
+    monkeypatch.setattr(api, "_run_pool", L.fake_pool)
+    out = tmp_path / "out"
+    kw = dict(roster=str(roster), unsafe_no_sandbox=True, quiet=True)
+    api.grade(str(ASSIGNMENT), [folder], out, **kw)
+    _, body = _lms_table(out, "blackboard")
+    assert {r[2] for r in body} == {people[2].username, people[3].username}  # blank: left out
+    # --missing zero is kept in the gradebook: a later export gives 0 too
+    api.grade(str(ASSIGNMENT), [folder], out, missing="zero", **kw)
+    r = subprocess.run(
+        [sys.executable, "-m", "rikingrade.cli", "export", L.EXERCISE, "--out", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert r.returncode == 0, r.stderr
+    _, body = _lms_table(out, "blackboard")
+    got = {r[2]: r[3] for r in body}
+    assert got[people[L.MISSING].username] == "0" and len(got) == 3
+    assert people[L.WITHDRAWN].username not in got
+    with pytest.raises(api.PolicyError, match="--missing is blank or zero"):
+        api.grade(str(ASSIGNMENT), [folder], out, missing="none", **kw)
