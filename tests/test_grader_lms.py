@@ -543,6 +543,9 @@ def test_blackboard_usernames_holding_underscores_are_read_from_the_records(tmp_
     assert json.loads(ama.path.read_text())["at"] == "2026-11-21-09-00-00"
     assert len(ama.earlier) == 1 and ama.name == "Ama Mensah"
     assert time.localtime(ama.submitted_at)[:6] == (2026, 11, 21, 9, 0, 0)
+    # One attempt regraded alone is read with its record, as in its class.
+    one, _ = discover([bb / "HW_3 IK_zhang_wei_attempt_2026-11-20-23-11-05_scara.ipynb"], NB)
+    assert [(s.student, s.lms_id) for s in one] == [("zhang_wei", "zhang_wei")]
     # Without its record, a name is read with the prefix the other records show ...
     (bb / "HW_3 IK_li_wei_attempt_2026-11-20-23-10-05.txt").unlink()
     subs, _ = discover([bb], NB)

@@ -230,8 +230,10 @@ def grade(
         ros = load_roster(roster) if roster is not None else None
         entries = ros.entries if ros is not None else stored_roster(gb_path, a.exercise)
         subs, notes = discover(list(submissions), a.notebook, reader, entries)
-        if entries:
-            notes += (ros.notes if ros is not None else []) + _match_roster(subs, entries)
+        if entries:  # (a roster kept from an earlier run: who is missing is in the report)
+            notes += (ros.notes if ros is not None else []) + match_roster(
+                subs, entries, missing_note=ros is not None
+            )
         rules = Rules(parse_time(due) if due else None, late_per_day, late_cap, grace_minutes)
         ext_rows = _read_extensions(extensions, subs) if extensions else []
         limits = Limits(
@@ -442,11 +444,6 @@ def _record_submissions(gb: Gradebook, subs: list[Submission], exercise: str) ->
             s.student, exercise, s.hash(), s.shown_path, s.submitted_at, s.time_source, s.late
         )
     return ids
-
-
-def _match_roster(subs: list[Submission], roster: list) -> list[str]:
-    """Fill in each submission's roster details; notes on what did not match."""
-    return match_roster(subs, roster)
 
 
 def _open_gradebook(path: Path, assignment: str, out: Path, given: str | None) -> Gradebook:

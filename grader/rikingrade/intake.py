@@ -68,9 +68,11 @@ def _fill(s: Submission, e: RosterEntry) -> None:
         s.lms, s.lms_id = "canvas", e.id
 
 
-def match_roster(subs: list[Submission], roster: list[RosterEntry]) -> list[str]:
+def match_roster(
+    subs: list[Submission], roster: list[RosterEntry], missing_note: bool = True
+) -> list[str]:
     """Match each submission to the roster (see the module); notes on what did not match
-    and on who on the roster has no submission."""
+    and (``missing_note``) on who on the roster has no submission among ``subs``."""
     people = [
         Person(s.student, s.lms, s.lms_id, s.download_name or s.name, s.student) for s in subs
     ]
@@ -91,7 +93,7 @@ def match_roster(subs: list[Submission], roster: list[RosterEntry]) -> list[str]
             s.roster_key = "absent"
             notes.append(f"{s.student}: {m.note} ({s.shown_path})")
     missing = [e for e in roster if e.key not in used and e.key not in unsure]
-    if missing:
+    if missing and missing_note:
         notes.append(
             f"{len(missing)} student(s) on the roster have no submission: "
             + ", ".join(e.name or e.id for e in missing[:10])

@@ -196,6 +196,13 @@ def _blackboard(name: str, usernames=(), prefixes=()) -> Parsed | None:
     )
 
 
+def blackboard_record(name: str) -> str:
+    """The name of the record (``..._attempt_<ts>.txt``) of a Blackboard attempt's file, or
+    '' when ``name`` is not one."""
+    m = _BLACKBOARD.match(name)
+    return f"{m['stem']}_attempt_{m['ts']}.txt" if m and m["orig"] else ""
+
+
 def blackboard_username(stem: str, usernames=(), prefixes=()) -> tuple[str, str]:
     """The username in ``<prefix>_<username>`` (the part before ``_attempt_``), or
     ('', why not): from a record's known prefix, else the one roster username it ends with,

@@ -752,7 +752,7 @@ def discover(
             if p.is_symlink() or _refusal(p):
                 # A path the instructor typed may be a link; read what it points to as is.
                 p = Path(os.path.realpath(p))
-            f = _from_file(p)
+            f = _from_file(p, _beside(p, roster))
             f.root, f.named = p.parent, True
             found.append(f)
         elif p.is_dir():
@@ -780,6 +780,18 @@ def discover(
         for one in (s, *s.earlier):
             one.files = files
     return subs, notes
+
+
+def _beside(p: Path, roster):
+    """The LMS's records beside one file given alone (its Blackboard attempt's .txt,
+    Brightspace's index.html), to read it as in its class."""
+    from . import lms
+
+    raw = os.fsdecode(p.name)
+    names = [raw, lms.BRIGHTSPACE_INDEX, lms.blackboard_record(raw)]
+    usernames = [e.username.lstrip("#") for e in roster or () if e.username]
+    found = [n for n in names if n and os.path.lexists(p.parent / n)]
+    return lms.Download.read(p.parent, found, usernames)
 
 
 def _split_namesakes(found: list[_Found], roster, notes: list[str]) -> None:
