@@ -133,7 +133,9 @@ def time_notes(subs: list[Submission], policy) -> list[str]:
             s.time_source = UNRELIABLE_TIME
     if due is None:
         return notes
-    canvas = [s for s in subs if s.lms == "canvas" and s.time_source != UNRELIABLE_TIME]
+    canvas = [
+        s for s in subs if s.lms == "canvas" and not s.refused and s.time_source != UNRELIABLE_TIME
+    ]
     early = [s for s in canvas if s.late and (s.submitted_at or 0.0) <= due + grace]
     late = [s for s in canvas if not s.late and (s.submitted_at or 0.0) > due + grace]
     if late:

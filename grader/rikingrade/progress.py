@@ -130,7 +130,7 @@ def summary_text(s: dict[str, float | int]) -> str:
         f"failed to run {s['failed_to_run']}; timed out {s['timed_out']}; crashed {s['crashed']}; "
         f"cell errors {s['cell_errors']}; "
         + (
-            f"REFUSED {s['refused']} (links or unreadable files: see the notes); "
+            f"REFUSED {s['refused']} (not notebooks, links or unreadable files: see the notes); "
             if s.get("refused")
             else ""
         )
