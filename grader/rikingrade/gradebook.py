@@ -458,8 +458,12 @@ class Gradebook:
                 if v:
                     c.execute(f"UPDATE students SET {k} = ? WHERE id = ? AND {k} != ?", (v, sid, v))
 
-    def students(self) -> dict[str, sqlite3.Row]:
-        return {r["id"]: r for r in self.conn.execute("SELECT * FROM students")}
+    def students(self, student: str | None = None) -> dict[str, sqlite3.Row]:
+        """Every student (or the one ``student``), by id."""
+        q, args = "SELECT * FROM students", ()
+        if student is not None:
+            q, args = q + " WHERE id = ?", (student,)
+        return {r["id"]: r for r in self.conn.execute(q, args)}
 
     def add_submission(
         self,
@@ -602,8 +606,13 @@ class Gradebook:
         ).fetchone()
         return row is not None
 
-    def current(self, assignment: str) -> list[sqlite3.Row]:
-        """Each student's grade that counts (newest pick), sorted by student id."""
+    def current(self, assignment: str, student: str | None = None) -> list[sqlite3.Row]:
+        """Each student's grade that counts (newest pick), sorted by student id (or the one
+        of ``student``)."""
+        if student is not None:
+            return self.conn.execute(
+                "SELECT * FROM current WHERE assignment = ? AND student = ?", (assignment, student)
+            ).fetchall()
         return self.conn.execute(
             "SELECT * FROM current WHERE assignment = ? ORDER BY student", (assignment,)
         ).fetchall()
@@ -659,11 +668,12 @@ class Gradebook:
                 (student, assignment, float(due), _text(reason), time.time()),
             )
 
-    def extensions(self, assignment: str) -> dict[str, sqlite3.Row]:
-        rows = self.conn.execute(
-            "SELECT * FROM extensions WHERE assignment = ? ORDER BY id", (assignment,)
-        )
-        return {r["student"]: r for r in rows}
+    def extensions(self, assignment: str, student: str | None = None) -> dict[str, sqlite3.Row]:
+        """Each student's extension in force (the newest), or the one of ``student``."""
+        q, args = "SELECT * FROM extensions WHERE assignment = ?", (assignment,)
+        if student is not None:
+            q, args = q + " AND student = ?", (assignment, student)
+        return {r["student"]: r for r in self.conn.execute(q + " ORDER BY id", args)}
 
     def add_override(
         self, student: str, assignment: str, kind: str, score: float | None, reason: str
@@ -677,12 +687,13 @@ class Gradebook:
                 (student, assignment, kind, score, _text(reason), time.time()),
             )
 
-    def overrides(self, assignment: str) -> dict[str, sqlite3.Row]:
-        """Each student's override in force (a 'cleared' one means none)."""
-        rows = self.conn.execute(
-            "SELECT * FROM overrides WHERE assignment = ? ORDER BY id", (assignment,)
-        )
-        out = {r["student"]: r for r in rows}
+    def overrides(self, assignment: str, student: str | None = None) -> dict[str, sqlite3.Row]:
+        """Each student's override in force (a 'cleared' one means none), or the one of
+        ``student``."""
+        q, args = "SELECT * FROM overrides WHERE assignment = ?", (assignment,)
+        if student is not None:
+            q, args = q + " AND student = ?", (assignment, student)
+        out = {r["student"]: r for r in self.conn.execute(q + " ORDER BY id", args)}
         return {k: v for k, v in out.items() if v["kind"] != "cleared"}
 
     # ------------------------------------------------------------------ identity
@@ -711,16 +722,28 @@ class Gradebook:
             )
             return imp
 
-    def roster(self, assignment: str) -> tuple[str, list[tuple[str, dict]]]:
-        """The roster in force for ``assignment``: its kind and ``(key, row)`` pairs."""
-        rows = self.conn.execute(
+    def roster(self, assignment: str, key: str | None = None) -> tuple[str, list[tuple[str, dict]]]:
+        """The roster in force for ``assignment``: its kind and ``(key, row)`` pairs (only
+        the row of ``key``, when given)."""
+        q = (
             "SELECT kind, key, entry FROM roster WHERE assignment = ? AND import_id = "
-            "(SELECT MAX(import_id) FROM roster WHERE assignment = ?) ORDER BY id",
-            (assignment, assignment),
-        ).fetchall()
+            "(SELECT MAX(import_id) FROM roster WHERE assignment = ?)"
+        )
+        args: tuple = (assignment, assignment)
+        if key is not None:
+            q, args = q + " AND key = ?", (*args, key)
+        rows = self.conn.execute(q + " ORDER BY id", args).fetchall()
         if not rows:
             return "", []
         return rows[0]["kind"], [(r["key"], json.loads(r["entry"])) for r in rows]
+
+    def roster_kind(self, assignment: str) -> str:
+        """The kind of the roster in force for ``assignment`` ('' when there is none)."""
+        row = self.conn.execute(
+            "SELECT kind FROM roster WHERE assignment = ? ORDER BY import_id DESC LIMIT 1",
+            (assignment,),
+        ).fetchone()
+        return row["kind"] if row else ""
 
     def set_roster_key(self, student: str, key: str) -> None:
         """Which roster row the student matched (``ambiguous:...``, ``absent``)."""

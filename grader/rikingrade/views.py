@@ -85,13 +85,20 @@ def final_grades(
     """One row per student who has a grade for ``assignment`` (or those in ``only``),
     sorted by id."""
     rules = rules_of(gb, assignment)
-    ext = gb.extensions(assignment)
-    ovr = gb.overrides(assignment)
-    students = gb.students()
-    roster = roster_rows(gb, assignment)
+    one = next(iter(only)) if only is not None and len(only) == 1 else None
+    ext = gb.extensions(assignment, one)
+    ovr = gb.overrides(assignment, one)
+    students = gb.students(one)
+    if one is not None:  # one student (after each result): their roster row only
+        key = students[one]["roster_key"] if one in students else ""
+        roster = dict(gb.roster(assignment, key)[1]) if key else {}
+        has_roster = bool(roster) or bool(gb.roster_kind(assignment))
+    else:
+        roster = roster_rows(gb, assignment)
+        has_roster = bool(roster)
     pol = gb.policy(assignment)
     rows = []
-    for cur in gb.current(assignment):
+    for cur in gb.current(assignment, one):
         sid = cur["student"]
         if only is not None and sid not in only:
             continue
@@ -123,7 +130,7 @@ def final_grades(
                 **_lms_ids(st, entry, cur["path"]),
                 "lms": st["lms"] if st else "",
                 "roster_key": key,
-                "on_roster": bool(entry) or not roster,
+                "on_roster": bool(entry) or not has_roster,
                 "status": res.status,
                 "raw": res.score,
                 "final": g.final,
