@@ -50,7 +50,7 @@ from .sandbox.config import (
 )
 from .sandbox.uidmode import SHARED_WRITABLE
 from .studentfiles import StudentFiles
-from .views import export, write_one
+from .views import export, student_view, write_student
 
 log = logging.getLogger("rikingrade")
 
@@ -317,7 +317,7 @@ def grade(
                 res.problems = [why]
                 res.refused = s.refused
                 gb.record(run_id, sub_ids[s.student], res, a.exercise, seed)
-                write_one(gb, a.exercise, a.exercise, out, s.student)
+                _write_views(gb, a.exercise, out, s.student)
                 _log_result(res)
                 results[s.student] = res
                 continue
@@ -358,7 +358,7 @@ def grade(
                         if closing:  # interrupted: graded again by the next run
                             return False
                         gb.record(run_id, sub_ids[sub.student], res, a.exercise, seed)
-                        write_one(gb, a.exercise, a.exercise, out, sub.student)
+                        _write_views(gb, a.exercise, out, sub.student)
                         return True
 
                 _run_pool(
@@ -410,6 +410,12 @@ def grade(
             gb.close()
         logging.getLogger("rikingrade").removeHandler(handler)
         handler.close()
+
+
+def _write_views(gb: Gradebook, exercise: str, out: Path, student: str) -> None:
+    """One student's results and feedback, as the gradebook has their grade now."""
+    for res, g, record, who in student_view(gb, exercise, student):
+        write_student(out, res, exercise, g, record, who)
 
 
 def _record_submissions(gb: Gradebook, subs: list[Submission], exercise: str) -> dict[str, int]:

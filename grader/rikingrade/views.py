@@ -341,12 +341,12 @@ def _record(row: dict[str, Any], gb_id: str, assignment: str, tests) -> dict[str
     }
 
 
-def student_pages(row: dict[str, Any], exercise: str) -> tuple[dict, str, str]:
+def student_pages(
+    res: SubmissionResult, g: Grade | None, exercise: str, who: str = ""
+) -> tuple[dict, str, str]:
     """One student's Gradescope results, Markdown and HTML feedback (final score first)."""
-    res: SubmissionResult = row["result"]
-    g: Grade | None = row.get("grade")
     final = _final_line(g, res)
-    who = row.get("name") or res.student
+    who = who or res.student
     gs = gradescope_json(res, exercise)
     md = feedback_markdown(res, exercise, final=final, who=who)
     page = feedback_html(res, exercise, final=final, who=who)
@@ -366,31 +366,41 @@ def student_pages(row: dict[str, Any], exercise: str) -> tuple[dict, str, str]:
 
 def write_student(
     out: Path,
-    res: SubmissionResult | dict[str, Any],
+    res: SubmissionResult,
     exercise: str,
     g: Grade | None = None,
     record: dict[str, Any] | None = None,
+    who: str = "",
 ) -> None:
-    """One student's results.json and feedback (``res``: a result, or a
-    :func:`final_grades` row), with the grade section when policy applied."""
-    row = res if isinstance(res, dict) else {"result": sane(res), "grade": g}
-    sid = row["result"].student
-    gs, md, page = student_pages(row, exercise)
+    """One student's results.json and feedback, with the grade section when policy applied
+    and (``record``) what rebuilds their grade in the gradebook."""
+    res = sane(res)
+    gs, md, page = student_pages(res, g, exercise, who)
     if record is not None:
         gs.setdefault("extra_data", {})["rikin"] = record
-    atomic_write(out / "results" / f"{sid}.json", json.dumps(gs, indent=2))
-    atomic_write(out / "feedback" / f"{sid}.md", md)
-    atomic_write(out / "feedback" / f"{sid}.html", page)
+    atomic_write(out / "results" / f"{res.student}.json", json.dumps(gs, indent=2))
+    atomic_write(out / "feedback" / f"{res.student}.md", md)
+    atomic_write(out / "feedback" / f"{res.student}.html", page)
+
+
+def student_view(
+    gb: Gradebook, assignment: str, student: str
+) -> list[tuple[SubmissionResult, Grade, dict[str, Any], str]]:
+    """What :func:`write_student` writes for one student, from the gradebook as it is now:
+    (result, grade, record, name), or nothing if they have no grade."""
+    rows = final_grades(gb, assignment, {student})
+    tests = gb.tests(assignment)
+    gb_id = gb.gradebook_id()
+    return [
+        (r["result"], r["grade"], _record(r, gb_id, assignment, tests), r["name"]) for r in rows
+    ]
 
 
 def write_one(gb: Gradebook, assignment: str, exercise: str, out: Path, student: str) -> None:
     """Rewrite one student's results and feedback from the gradebook (their grade as it is
     now, with the record that rebuilds it)."""
-    rows = final_grades(gb, assignment, {student})
-    tests = gb.tests(assignment)
-    gb_id = gb.gradebook_id()
-    for r in rows:
-        write_student(Path(out), r, exercise, record=_record(r, gb_id, assignment, tests))
+    for res, g, record, who in student_view(gb, assignment, student):
+        write_student(Path(out), res, exercise, g, record, who)
 
 
 def _lms_files(gb, assignment, exercise, out, rows, info) -> dict[str, list]:
@@ -476,7 +486,8 @@ def export(
     gb_id = gb.gradebook_id()
     pages = {}
     for r in rows:
-        write_student(out, r, exercise, record=_record(r, gb_id, assignment, tests))
+        record = _record(r, gb_id, assignment, tests)
+        write_student(out, r["result"], exercise, r["grade"], record, r["name"])
         pages[r["student"]] = (out / "feedback" / f"{r['student']}.html").read_bytes()
     _feedback_zips(out, exercise, rows, pages, info)
     stats = write_report(gb, assignment, exercise, out, rows, run_id, left)
