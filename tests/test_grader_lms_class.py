@@ -280,3 +280,32 @@ def test_missing_work_is_left_out_or_given_zero_by_policy(tmp_path, monkeypatch)
     assert people[L.WITHDRAWN].username not in got
     with pytest.raises(api.PolicyError, match="--missing is blank or zero"):
         api.grade(str(ASSIGNMENT), [folder], out, missing="none", **kw)
+
+
+def test_a_zip_and_an_exported_script_are_rows_refused_counted_and_logged(tmp_path, monkeypatch):
+    """Issue 26 item 4 / issue 27 item 9: nothing in a class folder is simply absent."""
+    from rikingrade import cli
+
+    people = L.make_class()
+    cls = tmp_path / "class"
+    cls.mkdir()
+    (cls / "alice.ipynb").write_bytes(L.notebook(people[2], 0))
+    (cls / "bob.zip").write_bytes(b"PK\x05\x06" + bytes(18))
+    (cls / "carol.py").write_text("def add(a, b):\n    return a + b\n")
+    monkeypatch.setattr(api, "_run_pool", L.fake_pool)
+    out = tmp_path / "out"
+    code = cli.main(
+        [str(ASSIGNMENT), str(cls), "--out", str(out), "--unsafe-no-sandbox", "--quiet"]
+    )
+    assert code == 1  # refused files: the instructor must look
+    rows = {r["student"]: r for r in _rows(out)}
+    assert set(rows) == {"alice", "bob", "carol"}
+    assert (rows["bob"]["status"], rows["bob"]["score"]) == ("invalid", "0")
+    assert "unzip it first" in rows["bob"]["reason"]
+    assert "an exported script, not a notebook" in rows["carol"]["reason"]
+    summary = json.loads((out / "summary.json").read_text())
+    assert (summary["refused"], summary["submissions"]) == (2, 3)
+    log = (out / "grading.log").read_text()
+    assert "bob.zip: not graded: a .zip" in log and "carol.py: not graded: an exported" in log
+    fb = (out / "feedback" / "bob.md").read_text()
+    assert "unzip it first" in fb
