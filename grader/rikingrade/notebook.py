@@ -865,6 +865,12 @@ def _one_student(key: str, group: list[_Found], notes: list[str]) -> list[Submis
             f"{newest.student}: {len(group)} attempts; the newest ({shown(newest.path.name)}) "
             f"counts, earlier ones are kept in the gradebook: "
             + ", ".join(shown(f.path.name) for f in group[:-1])
+            + (
+                " (the download names students by name only: pass --roster to tell "
+                "namesakes apart)"
+                if key.startswith("brightspace:name:")
+                else ""
+            )
         )
     return [_submission(newest, [_submission(f, []) for f in group[:-1]])]
 
