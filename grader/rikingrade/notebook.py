@@ -866,8 +866,8 @@ def _one_student(key: str, group: list[_Found], notes: list[str]) -> list[Submis
             f"counts, earlier ones are kept in the gradebook: "
             + ", ".join(shown(f.path.name) for f in group[:-1])
             + (
-                " (the download names students by name only: pass --roster to tell "
-                "namesakes apart)"
+                " (the download names students by name only; a roster given with --roster "
+                "tells namesakes apart)"
                 if key.startswith("brightspace:name:")
                 else ""
             )
