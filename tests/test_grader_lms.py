@@ -601,6 +601,13 @@ def test_rosters_as_each_lms_exports_them(tmp_path):
     jose = next(e for e in ws.entries if e.name == "José Núñez")
     assert jose.moodle_id == people[2].moodle_id
     assert abs(jose.submitted_at - people[2].newest.when) < 60
+    # headers written with Brightspace's "#" too
+    (tmp_path / "d2l.csv").write_text(
+        "#OrgDefinedId,#Username,Last Name,First Name,Email,HW3 Points Grade,"
+        "End-of-Line Indicator\n#123,#li_wei,Li,Wei,w@x.edu,,#\n"
+    )
+    e = load_roster(tmp_path / "d2l.csv").entries[0]
+    assert (e.kind, e.org_id, e.username, e.name) == ("brightspace", "#123", "#li_wei", "Wei Li")
     # a column named by --lms-column, or a part of it
     assert assignment_column(bb, "HW_2", "fake2r")[0] == "HW_2 [Total Pts: 10 Score] |12344"
 
