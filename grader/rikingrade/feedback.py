@@ -70,10 +70,8 @@ def missing_cause(
     if close:
         return msg + f" (your notebook defines {', '.join(close)})"
     if others:
-        return (
-            msg
-            + f" (your notebook defines {', '.join(others[:3])}"
-            + (", ...)" if len(others) > 3 else ")")
+        return msg + f" (your notebook defines {', '.join(others[:3])}" + (
+            ", ...)" if len(others) > 3 else ")"
         )
     return msg + " (or is the cell that defines it deleted or failing?)"
 

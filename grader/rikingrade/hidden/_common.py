@@ -396,7 +396,9 @@ class Spec:
         ok, miss = self.reaches_rows(np.asarray(q, dtype=float)[None, :], kwargs)
         return bool(ok[0]), float(miss[0])
 
-    def reaches_rows(self, Q: np.ndarray, kwargs: dict[str, Any]) -> tuple[np.ndarray, np.ndarray]:
+    def reaches_rows(
+        self, Q: np.ndarray, kwargs: dict[str, Any]
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Per row of ``Q`` (k, n): whether FK reaches the target, and the miss (one pass)."""
         if not len(Q):
             return np.zeros(0, bool), np.zeros(0)
@@ -487,9 +489,8 @@ def student_rows(value: Any, n: int) -> tuple[np.ndarray | None, str, str]:
     return arr, "", note
 
 
-def _wrapped_distance(
-    spec: Spec, rows: np.ndarray, refs: np.ndarray, scale: float, compared: np.ndarray
-) -> np.ndarray:
+def _wrapped_distance(spec: Spec, rows: np.ndarray, refs: np.ndarray, scale: float,
+                      compared: np.ndarray) -> np.ndarray:
     """(k, m) max joint distance of each row to each reference row (angles modulo 2*pi,
     prismatic values over ``scale``), over the joints ``compared`` (m, n) of each reference."""
     rev = spec.revolute
@@ -498,9 +499,8 @@ def _wrapped_distance(
     return np.where(compared[None, :, :], d, 0.0).max(axis=2)
 
 
-def _why_wrong(
-    spec: Spec, r: np.ndarray, reaches: bool, kwargs: dict[str, Any], case: IKCase
-) -> str:
+def _why_wrong(spec: Spec, r: np.ndarray, reaches: bool, kwargs: dict[str, Any],
+               case: IKCase) -> str:
     """Why one returned row is not a solution, in the student's terms."""
     rev = spec.revolute
     if reaches:
