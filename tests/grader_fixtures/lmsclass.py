@@ -427,4 +427,3 @@ def fake_pool(a, calls, options, key, config, todo, workers, done, bar, results)
         assert done(s, res)
         results[s.student] = res
         bar.update(res)
-
