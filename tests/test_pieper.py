@@ -17,7 +17,7 @@ from singular_poses import CROSSING_JOINT, off_axis, singular_q, wrist_centre
 
 import rikin
 from rikin import Link, SerialArm, robots
-from rikin.ik.pieper import classify
+from rikin.ik import classify
 
 pi = np.pi
 POS_TOL = 1e-9  # times the arm's size
@@ -127,21 +127,24 @@ def test_classify_names_the_closed_form():
 
 
 def test_classify_says_why_not_in_the_arms_terms():
-    c = classify(ur5())
-    assert not c.closed_form
-    assert "axes 4, 5, 6 do not meet: axis 6 passes 0.09465 m" in c.reason
+    c = classify(ur5())  # another family, and why not the spherical wrist
+    assert c.closed_form and c.family.startswith("three parallel axes (2, 3, 4), like a UR arm")
+    assert "axes 4, 5, 6 do not meet: axis 6 passes 0.09465 m" in c.family
     offset = SerialArm(kuka_kr5().links[:3] + (
         Link(d=-620.0, a=12.0, alpha=-pi / 2), Link(alpha=pi / 2), Link(d=-115.0)
     ), units="mm")
-    assert "axis 5 passes 12 mm from axis 4" in classify(offset).reason
+    assert "general 6R: up to 16 solutions" in classify(offset).family
+    assert "axis 5 passes 12 mm from axis 4" in classify(offset).family
     prismatic = SerialArm((Link(), Link("P", alpha=pi / 2)) + puma560().links[2:])
     assert "joint 2 is prismatic" in classify(prismatic).reason
     assert "5 joints" in classify(SerialArm(puma560().links[:5])).reason
 
 
 def test_ik_of_an_arm_without_closed_form_points_at_numerical_ik():
+    # the UR5 with axis 1 parallel to axes 2-4: outside every family
+    arm = SerialArm((Link(d=0.089159),) + ur5().links[1:])
     with pytest.raises(rikin.InputError, match=r"axis 6 passes .*ik_numerical"):
-        ur5().ik(ur5().fk(np.full(6, 0.3)))
+        arm.ik(arm.fk(np.full(6, 0.3)))
 
 
 # ------------------------------------------------------------------ the lesson arms

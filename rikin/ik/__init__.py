@@ -1,8 +1,9 @@
 """Inverse kinematics: closed forms per arm family, results, numerical IK for comparison."""
 
 from .api import solve, solve_batch
+from .families import classify
 from .numerical import NumericalIKResult, ik_numerical, ik_numerical_multistart
-from .pieper import IKClass, classify
+from .pieper import IKClass
 from .result import BatchIKResult, Branch, IKResult
 
 __all__ = [

@@ -329,18 +329,26 @@ class IKClass:
         return self.family if self.closed_form else f"no closed form: {self.reason}"
 
 
-def _general_reason(arm: SerialArm) -> tuple[str, str]:
-    """``(family, "")`` for an arm the general solver takes, else ``("", reason)``."""
+def six_revolute_reason(arm: SerialArm) -> str:
+    """Why ``arm`` is not a 6R arm (the general closed forms' arms), or ``""``."""
     if arm.n != 6:
-        return "", f"it has {arm.n} joints; the general closed form is for six revolute joints"
+        return f"it has {arm.n} joints; the general closed form is for six revolute joints"
     prismatic = [i + 1 for i, lk in enumerate(arm.links) if not lk.is_revolute]
     if prismatic:
         which = ", ".join(str(j) for j in prismatic)
-        return "", (
+        return (
             f"joint{'s' if len(prismatic) > 1 else ''} {which} "
             f"{'are' if len(prismatic) > 1 else 'is'} prismatic; the general closed form is "
             "for six revolute joints"
         )
+    return ""
+
+
+def _general_reason(arm: SerialArm) -> tuple[str, str]:
+    """``(family, "")`` for an arm the general solver takes, else ``("", reason)``."""
+    not_6r = six_revolute_reason(arm)
+    if not_6r:
+        return "", not_6r
     model = chain_model(arm)
     wg = wrist_geometry(arm, model)
     if isinstance(wg, str):
@@ -699,7 +707,119 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
     return theta, real
 
 
-class Pieper6RSolver:
+class ChainPolish:
+    """Gauss-Newton polish of joint values on the whole pose, for solvers of an arm given as
+    a :class:`ChainModel` (``self.model``) with its column plans (``self.plans``)."""
+
+    model: ChainModel
+    plans: tuple[ColumnPlan, ...]
+    def _fk_frames(self, th: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """Flange pose, joint axes and origins for thetas ``(..., 6)``."""
+        T, axes, origins = _chain_fk(self.model.M, self.plans, th, frames=True)
+        assert axes is not None and origins is not None
+        return T, axes, origins
+
+    def _pose_error(self, T: FloatArray, T_goal: FloatArray) -> FloatArray:
+        """6-vector error ``(dp, dw)``: position and rotation (axis-angle, small) to the goal."""
+        dp = T_goal[..., :3, 3] - T[..., :3, 3]
+        Rd = T_goal[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2)
+        dw = 0.5 * np.stack(
+            [Rd[..., 2, 1] - Rd[..., 1, 2], Rd[..., 0, 2] - Rd[..., 2, 0],
+             Rd[..., 1, 0] - Rd[..., 0, 1]], axis=-1
+        )
+        return np.concatenate([dp, dw], axis=-1)
+
+    def _step(
+        self, th: FloatArray, goal: FloatArray, svd: tuple[FloatArray, ...], w: FloatArray,
+        rcond: float, scale: FloatArray,
+    ) -> list[FloatArray]:
+        """One Gauss-Newton step of :meth:`_polish` for ``m`` solutions ``th (m, 6)``: the
+        least-squares step through the SVD ``(sv, 1 / sv, Vt, U^T e)`` of the weighted
+        Jacobians, directions below ``rcond`` (relative) dropped, times ``scale (m,)``.
+        Returns the new joints and their flange poses, axes, origins, weighted errors and
+        largest error."""
+        sv, safe, Vt, Ue = svd
+        inv = np.where(sv > rcond * sv[..., :1], safe, 0.0)
+        step = (np.swapaxes(Vt, -1, -2) @ (inv[..., None] * Ue))[..., 0]
+        cand = th + scale[:, None] * step
+        Tc, zc, oc = self._fk_frames(cand)
+        ec = self._pose_error(Tc, goal) * w
+        return [cand, Tc, zc, oc, ec, np.abs(ec).max(-1)]
+
+    def _polish(
+        self, th: FloatArray, T_goal: FloatArray, alone: np.ndarray, steps: int = 16
+    ) -> tuple[FloatArray, FloatArray]:
+        """Gauss-Newton steps on the whole pose (least squares through the SVD), each
+        shortened while it does not improve, until every error is at rounding level
+        (``POLISHED``; ``POLISHED_ALONE`` where ``alone``, shape ``th.shape[:-1]``) or
+        stops improving (at most ``steps``). Returns the joints and their flange poses.
+
+        A simple root needs none or one. Near a fold of the arm (elbow at its reach, a
+        non-orthogonal wrist with coplanar axes) a full step overshoots when the pose is
+        outside the fold by rounding; shorter steps then walk to the fold, where the two
+        branches meet and are one (see ``_merge_coinciding``).
+        """
+        L = self.model.scale
+        w = np.array([1 / L] * 3 + [1.0] * 3)
+        shape = th.shape
+        th = th.reshape(-1, 6).copy()  # one row per solution; each step takes the busy ones
+        goal = np.broadcast_to(T_goal, shape[:-1] + (4, 4)).reshape(-1, 4, 4)
+        t = np.ones(len(th))  # the step's length, per solution
+        enough = np.where(alone.reshape(-1), POLISHED_ALONE, POLISHED)
+        T, z, o = self._fk_frames(th)
+        e = self._pose_error(T, goal) * w
+        err = np.abs(e).max(-1)
+        for _ in range(steps):
+            rows = np.flatnonzero((err > enough) & (t > MIN_STEP))
+            if not rows.size:
+                break
+            th_b, T_b, z_b, o_b, e_b, err_b, t_b, goal_b = (
+                x[rows] for x in (th, T, z, o, e, err, t, goal)
+            )
+            p_e = T_b[..., None, :3, 3]
+            J = np.concatenate([np.cross(z_b, p_e - o_b), z_b], axis=-1)  # (m, 6, 6): rows joints
+            J = np.swapaxes(J, -1, -2) * w[:, None]
+            # least squares through the SVD, directions below rounding dropped: a damped
+            # step (J^T J + lambda) would not move along a fold's weak direction, whose
+            # singular value is ~ the distance to the fold and may be 1e-7
+            # ... or, when that step is no better, the one without the weak directions
+            # (a wrist centre 1e-10 off axis 1 leaves q1 to them: the rest must give way)
+            U, sv, Vt = np.linalg.svd(J)
+            Ue = np.swapaxes(U, -1, -2) @ e_b[..., None]
+            safe = 1.0 / np.where(sv > 0, sv, 1.0)
+
+            svd = (sv, safe, Vt, Ue)
+            best = self._step(th_b, goal_b, svd, w, POLISH_RCOND, t_b)
+            retry = np.flatnonzero(~(best[5] < err_b))  # the second try only where it counts
+            if retry.size:
+                alt = self._step(th_b[retry], goal_b[retry], tuple(x[retry] for x in svd), w,
+                                 STRONG_RCOND, np.ones(retry.size))
+                use = alt[5] < best[5][retry]
+                for x, y in zip(best, alt, strict=True):
+                    x[retry[use]] = y[use]
+            cand, Tc, zc, oc, ec, errc = best
+            better = errc < err_b
+            th[rows] = np.where(better[:, None], cand, th_b)
+            T[rows] = np.where(better[:, None, None], Tc, T_b)
+            z[rows] = np.where(better[:, None, None], zc, z_b)
+            o[rows] = np.where(better[:, None, None], oc, o_b)
+            e[rows] = np.where(better[:, None], ec, e_b)
+            err[rows] = np.where(better, errc, err_b)
+            t[rows] = np.where(better, np.minimum(1.0, 2.0 * t_b), t_b / 4.0)
+        return th.reshape(shape), T.reshape(shape[:-1] + (4, 4))
+
+    def _residual(self, th: FloatArray, T_goal: FloatArray) -> FloatArray:
+        """FK error of joints ``th (..., 6)``: position over the arm's size, or rotation entry."""
+        return self._residual_of(self._fk_frames(th)[0], T_goal)
+
+    def _residual_of(self, T: FloatArray, T_goal: FloatArray) -> FloatArray:
+        """:meth:`_residual` of the flange poses ``T (..., 4, 4)``."""
+        pos = np.linalg.norm(T[..., :3, 3] - T_goal[..., :3, 3], axis=-1) / self.model.scale
+        rot = np.abs(T[..., :3, :3] - T_goal[..., :3, :3]).max(axis=(-1, -2))
+        return np.maximum(pos, rot)
+
+
+class Pieper6RSolver(ChainPolish):
     """Closed-form IK of a 6R arm with a spherical wrist, from its DH table: up to 8 solutions."""
 
     target_kind: TargetKind = "pose"
@@ -1003,101 +1123,6 @@ class Pieper6RSolver:
                 np.broadcast_to(fold[..., None], both.shape))
 
     # -------------------------------------------------------------- polish
-    def _fk_frames(self, th: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
-        """Flange pose, joint axes and origins for thetas ``(..., 6)``."""
-        T, axes, origins = _chain_fk(self.model.M, self.plans, th, frames=True)
-        assert axes is not None and origins is not None
-        return T, axes, origins
-
-    def _pose_error(self, T: FloatArray, T_goal: FloatArray) -> FloatArray:
-        """6-vector error ``(dp, dw)``: position and rotation (axis-angle, small) to the goal."""
-        dp = T_goal[..., :3, 3] - T[..., :3, 3]
-        Rd = T_goal[..., :3, :3] @ np.swapaxes(T[..., :3, :3], -1, -2)
-        dw = 0.5 * np.stack(
-            [Rd[..., 2, 1] - Rd[..., 1, 2], Rd[..., 0, 2] - Rd[..., 2, 0],
-             Rd[..., 1, 0] - Rd[..., 0, 1]], axis=-1
-        )
-        return np.concatenate([dp, dw], axis=-1)
-
-    def _step(
-        self, th: FloatArray, goal: FloatArray, svd: tuple[FloatArray, ...], w: FloatArray,
-        rcond: float, scale: FloatArray,
-    ) -> list[FloatArray]:
-        """One Gauss-Newton step of :meth:`_polish` for ``m`` solutions ``th (m, 6)``: the
-        least-squares step through the SVD ``(sv, 1 / sv, Vt, U^T e)`` of the weighted
-        Jacobians, directions below ``rcond`` (relative) dropped, times ``scale (m,)``.
-        Returns the new joints and their flange poses, axes, origins, weighted errors and
-        largest error."""
-        sv, safe, Vt, Ue = svd
-        inv = np.where(sv > rcond * sv[..., :1], safe, 0.0)
-        step = (np.swapaxes(Vt, -1, -2) @ (inv[..., None] * Ue))[..., 0]
-        cand = th + scale[:, None] * step
-        Tc, zc, oc = self._fk_frames(cand)
-        ec = self._pose_error(Tc, goal) * w
-        return [cand, Tc, zc, oc, ec, np.abs(ec).max(-1)]
-
-    def _polish(
-        self, th: FloatArray, T_goal: FloatArray, alone: np.ndarray, steps: int = 16
-    ) -> tuple[FloatArray, FloatArray]:
-        """Gauss-Newton steps on the whole pose (least squares through the SVD), each
-        shortened while it does not improve, until every error is at rounding level
-        (``POLISHED``; ``POLISHED_ALONE`` where ``alone``, shape ``th.shape[:-1]``) or
-        stops improving (at most ``steps``). Returns the joints and their flange poses.
-
-        A simple root needs none or one. Near a fold of the arm (elbow at its reach, a
-        non-orthogonal wrist with coplanar axes) a full step overshoots when the pose is
-        outside the fold by rounding; shorter steps then walk to the fold, where the two
-        branches meet and are one (see ``_merge_coinciding``).
-        """
-        L = self.model.scale
-        w = np.array([1 / L] * 3 + [1.0] * 3)
-        shape = th.shape
-        th = th.reshape(-1, 6).copy()  # one row per solution; each step takes the busy ones
-        goal = np.broadcast_to(T_goal, shape[:-1] + (4, 4)).reshape(-1, 4, 4)
-        t = np.ones(len(th))  # the step's length, per solution
-        enough = np.where(alone.reshape(-1), POLISHED_ALONE, POLISHED)
-        T, z, o = self._fk_frames(th)
-        e = self._pose_error(T, goal) * w
-        err = np.abs(e).max(-1)
-        for _ in range(steps):
-            rows = np.flatnonzero((err > enough) & (t > MIN_STEP))
-            if not rows.size:
-                break
-            th_b, T_b, z_b, o_b, e_b, err_b, t_b, goal_b = (
-                x[rows] for x in (th, T, z, o, e, err, t, goal)
-            )
-            p_e = T_b[..., None, :3, 3]
-            J = np.concatenate([np.cross(z_b, p_e - o_b), z_b], axis=-1)  # (m, 6, 6): rows joints
-            J = np.swapaxes(J, -1, -2) * w[:, None]
-            # least squares through the SVD, directions below rounding dropped: a damped
-            # step (J^T J + lambda) would not move along a fold's weak direction, whose
-            # singular value is ~ the distance to the fold and may be 1e-7
-            # ... or, when that step is no better, the one without the weak directions
-            # (a wrist centre 1e-10 off axis 1 leaves q1 to them: the rest must give way)
-            U, sv, Vt = np.linalg.svd(J)
-            Ue = np.swapaxes(U, -1, -2) @ e_b[..., None]
-            safe = 1.0 / np.where(sv > 0, sv, 1.0)
-
-            svd = (sv, safe, Vt, Ue)
-            best = self._step(th_b, goal_b, svd, w, POLISH_RCOND, t_b)
-            retry = np.flatnonzero(~(best[5] < err_b))  # the second try only where it counts
-            if retry.size:
-                alt = self._step(th_b[retry], goal_b[retry], tuple(x[retry] for x in svd), w,
-                                 STRONG_RCOND, np.ones(retry.size))
-                use = alt[5] < best[5][retry]
-                for x, y in zip(best, alt, strict=True):
-                    x[retry[use]] = y[use]
-            cand, Tc, zc, oc, ec, errc = best
-            better = errc < err_b
-            th[rows] = np.where(better[:, None], cand, th_b)
-            T[rows] = np.where(better[:, None, None], Tc, T_b)
-            z[rows] = np.where(better[:, None, None], zc, z_b)
-            o[rows] = np.where(better[:, None, None], oc, o_b)
-            e[rows] = np.where(better[:, None], ec, e_b)
-            err[rows] = np.where(better, errc, err_b)
-            t[rows] = np.where(better, np.minimum(1.0, 2.0 * t_b), t_b / 4.0)
-        return th.reshape(shape), T.reshape(shape[:-1] + (4, 4))
-
     def _merge_coinciding(
         self, th: FloatArray, goal: FloatArray, valid: np.ndarray, res: FloatArray,
         near: np.ndarray,
@@ -1165,16 +1190,6 @@ class Pieper6RSolver:
             Ue = np.swapaxes(U, -1, -2) @ e[..., None]
             x = x + (np.swapaxes(Vt, -1, -2) @ (inv[..., None] * Ue))[..., 0]
         return x.reshape(shape)
-
-    def _residual(self, th: FloatArray, T_goal: FloatArray) -> FloatArray:
-        """FK error of joints ``th (..., 6)``: position over the arm's size, or rotation entry."""
-        return self._residual_of(self._fk_frames(th)[0], T_goal)
-
-    def _residual_of(self, T: FloatArray, T_goal: FloatArray) -> FloatArray:
-        """:meth:`_residual` of the flange poses ``T (..., 4, 4)``."""
-        pos = np.linalg.norm(T[..., :3, 3] - T_goal[..., :3, 3], axis=-1) / self.model.scale
-        rot = np.abs(T[..., :3, :3] - T_goal[..., :3, :3]).max(axis=(-1, -2))
-        return np.maximum(pos, rot)
 
     # -------------------------------------------------------------- solve
     def solve(

@@ -1,0 +1,369 @@
+"""IK of any 6R arm from its table: elimination to an eigenvalue problem (Raghavan and Roth).
+
+With the arm written as ``W = Rz(th1) M1 Rz(th2) M2 Rz(th3) M3 Rz(th4) M4 Rz(th5) M5 Rz(th6)``
+(``W = M0^-1 T_0_6 M6^-1``, see :mod:`rikin.ik.pieper`), the line of axis 6 seen from frame 3
+is reached two ways:
+
+    L(th3, th4, th5) = Rz(th3) M3 Rz(th4) M4 Rz(th5) M5        (point p, direction l)
+    R(th1, th2)      = M2^-1 Rz(-th2) M1^-1 Rz(-th1) W
+
+and ``Rz(th6)`` drops out. Raghavan and Roth (1993) take the 14 quantities ``l, p, p.p,
+p.l, p x l, (p.p) l - 2 (p.l) p``: on each side they stay sums of products of one cosine or
+sine (or 1) per joint, so equating them gives ``P(th3) m45 = Q m12``, with ``m45`` the 9
+products of ``(1, cos, sin)`` of joints 4 and 5 and ``m12`` those of joints 1 and 2. Here the
+coefficients are not derived by hand: ``P`` (the arm's alone) and ``Q`` (per pose) are read
+off by evaluating both sides on a 3 x 3 (x 3) grid of angles, which fixes such sums exactly.
+
+Eliminating the 8 non-constant products of joints 1, 2 (the left null space of ``Q``) leaves 6
+equations in joints 3-5; with half-angle tangents ``x_i = tan(th_i / 2)`` and the 6 equations
+again times ``x4``, 12 equations linear in the 12 monomials ``x4^i x5^j`` (``i <= 3``, ``j <=
+2``) with a matrix quadratic in ``x3``: ``(S0 + x3 S1 + x3^2 S2) v = 0``. Its 24 eigenvalues
+(a companion matrix) hold every ``th3``: up to 16 real ones, and 8 at ``+-i`` (Manocha and
+Canny 1994). Each eigenvector gives ``th4, th5``; the 14 equations give ``th1, th2``; the
+pose gives ``th6``. Every candidate is polished by Gauss-Newton on the whole pose and kept
+only if it reaches the target. To keep every joint's half-angle tangent finite at the
+joint values people type (0, pi), the solver works on joints turned by fixed odd angles.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .._validate import FloatArray, check_arm
+from ..errors import InputError
+from ..tolerances import SAME_SOLUTION_TOL
+from .base import RawSolutions, Singularity, TargetKind
+from .kernels import wrap_in_place
+from .parallel3 import reversed_model
+from .pieper import (
+    ACCEPT_TOL,
+    ChainModel,
+    ChainPolish,
+    _column_plan,
+    _rz4,
+    _unit_model,
+    chain_model,
+    six_revolute_reason,
+)
+from .result import Branch
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..dh import SerialArm
+
+__all__ = ["recognise", "General6RSolver"]
+
+#: Solutions in all (the most a 6R arm has).
+SLOTS = 16
+
+#: The fixed turns (rad) of the joints' zeros the elimination works with.
+SHIFT = np.array([0.4142, 0.9131, 1.3719, 0.6180, 1.1547, 0.2718])
+
+#: An eigenvalue is taken as real (and polished) when its imaginary part is below this,
+#: relative; two roots that meet at a fold split into a pair ~sqrt(eps) off the line.
+IMAG_TOL = 1e-4
+
+#: The 3 angles of the grid on which a sum ``a + b cos + c sin`` is read.
+_GRID = 2 * np.pi * np.arange(3) / 3
+_BASIS_INV = np.linalg.inv(np.stack([np.ones(3), np.cos(_GRID), np.sin(_GRID)], axis=1))
+#: ``(1, cos, sin)`` times ``1 + x^2`` as coefficients of ``(1, x, x^2)``.
+_HALF = np.array([[1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [0.0, 2.0, 0.0]])
+
+SINGULAR = Singularity(
+    "the arm is at a singular configuration (its Jacobian loses rank): solutions meet", ()
+)
+
+
+def _fourteen(T: FloatArray) -> FloatArray:
+    """Raghavan and Roth's 14 quantities of the axis-6 line of frames ``T (..., 4, 4)``:
+    ``l, p, p.p, p.l, p x l, (p.p) l - 2 (p.l) p``, shape ``(..., 14)``."""
+    ax, p = T[..., :3, 2], T[..., :3, 3]
+    pp = (p * p).sum(-1, keepdims=True)
+    pl = (p * ax).sum(-1, keepdims=True)
+    return np.concatenate([ax, p, pp, pl, np.cross(p, ax), pp * ax - 2 * pl * p], axis=-1)
+
+
+def _fit(F: FloatArray, axes: int) -> FloatArray:
+    """Coefficients over ``(1, cos, sin)`` per joint of values ``F`` sampled on the grid in
+    the last ``axes`` axes before the quantities' axis: ``(..., 3, ..., 3, 14)``."""
+    for k in range(axes):
+        F = np.moveaxis(np.tensordot(_BASIS_INV, np.moveaxis(F, -2 - k, 0), axes=(1, 0)), 0,
+                        -2 - k)
+    return F
+
+
+def _shifted(model: ChainModel) -> ChainModel:
+    """``model`` with joint ``i`` turned by ``SHIFT[i]``: ``Rz(th) = Rz(SHIFT) Rz(th')``."""
+    M = model.M.copy()
+    for i in range(6):
+        M[i] = M[i] @ _rz4(np.array(SHIFT[i]))
+    return ChainModel(M, model.offsets, model.scale)
+
+
+class _Elimination:
+    """The elimination for one chain model (joints already shifted), with the loop
+    ``Rz(th1) M1 ... Rz(th6) W^-1 = I`` started at joint ``start + 1``: the joints that
+    play the parts of 1-6 above are ``start + 1, ..., 6, 1, ..., start`` (so the target
+    ``W^-1`` may stand among the constant factors). Some tables (two axes meeting and two
+    parallel, as on a Kinova Jaco) make the 12 x 12 matrix singular for every ``x3`` when
+    started at joint 1, and not when started elsewhere."""
+
+    def __init__(self, model: ChainModel, start: int) -> None:
+        self.M = model.M
+        self.start = start
+        #: loop position i (1-6) -> the chain's joint index (0-5)
+        self.joint = np.array([(start + i) % 6 for i in range(6)])
+        self.P_const = None
+        if start in (0, 4, 5):  # the target is not among the left side's factors
+            self.P_const = self._left(
+                [self.M[0]] + [self.M[1 + (start + i - 1) % 6] for i in range(1, 6)]
+            )
+
+    def factors(self, W: FloatArray) -> tuple[list[FloatArray], FloatArray]:
+        """The loop's factors ``M'1..M'5`` (index 1-5; constant or per pose) and ``W'``."""
+        ms = [self.M[0]] + [self.M[i] for i in range(1, 6)] + [np.linalg.inv(W)]
+        Mp = [ms[0]] + [ms[(self.start + i - 1) % 6 + 1] for i in range(1, 6)]
+        last = ms[self.start if self.start else 6]
+        return Mp, np.linalg.inv(last) if self.start else W
+
+    @staticmethod
+    def _left(Mp: list[FloatArray]) -> FloatArray:
+        """``P (..., 3, 3, 3, 14)``: the left sides' coefficients over joints 3-5."""
+        g = _GRID
+        t3, t4, t5 = np.meshgrid(g, g, g, indexing="ij")
+        lead = [m[:, None, None, None] if m.ndim == 3 else m for m in Mp]
+        L = _rz4(t3) @ lead[3] @ _rz4(t4) @ lead[4] @ _rz4(t5) @ lead[5]
+        return _fit(_fourteen(L), 3)
+
+    def matrices(self, W: FloatArray) -> tuple[Any, ...]:
+        """The quadratic matrix polynomial ``S (N, 3, 12, 12)`` in ``x3``, the left sides'
+        coefficients ``P (N, 3, 3, 3, 14)``, the 8 non-constant monomials' coefficients of
+        the right sides ``Q8 (N, 14, 8)`` and the constant ones ``Q0 (N, 14)``, and the loop's
+        factors."""
+        N = W.shape[0]
+        Mp, Wp = self.factors(W)
+        P = self.P_const if self.P_const is not None else self._left(Mp)
+        P = np.broadcast_to(P, (N, 3, 3, 3, 14))
+        g = _GRID
+        t1, t2 = np.meshgrid(g, g, indexing="ij")
+        lead = [m[:, None, None] if m.ndim == 3 else m for m in Mp]
+        Wl = Wp[:, None, None] if Wp.ndim == 3 else Wp
+        R = np.linalg.inv(lead[2]) @ _rz4(-t2) @ np.linalg.inv(lead[1]) @ _rz4(-t1) @ Wl
+        Q = _fit(np.broadcast_to(_fourteen(R), (N, 3, 3, 14)), 2)
+        Q0 = Q[:, 0, 0]
+        Q8 = Q.reshape(N, 9, 14)[:, 1:].transpose(0, 2, 1)
+        U = np.linalg.svd(Q8, full_matrices=True)[0]
+        null = U[:, :, 8:]  # (N, 14, 6)
+        E = np.einsum("nqe,nabcq->naebc", null, P)  # (N, 3, 6, 3, 3): th3 basis
+        E[:, 0, :, 0, 0] -= np.einsum("nqe,nq->ne", null, Q0)
+        D = np.einsum("naebc,ak,bi,cj->nkeij", E, _HALF, _HALF, _HALF)  # (N, 3, 6, 3, 3)
+        S = np.zeros((N, 3, 12, 12))
+        S[:, :, :6, :9] = D.reshape(N, 3, 6, 9)
+        S[:, :, 6:, 3:] = D.reshape(N, 3, 6, 9)
+        return S, P, Q8, Q0, Mp, Wp
+
+
+def _eig_quadratic(S: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Eigenvalues of ``S0 + x S1 + x^2 S2`` as ``th = 2 atan(x)`` ``(N, 24)``, how far each is
+    from real ``(N, 24)``, and the eigenvectors' monomials ``(N, 24, 4, 3)`` (``x4^i x5^j``)."""
+    N = S.shape[0]
+    S0, S1, S2 = S[:, 0], S[:, 1], S[:, 2]
+    c0, c2 = np.linalg.cond(S0), np.linalg.cond(S2)
+    flip = ~(c2 <= c0)  # the better conditioned end is inverted: x, or y = 1 / x
+    A, B = np.where(flip[:, None, None], S2, S0), np.where(flip[:, None, None], S0, S2)
+    C = np.zeros((N, 24, 24))
+    C[:, :12, 12:] = np.eye(12)
+    with np.errstate(all="ignore"):
+        C[:, 12:, :12] = -np.linalg.solve(B, A)
+        C[:, 12:, 12:] = -np.linalg.solve(B, S1)
+    C = np.where(np.isfinite(C), C, 0.0)
+    lam, vec = np.linalg.eig(C)
+    num, den = np.where(flip[:, None], 1.0 + 0j, lam), np.where(flip[:, None], lam, 1.0 + 0j)
+    # x = num / den: th = 2 atan2(num, den) for real x, pi where den = 0
+    mag = np.maximum(np.abs(num), np.abs(den))
+    imag = np.abs((num * np.conj(den)).imag) / mag**2
+    th = 2 * np.arctan2((num * np.conj(den)).real, np.abs(den) ** 2)
+    th = np.where(np.abs(den) == 0, np.pi, th)
+    top, bottom = vec[:, :12], vec[:, 12:]
+    pick = (np.abs(top) ** 2).sum(1, keepdims=True) >= (np.abs(bottom) ** 2).sum(1, keepdims=True)
+    v = np.where(pick, top, bottom).transpose(0, 2, 1).reshape(N, 24, 4, 3)
+    return th, imag, v
+
+
+def _half_angle(lo: FloatArray, hi: FloatArray) -> FloatArray:
+    """``th`` with ``(lo, hi)`` proportional to ``(1, tan(th / 2))`` in every entry (the
+    best such fit, finite at th = pi): arrays ``(..., k)`` complex -> ``(...)``."""
+    a = (np.abs(lo) ** 2).sum(-1)
+    b = (np.conj(lo) * hi).sum(-1).real
+    c = (np.abs(hi) ** 2).sum(-1)
+    # the top eigenvector of [[a, b], [b, c]]: (cos phi, sin phi), phi = th / 2
+    phi = 0.5 * np.arctan2(2 * b, a - c)
+    return 2 * phi
+
+
+class General6RSolver(ChainPolish):
+    """IK of any 6R arm from its DH table by elimination to an eigenvalue problem (Raghavan
+    and Roth): up to 16 solutions."""
+
+    target_kind: TargetKind = "pose"
+    wrist_middle: int | None = 4
+    labels_optional = True
+    singularities = {"singular": SINGULAR}
+
+    def __init__(self, arm: SerialArm) -> None:
+        check_arm(arm)
+        model, self.unit = _unit_model(chain_model(arm))
+        self.offsets = model.offsets
+        self.slots = tuple(Branch() for _ in range(SLOTS))
+        for start, reverse in _FORMULATIONS:
+            m = _shifted(reversed_model(model) if reverse else model)
+            self.reverse, self.model = reverse, m
+            self.plans = tuple(_column_plan(m.M[i + 1]) for i in range(6))
+            self.elim = _Elimination(m, start)
+            self.M0_inv, self.M6_inv = np.linalg.inv(m.M[0]), np.linalg.inv(m.M[6])
+            if _works(self):
+                return
+        raise InputError(f"{arm.name}: {_DEGENERATE}")
+
+    def check(self, arm: SerialArm) -> None:  # noqa: D102 - the Solver protocol
+        _ = arm
+
+    def _to_chain(self, T_0_n: FloatArray) -> FloatArray:
+        T = np.array(T_0_n, dtype=float)
+        T[..., :3, 3] *= self.unit
+        if self.reverse:
+            T = np.linalg.inv(T)
+        return self.M0_inv @ T @ self.M6_inv
+
+    def _candidates(self, W: FloatArray) -> tuple[FloatArray, np.ndarray]:
+        """Unpolished ``th' (N, 16, 6)`` (shifted joints, the chain's order) and which
+        slots hold one."""
+        N = W.shape[0]
+        S, P, Q8, Q0, Mp, Wp = self.elim.matrices(W)
+        th3, imag, v = _eig_quadratic(S)
+        order = np.argsort(imag, axis=1, kind="stable")[:, :SLOTS]
+        th3 = np.take_along_axis(th3, order, 1)
+        ok = np.take_along_axis(imag, order, 1) <= IMAG_TOL
+        v = np.take_along_axis(v, order[..., None, None], 1)  # (N, 16, 4, 3)
+        th4 = _half_angle(v[:, :, :3, :].reshape(N, SLOTS, 9), v[:, :, 1:, :].reshape(N, SLOTS, 9))
+        th5 = _half_angle(v[:, :, :, :2].reshape(N, SLOTS, 8), v[:, :, :, 1:].reshape(N, SLOTS, 8))
+        # joints 1, 2 from the 14 equations: Q8 m12 = P(th3, th4, th5) - Q0
+        b3, b4, b5 = (np.stack([np.ones_like(t), np.cos(t), np.sin(t)], -1)
+                      for t in (th3, th4, th5))
+        lhs = np.einsum("nabcq,nsa,nsb,nsc->nsq", P, b3, b4, b5) - Q0[:, None]
+        m12 = np.einsum("nkq,nsq->nsk", np.linalg.pinv(Q8), lhs)  # (1,c2,s2,c1,..)[1:]
+        th1 = np.arctan2(m12[..., 5], m12[..., 2])
+        th2 = np.arctan2(m12[..., 1], m12[..., 0])
+        lead = [m[:, None] if m.ndim == 3 else m for m in Mp]
+        F = (_rz4(th1) @ lead[1] @ _rz4(th2) @ lead[2] @ _rz4(th3) @ lead[3] @ _rz4(th4)
+             @ lead[4] @ _rz4(th5) @ lead[5])
+        Wl = Wp[:, None] if Wp.ndim == 3 else Wp
+        R6 = np.swapaxes(F[..., :3, :3], -1, -2) @ Wl[..., :3, :3]
+        th6 = np.arctan2(R6[..., 1, 0], R6[..., 0, 0])
+        loop = np.stack([th1, th2, th3, th4, th5, th6], axis=-1)
+        th = np.empty_like(loop)
+        th[..., self.elim.joint] = loop
+        return th, ok
+
+    def _polished(self, W: FloatArray) -> tuple[FloatArray, np.ndarray, np.ndarray]:
+        """Polished, distinct solutions ``th' (N, 16, 6)``, which are valid, which singular."""
+        th, ok = self._candidates(W)
+        goal = self.model.M[0] @ W @ self.model.M[6]
+        goal = np.broadcast_to(goal[:, None], th.shape[:-1] + (4, 4))
+        th = np.where(ok[..., None], th, 0.0)
+        th[ok], T = self._polish(th[ok], goal[ok], np.zeros(int(ok.sum()), bool))
+        res = np.full(ok.shape, np.inf)
+        res[ok] = self._residual_of(T, goal[ok])
+        valid = ok & (res <= ACCEPT_TOL)
+        _distinct(th, valid, res)
+        sing = np.zeros(valid.shape, dtype=bool)
+        if valid.any():
+            _, z, o = self._fk_frames(th[valid])
+            p = self._fk_frames(th[valid])[0][:, None, :3, 3]
+            J = np.concatenate([np.cross(z, p - o), z], axis=-1)
+            sv = np.linalg.svd(J, compute_uv=False)
+            sing[valid] = sv[:, -1] <= 1e-7 * sv[:, 0]
+        return th, valid, sing
+
+    def solve(
+        self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None, labels: bool = True
+    ) -> RawSolutions:
+        """All solutions of N flange poses ``T_0_n (N, 4, 4)``; 16 slots."""
+        _ = hint
+        W = self._to_chain(T_0_n)
+        th, valid, sing = self._polished(W)
+        th = th + SHIFT
+        if self.reverse:
+            th = th[..., ::-1]
+        q = th - self.offsets
+        q[~valid] = np.nan
+        front = up = None
+        if labels:
+            up = np.sin(np.where(valid, th[..., 2], 0.0)) >= 0
+        return RawSolutions(q=q, valid=valid, slots=self.slots, elbow_up=up,
+                            shoulder_front=front, singular={"singular": sing & valid})
+
+    def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
+        """Why one flange pose has no solution (every root of the eigenvalue problem is
+        complex, or none reaches it after polishing)."""
+        _ = arm, T_0_n
+        return (
+            "no real root of the eigenvalue problem reaches it (the pose is outside the "
+            "arm's workspace, or needs a tilt the wrist cannot make)",
+            float("nan"),
+        )
+
+
+#: The loop's starting joint and the chain's direction, in the order tried: first those
+#: whose left side is the arm's alone (computed once).
+_FORMULATIONS = [(0, False), (0, True), (4, False), (4, True), (5, False), (5, True),
+                 (1, False), (1, True), (2, False), (2, True), (3, False), (3, True)]
+
+_DEGENERATE = (
+    "the elimination to an eigenvalue problem degenerates for this table (two joints do "
+    "the same motion, or the 14 equations lose rank)"
+)
+
+
+def _distinct(th: FloatArray, valid: np.ndarray, res: FloatArray) -> None:
+    """Keep one of each group of valid slots that are the same solution (in place)."""
+    N, k, _ = th.shape
+    for i in range(k):
+        for j in range(i):
+            same = valid[:, i] & valid[:, j] & (
+                np.abs(wrap_in_place(th[:, i] - th[:, j])).max(-1) <= 1e3 * SAME_SOLUTION_TOL
+            )
+            if same.any():
+                better = same & (res[:, i] < res[:, j])
+                th[better, j] = th[better, i]
+                res[better, j] = res[better, i]
+                valid[same, i] = False
+
+
+def _works(solver: General6RSolver) -> bool:
+    """Whether the elimination finds known solutions of a few poses of the arm (a table on
+    which it degenerates does not)."""
+    rng = np.random.default_rng(6)
+    th = rng.uniform(-np.pi, np.pi, size=(4, 6))
+    W = solver.M0_inv @ solver._fk_frames(th)[0] @ solver.M6_inv
+    try:
+        with np.errstate(all="ignore"):
+            found, valid, _ = solver._polished(W)
+    except np.linalg.LinAlgError:  # a factor of the loop not invertible: not this way
+        return False
+    gap = np.abs(wrap_in_place(found - th[:, None])).max(-1)
+    return bool(np.all(((gap <= 1e-6) & valid).any(axis=1)))
+
+
+def recognise(arm: SerialArm) -> tuple[str, str]:
+    """``(family, "")`` for a 6R arm the elimination solves, else ``("", reason)``."""
+    not_6r = six_revolute_reason(arm)
+    if not_6r:
+        return "", not_6r
+    try:
+        General6RSolver(arm)
+    except InputError:
+        return "", _DEGENERATE
+    return "general 6R: up to 16 solutions, by elimination to an eigenvalue problem", ""
+
