@@ -327,18 +327,17 @@ _DEGENERATE = (
 
 
 def _distinct(th: FloatArray, valid: np.ndarray, res: FloatArray) -> None:
-    """Keep one of each group of valid slots that are the same solution (in place)."""
-    N, k, _ = th.shape
-    for i in range(k):
-        for j in range(i):
-            same = valid[:, i] & valid[:, j] & (
-                np.abs(wrap_in_place(th[:, i] - th[:, j])).max(-1) <= 1e3 * SAME_SOLUTION_TOL
-            )
-            if same.any():
-                better = same & (res[:, i] < res[:, j])
-                th[better, j] = th[better, i]
-                res[better, j] = res[better, i]
-                valid[same, i] = False
+    """Keep one of each group of valid slots ``(N, k)`` that are the same solution: the
+    first slot of the group, holding the group's best polished joints (in place)."""
+    gap = np.abs(wrap_in_place(th[:, :, None] - th[:, None, :])).max(-1)  # (N, k, k)
+    same = valid[:, :, None] & valid[:, None, :] & (gap <= 1e3 * SAME_SOLUTION_TOL)
+    rows, i, j = np.nonzero(np.triu(same, 1))
+    for r, a, b in zip(rows.tolist(), i.tolist(), j.tolist(), strict=True):
+        if not valid[r, b] or not valid[r, a]:
+            continue  # already merged into an earlier slot
+        if res[r, b] < res[r, a]:
+            th[r, a], res[r, a] = th[r, b], res[r, b]
+        valid[r, b] = False
 
 
 def _works(solver: General6RSolver) -> bool:

@@ -326,13 +326,14 @@ class ParallelAxesSolver(ChainPolish):
         )
 
     def _labels(self, th: FloatArray) -> tuple[np.ndarray, np.ndarray]:
-        """Shoulder front (joint 5's origin ahead of axis 1 along frame 1's x axis) and elbow
+        """Shoulder front (axis 6 ahead of axis 1, seen across the parallel axes) and elbow
         up (axis 3 above the line from axis 2 to axis 4, seen along them, towards +axis 1),
         ``(N, 8)`` each, of the chain's joints ``th (N, 8, 6)``."""
         _, z, o = self._fk_frames(th)
-        T1 = self.model.M[0] @ _rz4(th[..., 0])
-        front = ((o[..., 4, :] - o[..., 0, :]) * T1[..., :3, 0]).sum(-1) >= 0
         n = z[..., 1, :]
+        # ahead: axis 6 lies on the side of axis 1 that n x z1 points to (joint 1 alone
+        # decides it: the two shoulders of a UR put it on opposite sides)
+        front = ((o[..., 5, :] - o[..., 0, :]) * np.cross(n, z[..., 0, :])).sum(-1) >= 0
 
         def flat(x: FloatArray) -> FloatArray:
             return x - (x * n).sum(-1, keepdims=True) * n

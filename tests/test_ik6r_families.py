@@ -1,0 +1,147 @@
+"""The 6R families beyond the spherical wrist, typed as DH tables (rikin.ik.families,
+parallel3, general6r): seeded random tables of each family, every solution put back through
+FK here, the generating joints among them; batch against one pose at a time; singular and
+unreachable poses. The comparison with solvers no one here wrote is in
+test_ik6r_oracles.py."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rikin
+from rikin import Link, SerialArm
+from rikin.errors import UnreachableError
+from rikin.ik import families
+
+pi = np.pi
+SAME_Q = 1e-6
+
+
+def wrap(x):
+    return (np.asarray(x) + pi) % (2 * pi) - pi
+
+
+def assert_reaches(arm, Q, T):
+    F = arm.fk(Q)
+    assert np.abs(F[:, :3, 3] - T[:3, 3]).max() <= 1e-9 * max(arm.scale, 1.0)
+    assert np.abs(F[:, :3, :3] - T[:3, :3]).max() <= 1e-9
+
+
+def ur5e(**kw):
+    return SerialArm((
+        Link(d=0.1625, alpha=pi / 2), Link(a=-0.425), Link(a=-0.3922),
+        Link(d=0.1333, alpha=pi / 2), Link(d=0.0997, alpha=-pi / 2), Link(d=0.0996),
+    ), name="UR5e", units="m", **kw)
+
+
+def parallel_arm(rng, convention, first, wrist_offset):
+    """Random table with axes ``first``..``first + 2`` parallel (twists 0 or pi between
+    them), random other twists, lengths and offsets; ``wrist_offset`` False keeps the
+    point of axis 6 in one plane as joint 5 turns (a UR's a5 = 0)."""
+    twist = list(rng.uniform(-pi, pi, 6))
+    # the twist between axes i and i+1 is row i (standard) or row i+1 (modified), 1-based
+    k = first - 1 if convention == "standard" else first
+    twist[k] = rng.choice([0.0, pi])
+    twist[k + 1] = rng.choice([0.0, pi])
+    a = rng.uniform(-1, 1, 6)
+    if not wrist_offset:  # the a between axes 5 and 6 (and first = 2 only)
+        a[4 if convention == "standard" else 5] = 0.0
+    links = tuple(Link(a=a[i], d=rng.uniform(-1, 1), alpha=twist[i],
+                       offset=rng.uniform(-pi, pi)) for i in range(6))
+    return SerialArm(links, convention=convention, name="parallel", units="m")
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+@pytest.mark.parametrize(("first", "wrist_offset"), [(2, False), (2, True), (3, True)])
+def test_random_parallel_axes_tables(convention, first, wrist_offset):
+    rng = np.random.default_rng(100 * first + wrist_offset + (convention == "modified"))
+    for _ in range(4):
+        arm = parallel_arm(rng, convention, first, wrist_offset)
+        verdict = str(rikin.ik.classify(arm))
+        assert verdict.startswith(f"three parallel axes ({first}, {first + 1}, {first + 2})")
+        assert "up to 8 solutions" in verdict
+        for q in rng.uniform(-pi, pi, size=(10, 6)):
+            T = arm.fk(q)
+            res = arm.ik(T)
+            assert 1 <= len(res) <= 8
+            assert_reaches(arm, res.q, T)
+            assert np.abs(wrap(res.q - q)).max(1).min() <= SAME_Q
+
+
+def test_ur5e_with_base_and_tool_every_solution_reaches():
+    base = rikin.homogeneous(rikin.rotz(0.7), [0.2, 0.1, 0.3])
+    tool = rikin.homogeneous(rikin.rotx(0.4), [0.0, 0.05, 0.12])
+    arm = ur5e(base=base, tool=tool)
+    rng = np.random.default_rng(3)
+    for q in rng.uniform(-pi, pi, size=(20, 6)):
+        T = arm.fk(q)
+        res = arm.ik(T)
+        assert_reaches(arm, res.q, T)
+        assert np.abs(wrap(res.q - q)).max(1).min() <= SAME_Q
+        assert len(set(res.labels)) == len(res)  # 8 branches, 8 labels
+
+
+def test_ur5e_singular_poses_flagged_and_solved():
+    arm = ur5e()
+    for q, words in (([0.3, -1.0, 1.2, 0.4, 0.0, 0.5], "wrist singularity"),
+                     ([0.3, -1.0, 0.0, 0.4, 1.1, 0.5], "stretched or folded")):
+        T = arm.fk(np.array(q))
+        res = arm.ik(T)
+        assert res.singular and words in res.singularity
+        assert_reaches(arm, res.q, T)
+
+
+def test_ur5e_unreachable_says_by_how_much():
+    arm = ur5e()
+    T = arm.fk(np.zeros(6))
+    T[0, 3] += 3.0
+    with pytest.raises(UnreachableError) as err:
+        arm.ik(T)
+    assert "unreachable" in str(err.value)
+
+
+def random_6r(rng, convention):
+    links = tuple(Link(a=rng.uniform(-1, 1), d=rng.uniform(-1, 1), alpha=rng.uniform(-pi, pi),
+                       offset=rng.uniform(-pi, pi)) for _ in range(6))
+    return SerialArm(links, convention=convention, name="random 6R", units="m")
+
+
+@pytest.mark.parametrize("convention", ["standard", "modified"])
+def test_general_6r_random_tables(convention):
+    rng = np.random.default_rng(7 if convention == "standard" else 8)
+    for _ in range(3):
+        arm = random_6r(rng, convention)
+        assert str(rikin.ik.classify(arm)).startswith("general 6R: up to 16 solutions, by "
+                                                      "elimination to an eigenvalue problem")
+        for q in rng.uniform(-pi, pi, size=(6, 6)):
+            T = arm.fk(q)
+            res = arm.ik(T)
+            assert len(res) % 2 == 0 and 2 <= len(res) <= 16  # real roots come in pairs
+            assert_reaches(arm, res.q, T)
+            assert np.abs(wrap(res.q - q)).max(1).min() <= SAME_Q
+
+
+@pytest.mark.parametrize("make", [ur5e, lambda: random_6r(np.random.default_rng(9), "standard")])
+def test_batch_holds_the_solutions_of_one_pose_at_a_time(make):
+    arm = make()
+    rng = np.random.default_rng(11)
+    Ts = arm.fk(rng.uniform(-pi, pi, size=(8, 6)))
+    batch = arm.ik_batch(Ts)
+    for n, T in enumerate(Ts):
+        one = arm.ik(T).q
+        got = batch.q[n][batch.valid[n]]
+        assert_reaches(arm, got, T)
+        gap = np.abs(wrap(one[:, None] - got[None])).max(-1)
+        assert (gap.min(1) <= SAME_Q).all() and (gap.min(0) <= SAME_Q).all()
+
+
+def test_families_in_order_and_an_arm_outside_all_says_why():
+    assert [f.name for f in families.FAMILIES] == [
+        "spherical wrist", "three parallel axes", "general 6R"]
+    # a UR5e with axis 1 parallel to axes 2-4: every family says why not
+    links = (Link(d=0.1625),) + ur5e().links[1:]
+    verdict = rikin.ik.classify(SerialArm(links))
+    assert not verdict.closed_form
+    assert "axis 1 is parallel to them too" in verdict.reason
+    assert "degenerates" in verdict.reason
