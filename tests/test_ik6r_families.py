@@ -1,4 +1,4 @@
-"""The 6R families beyond the spherical wrist, typed as DH tables (rikin.ik.families,
+"""The 6R families beyond the spherical wrist, typed as DH tables (rikin.ik.families6r,
 parallel3, general6r): seeded random tables of each family, every solution put back through
 FK here, the generating joints among them; batch against one pose at a time; singular and
 unreachable poses. The comparison with solvers no one here wrote is in
@@ -12,7 +12,7 @@ import pytest
 import rikin
 from rikin import Link, SerialArm
 from rikin.errors import UnreachableError
-from rikin.ik import families
+from rikin.ik import families6r as families
 
 pi = np.pi
 SAME_Q = 1e-6

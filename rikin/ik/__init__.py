@@ -1,7 +1,7 @@
 """Inverse kinematics: closed forms per arm family, results, numerical IK for comparison."""
 
 from .api import solve, solve_batch
-from .families import classify
+from .families6r import classify
 from .numerical import NumericalIKResult, ik_numerical, ik_numerical_multistart
 from .pieper import IKClass
 from .result import BatchIKResult, Branch, IKResult

@@ -29,7 +29,7 @@ from ..errors import InputError, UnreachableError
 from ..tolerances import FK_CHECK_TOL, MAX_LENGTH, ROTATION_CLEAN_TOL, SAME_SOLUTION_TOL
 from ..transforms import _wrap_angle, homogeneous, rotz
 from .base import RawSolutions, Solver
-from .families import solver_for
+from .families6r import solver_for
 from .fkcheck import FKCheck
 from .kernels import pose_defects
 from .result import BatchIKResult, Branch, IKResult
@@ -74,7 +74,7 @@ _KIND_HELP = {
 
 def _solver(arm: Any) -> Solver:
     """The arm's own solver (lesson robots), else the first family of
-    :data:`rikin.ik.families.FAMILIES` that takes its table (raises if none does)."""
+    :data:`rikin.ik.families6r.FAMILIES` that takes its table (raises if none does)."""
     if not isinstance(arm, SerialArm):
         raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
     if arm.solver is None:

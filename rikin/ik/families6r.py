@@ -1,4 +1,4 @@
-"""Which solver takes an arm typed as a DH table: the families rikin knows, tried in order.
+"""Which solver takes a 6R arm typed as a DH table: the 6R families, tried in order.
 
 Each family is a *recogniser*: a function of the arm that returns a :class:`Match` (the
 family in the book's words, and how to build its solver) or a string, the reason the arm
