@@ -171,3 +171,18 @@ def test_elimination_agrees_with_the_closed_forms(make):
         mine = raw.q[0][raw.valid[0]]
         gap = np.abs(wrap(closed[:, None] - mine[None])).max(-1)
         assert (gap.min(1) <= SAME_Q).all() and (gap.min(0) <= SAME_Q).all()
+
+
+def test_ur5e_batch_flags_singular_poses_and_holds_their_solutions():
+    arm = ur5e()
+    rng = np.random.default_rng(13)
+    Q = rng.uniform(-pi, pi, size=(6, 6))
+    Q[1, 4] = 0.0  # wrist singular
+    Q[3, 2] = 0.0  # elbow stretched
+    Ts = arm.fk(Q)
+    batch = arm.ik_batch(Ts)
+    assert batch.singular.tolist() == [False, True, False, True, False, False]
+    for n, T in enumerate(Ts):
+        got = batch.q[n][batch.valid[n]]
+        assert_reaches(arm, got, T)
+        assert np.abs(wrap(got - Q[n])).max(1).min() <= SAME_Q or n in (1, 3)

@@ -34,6 +34,7 @@ from .._validate import FloatArray, check_arm
 from ..errors import InputError
 from ..tolerances import SINGULAR_TOL
 from .base import RawSolutions, Singularity, TargetKind
+from .kernels import wrap_in_place
 from .pieper import (
     ACCEPT_TOL,
     GEOMETRY_TOL,
@@ -325,6 +326,10 @@ class ParallelAxesSolver(ChainPolish):
             },
         )
 
+    def batch_kernel(self, arm: SerialArm) -> ParallelBatchKernel:
+        """The batch path's kernel (:func:`rikin.ik.api.solve_batch` looks it up)."""
+        return ParallelBatchKernel(self, arm)
+
     def _labels(self, th: FloatArray) -> tuple[np.ndarray, np.ndarray]:
         """Shoulder front (axis 6 ahead of axis 1, seen across the parallel axes) and elbow
         up (axis 3 above the line from axis 2 to axis 4, seen along them, towards +axis 1),
@@ -369,3 +374,35 @@ class ParallelAxesSolver(ChainPolish):
             f"{excess:.4g}{_units(arm)} beyond what they reach",
             excess,
         )
+
+
+class ParallelBatchKernel:
+    """:meth:`ParallelAxesSolver.solve` for a batch, without polish or labels: the closed
+    form, then an FK check of every slot. A pose with a slot that misses its target by more
+    than ``ACCEPT_TOL``, or at a singularity, is handed back as suspect, and the general
+    path (polish, flags) solves it."""
+
+    def __init__(self, solver: ParallelAxesSolver, arm: SerialArm) -> None:
+        self.solver = solver
+        self.slots = solver.slots
+        self.base_inv = np.linalg.inv(arm.base)
+        self.tool_inv = np.linalg.inv(arm.tool)
+
+    def solve(self, X: FloatArray) -> tuple[FloatArray, np.ndarray, np.ndarray]:
+        """Poses ``X (4, 4, n)`` (world frame) -> ``q (8, 6, n)`` wrapped (NaN where no
+        solution), ``valid (8, n)`` and ``suspect (n,)``."""
+        sv = self.solver
+        T = self.base_inv @ X.transpose(2, 0, 1) @ self.tool_inv
+        W = sv._to_chain(T)
+        th, valid, shoulder, elbow, wrist = sv._closed_form(W, 0.0, 0.0)
+        goal = sv.model.M[0] @ W @ sv.model.M[6]
+        th = np.where(valid[..., None], th, 0.0)
+        F = sv._fk_frames(th)[0]
+        err = sv._residual_of(F, goal[:, None])
+        suspect = shoulder | ((elbow | wrist) & valid).any(axis=1)
+        suspect |= (valid & ~(err <= ACCEPT_TOL)).any(axis=1)
+        if sv.reverse:
+            th = th[..., ::-1]
+        q = wrap_in_place(th - sv.offsets)
+        q[~valid] = np.nan
+        return q.transpose(1, 2, 0), valid.T, suspect
