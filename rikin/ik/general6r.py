@@ -138,9 +138,9 @@ class _Elimination:
 
     def matrices(self, W: FloatArray) -> tuple[Any, ...]:
         """The quadratic matrix polynomial ``S (N, 3, 12, 12)`` in ``x3``, the left sides'
-        coefficients ``P (N, 3, 3, 3, 14)``, the 8 non-constant monomials' coefficients of
-        the right sides ``Q8 (N, 14, 8)`` and the constant ones ``Q0 (N, 14)``, and the loop's
-        factors."""
+        coefficients ``P (N, 3, 3, 3, 14)``, the pseudo-inverse ``(N, 8, 14)`` of the right
+        sides' coefficients of their 8 non-constant monomials, their constant ones ``Q0 (N,
+        14)``, and the loop's factors."""
         N = W.shape[0]
         Mp, Wp = self.factors(W)
         P = self.P_const if self.P_const is not None else self._left(Mp)
@@ -153,15 +153,17 @@ class _Elimination:
         Q = _fit(np.broadcast_to(_fourteen(R), (N, 3, 3, 14)), 2)
         Q0 = Q[:, 0, 0]
         Q8 = Q.reshape(N, 9, 14)[:, 1:].transpose(0, 2, 1)
-        U = np.linalg.svd(Q8, full_matrices=True)[0]
+        U, sv, Vt = np.linalg.svd(Q8, full_matrices=True)
         null = U[:, :, 8:]  # (N, 14, 6)
+        inv = np.where(sv > 1e-12 * sv[:, :1], 1.0 / np.where(sv > 0, sv, 1.0), 0.0)
+        Q8_pinv = np.swapaxes(Vt, -1, -2) @ (inv[..., None] * np.swapaxes(U[:, :, :8], -1, -2))
         E = np.einsum("nqe,nabcq->naebc", null, P)  # (N, 3, 6, 3, 3): th3 basis
         E[:, 0, :, 0, 0] -= np.einsum("nqe,nq->ne", null, Q0)
         D = np.einsum("naebc,ak,bi,cj->nkeij", E, _HALF, _HALF, _HALF)  # (N, 3, 6, 3, 3)
         S = np.zeros((N, 3, 12, 12))
         S[:, :, :6, :9] = D.reshape(N, 3, 6, 9)
         S[:, :, 6:, 3:] = D.reshape(N, 3, 6, 9)
-        return S, P, Q8, Q0, Mp, Wp
+        return S, P, Q8_pinv, Q0, Mp, Wp
 
 
 def _eig_quadratic(S: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -240,7 +242,7 @@ class General6RSolver(ChainPolish):
         """Unpolished ``th' (N, 16, 6)`` (shifted joints, the chain's order) and which
         slots hold one."""
         N = W.shape[0]
-        S, P, Q8, Q0, Mp, Wp = self.elim.matrices(W)
+        S, P, Q8_pinv, Q0, Mp, Wp = self.elim.matrices(W)
         th3, imag, v = _eig_quadratic(S)
         order = np.argsort(imag, axis=1, kind="stable")[:, :SLOTS]
         th3 = np.take_along_axis(th3, order, 1)
@@ -252,7 +254,7 @@ class General6RSolver(ChainPolish):
         b3, b4, b5 = (np.stack([np.ones_like(t), np.cos(t), np.sin(t)], -1)
                       for t in (th3, th4, th5))
         lhs = np.einsum("nabcq,nsa,nsb,nsc->nsq", P, b3, b4, b5) - Q0[:, None]
-        m12 = np.einsum("nkq,nsq->nsk", np.linalg.pinv(Q8), lhs)  # (1,c2,s2,c1,..)[1:]
+        m12 = np.einsum("nkq,nsq->nsk", Q8_pinv, lhs)  # (1,c2,s2,c1,..)[1:]
         th1 = np.arctan2(m12[..., 5], m12[..., 2])
         th2 = np.arctan2(m12[..., 1], m12[..., 0])
         lead = [m[:, None] if m.ndim == 3 else m for m in Mp]
@@ -279,8 +281,8 @@ class General6RSolver(ChainPolish):
         _distinct(th, valid, res)
         sing = np.zeros(valid.shape, dtype=bool)
         if valid.any():
-            _, z, o = self._fk_frames(th[valid])
-            p = self._fk_frames(th[valid])[0][:, None, :3, 3]
+            F, z, o = self._fk_frames(th[valid])
+            p = F[:, None, :3, 3]
             J = np.concatenate([np.cross(z, p - o), z], axis=-1)
             sv = np.linalg.svd(J, compute_uv=False)
             sing[valid] = sv[:, -1] <= 1e-7 * sv[:, 0]
