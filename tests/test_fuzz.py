@@ -500,7 +500,7 @@ def _api_cases() -> list[Case]:
     """Drawings, interactive figures, widgets, tables, sympy DH, the general 6R solver
     through a user-built arm, and the keywords the first part leaves out."""
     from rikin import interactive, plot, symbolic, tables, widgets
-    from rikin.ik import api, pieper
+    from rikin.ik import api, families6r, general6r, parallel3, pieper
 
     p2, p3, a6 = robots.planar_2r(), robots.planar_3r(), ARMS["aula10_6r"]
     q3, q6 = np.array([0.3, 0.5, -0.2]), np.full(6, 0.3)
@@ -511,6 +511,12 @@ def _api_cases() -> list[Case]:
     F3 = p3.fk(q3, frames=True)
     F6 = a6.fk(q6, frames=True)
     puma = widgets.arm_from_table(widgets.PUMA560_TABLE, units="m", name="puma")
+    Lk, half = rikin.Link, np.pi / 2
+    ur5 = rikin.SerialArm((Lk(d=0.089159, alpha=half), Lk(a=-0.425), Lk(a=-0.39225),
+                           Lk(d=0.10915, alpha=half), Lk(d=0.09465, alpha=-half),
+                           Lk(d=0.0823)), name="UR5")
+    skew = rikin.SerialArm(tuple(Lk(a=0.3 + 0.1 * i, d=0.2 - 0.05 * i, alpha=0.4 + 0.3 * i)
+                                 for i in range(6)), name="general 6R")
     Tp = puma.fk(np.full(6, 0.4))
     l_sym = sympy.Symbol("l", positive=True)
     q_sym = sympy.Symbol("q1", real=True)
@@ -948,6 +954,19 @@ def _api_cases() -> list[Case]:
           fn=pieper.general_solver, **obj),
         C("ik.pieper.Pieper6RSolver", "arm", pieper.Pieper6RSolver, puma,
           fn=pieper.Pieper6RSolver, **obj),
+        C("ik.pieper.classify", "arm", pieper.classify, puma, fn=pieper.classify, **obj),
+        C("ik.families6r.solver_for", "arm", families6r.solver_for, ur5,
+          fn=families6r.solver_for, **obj),
+        C("ik.parallel3.recognise", "arm", parallel3.recognise, ur5, fn=parallel3.recognise,
+          **obj),
+        C("ik.parallel3.ParallelAxesSolver", "arm", parallel3.ParallelAxesSolver, ur5,
+          fn=parallel3.ParallelAxesSolver, **obj),
+        C("ik.general6r.recognise", "arm", general6r.recognise, skew, fn=general6r.recognise,
+          **obj),
+        C("ik.general6r.General6RSolver", "arm", general6r.General6RSolver, skew,
+          fn=general6r.General6RSolver, **obj),
+        C("ur5 (user-built).ik", "target", ur5.ik, ur5.fk(np.full(6, 0.3)), fn=SA.ik),
+        C("general 6R (user-built).ik", "target", skew.ik, skew.fk(np.full(6, 0.3)), fn=SA.ik),
         C("puma (user-built).ik", "target", puma.ik, Tp, fn=SA.ik),
         C("puma (user-built).ik_batch", "T", puma.ik_batch, Tp[None], fn=SA.ik_batch),
         C("ik.solve within_limits", "within_limits",
@@ -1186,6 +1205,17 @@ NOT_FUZZED = {
     "rikin.ik.result.Branch": "a result record rikin builds (a named tuple of labels)",
     "rikin.ik.numerical.NumericalIKResult": "a result record rikin builds",
     "rikin.ik.pieper.IKClass": "a result record classify() builds",
+    "rikin.ik.families6r.Family": "a record of the family list rikin builds",
+    "rikin.ik.families6r.Match": "a record the recognisers build",
+    "rikin.ik.parallel3.reversed_model": "takes the ChainModel rikin builds from a checked arm",
+    "rikin.ik.parallel3.ParallelAxesSolver.check": "solver protocol, as Pieper6RSolver.check",
+    "rikin.ik.parallel3.ParallelAxesSolver.solve": "solver protocol, as Pieper6RSolver.check",
+    "rikin.ik.parallel3.ParallelAxesSolver.explain": "solver protocol, as Pieper6RSolver.check",
+    "rikin.ik.parallel3.ParallelAxesSolver.batch_kernel": "solver protocol, as "
+    "Pieper6RSolver.check (fuzzed through SerialArm.ik_batch)",
+    "rikin.ik.general6r.General6RSolver.check": "solver protocol, as Pieper6RSolver.check",
+    "rikin.ik.general6r.General6RSolver.solve": "solver protocol, as Pieper6RSolver.check",
+    "rikin.ik.general6r.General6RSolver.explain": "solver protocol, as Pieper6RSolver.check",
     "rikin.symbolic.LessonArm": "a result record lesson_arm() builds",
     "rikin.interactive.InteractiveFigure": "wraps the plotly figure arm_figure() & co. build",
     "rikin.ik.pieper.Pieper6RSolver.check": "solver protocol: rikin.ik.solve calls it on "

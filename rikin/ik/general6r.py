@@ -359,6 +359,7 @@ def _works(solver: General6RSolver) -> bool:
 
 def recognise(arm: SerialArm) -> tuple[str, str]:
     """``(family, "")`` for a 6R arm the elimination solves, else ``("", reason)``."""
+    check_arm(arm)
     not_6r = six_revolute_reason(arm)
     if not_6r:
         return "", not_6r

@@ -119,6 +119,7 @@ def _joint5_terms(M: FloatArray, sigma: float) -> tuple[FloatArray, FloatArray]:
 def recognise(arm: SerialArm) -> tuple[str, str]:
     """``(family, "")`` in words when ``arm`` has three consecutive parallel axes (2-4 or
     3-5) and the closed form applies, else ``("", reason)``."""
+    check_arm(arm)
     not_6r = six_revolute_reason(arm)
     if not_6r:
         return "", not_6r
