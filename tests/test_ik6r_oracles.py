@@ -217,3 +217,34 @@ def test_general_6r_random_table_against_multistart_lm(seed, convention):
     robot = rtb_twin(arm)
     q = rng.uniform(-pi, pi, 6)
     check_against_lm(arm, np.ones(6), robot, q, rng)
+
+
+def test_jaco_near_its_elbow_fold_holds_every_precise_lm_solution():
+    """1e-2 rad from a fold of the elbow (found by golden-section search on the smallest
+    singular value of roboticstoolbox's Jacobian), ik_LM converges slowly; each of its
+    answers that reaches the pose to 1e-9 (by roboticstoolbox's FK) is one of rikin's."""
+    robot = rtb.models.DH.Jaco()
+    arm, sign = from_rtb(robot)
+    q = np.random.default_rng(0).uniform(-pi, pi, 6)
+
+    def smallest(v):
+        qq = q.copy()
+        qq[2] = v
+        s = np.linalg.svd(robot.jacob0(qq * sign), compute_uv=False)
+        return s[-1] / s[0]
+
+    lo, hi = -3.13, -3.10
+    for _ in range(60):
+        m1, m2 = lo + 0.382 * (hi - lo), lo + 0.618 * (hi - lo)
+        lo, hi = (lo, m2) if smallest(m1) < smallest(m2) else (m1, hi)
+    assert smallest(lo) < 1e-6  # a fold
+    q[2] = lo + 1e-2
+    T = arm.fk(q)
+    ours = arm.ik(T).q * sign
+    assert_fk_checked(arm, ours, T, lambda x: robot.fkine(x).A)
+    assert np.abs(wrap(ours - q * sign)).max(1).min() <= SAME_Q
+    theirs = lm_solutions(robot, T, np.random.default_rng(1))
+    precise = [t for t in theirs if np.abs(robot.fkine(t).A - T).max() <= 1e-9]
+    assert precise
+    gap = np.abs(wrap(np.array(precise)[:, None] - ours[None])).max(-1)
+    assert (gap.min(1) <= LM_SAME_Q).all()
