@@ -186,3 +186,24 @@ def test_ur5e_batch_flags_singular_poses_and_holds_their_solutions():
         got = batch.q[n][batch.valid[n]]
         assert_reaches(arm, got, T)
         assert np.abs(wrap(got - Q[n])).max(1).min() <= SAME_Q or n in (1, 3)
+
+
+def test_ur5e_on_and_near_the_wrist_singularity_every_pose_solved():
+    """q5 = 0 or pi, and 1e-9..1e-6 rad off: the pose is reached, and the generating q is
+    among the solutions (on the singularity: one with its q1 and q5, as q6 is free there).
+    A free joint 6 must be one joints 2-4 can follow, and 1e-7 off the singularity joint 6
+    is not free (both refused such poses as unreachable)."""
+    arm = ur5e()
+    rng = np.random.default_rng(4)
+    for k in range(120):
+        q = rng.uniform(-pi, pi, 6)
+        q[4] = rng.choice([0.0, pi]) + (0.0 if k % 3 == 0 else rng.choice([-1, 1])
+                                        * 10.0 ** rng.uniform(-9, -6))
+        T = arm.fk(q)
+        res = arm.ik(T)
+        assert_reaches(arm, res.q, T)
+        gap = np.abs(wrap(res.q - q))
+        if res.singular and "wrist" in res.singularity:
+            assert gap[:, [0, 4]].max(1).min() <= SAME_Q
+        else:
+            assert gap.max(1).min() <= SAME_Q

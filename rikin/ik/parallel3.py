@@ -35,8 +35,10 @@ from ..errors import InputError
 from ..tolerances import SINGULAR_TOL
 from .base import RawSolutions, Singularity, TargetKind
 from .kernels import wrap_in_place
+from .parallel3_kernel import ParallelKernel, single_kernel
 from .pieper import (
     ACCEPT_TOL,
+    DIRECTION_FLOOR,
     GEOMETRY_TOL,
     ChainModel,
     ChainPolish,
@@ -167,6 +169,13 @@ class ParallelAxesSolver(ChainPolish):
         self.rank1 = bool(sv[1] <= GEOMETRY_TOL * sv[0])
         self.lam = U[:, 1]  # lam . K = 0 where K has rank 1
         self.row = int(np.argmax(np.abs(K).sum(axis=1)))
+        #: (A) alone fixes joint 5 as ``cos(th5 - phi) = n . z6`` (a UR: axes 5 and 6 at
+        #: right angles, joint 5 tilting axis 6 off the parallel axes by th5 itself). Then
+        #: th5 - phi is the angle between n and axis 6, read as atan2 of its sine and
+        #: cosine: acos of the cosine alone loses half the digits where it is near 0 or pi
+        #: (at the wrist singularity), and joint 6, read from that tilt, all of them.
+        self.tilt_row = bool(self.rank1 and self.row == 0 and abs(c0[0]) <= 1e-15
+                             and abs(math.hypot(*K[0]) - 1.0) <= 1e-15)
         self.K_inv: Any = np.zeros((2, 2)) if self.rank1 else np.linalg.inv(K)
         self.gamma2 = math.atan2(M[2, 1, 0], M[2, 0, 0])
         self.a = M[2, :2, 3].copy()
@@ -210,6 +219,12 @@ class ParallelAxesSolver(ChainPolish):
             val = side[:, None, 0] + side[:, None, 1] * np.cos(t1) + side[:, None, 2] * np.sin(t1)
             kc, ks = self.K[self.row]
             yp, ym, ok5, _ = _solve_sinusoid(np.full_like(val, kc), np.full_like(val, ks), val)
+            if self.tilt_row:  # (A) is cos(th5 - phi) = n . z6: the angle from both parts
+                n = _rz4(t1)[..., :3, :3] @ self.u  # (N, 2, 3)
+                a = np.einsum("nji,nmj->nmi", W[:, :3, :3], n)  # R_W^T n
+                half = np.arctan2(np.hypot(a[..., 0], a[..., 1]), a[..., 2])
+                phi = math.atan2(ks, kc)
+                yp, ym, ok5 = phi + half, phi - half, np.ones_like(ok5)
             th1 = np.repeat(t1, 2, axis=1)
             th5 = np.stack([yp, ym], axis=2).reshape(N, 4)
             ok = np.repeat(ok1[:, None], 4, axis=1) & np.repeat(ok5, 2, axis=1)
@@ -224,25 +239,56 @@ class ParallelAxesSolver(ChainPolish):
         return th1, th5, real, np.zeros(N, dtype=bool)
 
     # -------------------------------------------------------------- the rest
-    def _joint6(self, W: FloatArray, th1: FloatArray, th5: FloatArray, h6: float
-                ) -> tuple[FloatArray, np.ndarray]:
-        """``th6 (N, 4)`` turning axis 2's direction into place, and where it is free."""
+    def _joint6(self, W: FloatArray, th1: FloatArray, th5: FloatArray, h6: float,
+                hinted: bool = False) -> tuple[FloatArray, np.ndarray, np.ndarray]:
+        """``th6 (N, 4)`` turning axis 2's direction into place, where it is free (taken
+        from ``h6``), and where the wrist is flagged singular.
+
+        With axis 6 within ``1e3 * SINGULAR_TOL`` of the parallel axes' direction the pose
+        is flagged; joint 6 is taken as free only within ``SINGULAR_TOL`` of it when the
+        caller gave a hint, else within ``DIRECTION_FLOOR`` (rounding): 1e-7 off it, joint 6
+        is still fixed by the pose to 1e-9 rad, and any other value moves what joints 2-4
+        must reach (a pose 1e-7 rad off the singularity was refused as unreachable)."""
         n = _rz4(th1)[..., :3, :3] @ self.u  # (N, 4, 3)
         a = np.einsum("nji,nmj->nmi", W[:, :3, :3], n)  # R_W^T n
         r = self.model.M[4, 2, :3]
         R5t = self.model.M[5, :3, :3].T
         turned = np.swapaxes(_rz4(th5)[..., :3, :3], -1, -2) @ r
         b = self.sigma * (R5t @ turned[..., None])[..., 0]
-        free = np.hypot(a[..., 0], a[..., 1]) <= 1e3 * SINGULAR_TOL
+        off_axis = np.hypot(a[..., 0], a[..., 1])
+        free = off_axis <= (SINGULAR_TOL if hinted else DIRECTION_FLOOR)
         th6 = np.arctan2(b[..., 1], b[..., 0]) - np.arctan2(a[..., 1], a[..., 0])
-        return np.where(free, h6, th6), free
+        return np.where(free, h6, th6), free, off_axis <= 1e3 * SINGULAR_TOL
+
+    def _reachable_th6(self, W: FloatArray, th1: FloatArray, th5: FloatArray,
+                       th6: FloatArray) -> FloatArray:
+        """A free joint 6 ``(N, 4)`` that joints 2-4 can follow: nearest ``th6`` among those
+        that put axis 4 at the middle of their reach (or as near it as any does).
+
+        At the wrist singularity axes 2-4 and 6 are parallel and joint 6 swings the point
+        joints 2-4 must reach around a circle in their plane: a value the hint (or 0)
+        gives may leave it out of their reach while others do not."""
+        f = [(self._V(W, th1, th5, np.full_like(th1, t))[..., :2, 3] ** 2).sum(-1)
+             for t in (0.0, np.pi / 2, np.pi)]  # |P|^2 = k0 + kc cos th6 + ks sin th6
+        k0 = (f[0] + f[2]) / 2
+        kc, ks = (f[0] - f[2]) / 2, f[1] - k0
+        mid = self.a @ self.a + self.b @ self.b
+        xp, xm, ok, _ = _solve_sinusoid(kc, ks, np.broadcast_to(mid - k0, kc.shape))
+        nearer = np.abs(wrap_in_place(xp - th6)) <= np.abs(wrap_in_place(xm - th6))
+        phi = np.arctan2(ks, kc)
+        return np.where(ok, np.where(nearer, xp, xm), np.where(mid > k0, phi, phi + np.pi))
+
+    def _V(self, W: FloatArray, th1: FloatArray, th5: FloatArray, th6: FloatArray
+           ) -> FloatArray:
+        """``V = Rz(th2) M2 Rz(th3) M3 Rz(th4) (N, 4, 4, 4)``, what joints 2-4 must make."""
+        return (self.M1_inv @ _rz4(-th1) @ W[:, None] @ _rz4(-th6) @ self.M5_inv @ _rz4(-th5)
+                @ self.M4_inv)
 
     def _planar(self, W: FloatArray, th1: FloatArray, th5: FloatArray, th6: FloatArray
                 ) -> tuple[FloatArray, np.ndarray, np.ndarray]:
         """Joints 2-4 ``(N, 4, 2, 3)`` (two elbows), which exist, and the stretched ones."""
         M = self.model.M
-        V = (self.M1_inv @ _rz4(-th1) @ W[:, None] @ _rz4(-th6) @ self.M5_inv @ _rz4(-th5)
-             @ self.M4_inv)  # (N, 4, 4, 4) = Rz(th2) M2 Rz(th3) M3 Rz(th4)
+        V = self._V(W, th1, th5, th6)
         P = V[..., :2, 3]
         a, b = self.a, self.b
         rhs = ((P * P).sum(-1) - a @ a - b @ b) / 2
@@ -262,21 +308,27 @@ class ParallelAxesSolver(ChainPolish):
         return np.stack([th2, th3, th4], axis=-1), ok, stretched
 
     def _closed_form(
-        self, W: FloatArray, h1: float, h6: float
+        self, W: FloatArray, h1: float, h6: float, hinted: bool = False
     ) -> tuple[FloatArray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Every closed-form solution ``th (N, 8, 6)`` of ``W (N, 4, 4)``, which exist, and
         the singular masks (shoulder per pose, elbow and wrist per slot)."""
         N = W.shape[0]
         th1, th5, ok15, free1 = self._joints_1_5(W, h1)
-        th6, free6 = self._joint6(W, th1, th5, h6)
+        th6, free6, flag6 = self._joint6(W, th1, th5, h6, hinted)
         th234, ok234, stretched = self._planar(W, th1, th5, th6)
+        # joint 6 free (or nearly, where rounding picks it) that joints 2-4 cannot follow;
+        # the polish and the FK check then say whether the slot holds a solution
+        redo = flag6 & ok15 & ~ok234
+        if redo.any():
+            th6 = np.where(redo, self._reachable_th6(W, th1, th5, th6), th6)
+            th234, ok234, stretched = self._planar(W, th1, th5, th6)
         th = np.empty((N, 4, 2, 6))
         th[..., 0] = th1[..., None]
         th[..., 1:4] = th234
         th[..., 4] = th5[..., None]
         th[..., 5] = th6[..., None]
         valid = np.repeat((ok15 & ok234)[..., None], 2, axis=-1)
-        wrist = np.repeat(free6, 2, axis=1)
+        wrist = np.repeat(flag6, 2, axis=1)
         return (th.reshape(N, 8, 6), valid.reshape(N, 8), free1,
                 np.repeat(stretched, 2, axis=1), wrist)
 
@@ -288,22 +340,23 @@ class ParallelAxesSolver(ChainPolish):
             T = np.linalg.inv(T)
         return self.M0_inv @ T @ self.M6_inv
 
-    def _hints(self, hint: FloatArray | None) -> tuple[float, float]:
-        """The values of the chain's joints 1 and 6 (th) to take where they are free."""
+    def _hints(self, hint: FloatArray | None) -> tuple[float, float, bool]:
+        """The values of the chain's joints 1 and 6 (th) to take where they are free, and
+        whether the caller gave them."""
         if hint is None:
-            return 0.0, 0.0
+            return 0.0, 0.0, False
         th = np.asarray(hint, dtype=float) + self.offsets
         if self.reverse:
             th = th[::-1]
-        return float(th[0]), float(th[5])
+        return float(th[0]), float(th[5]), True
 
     def solve(
         self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None, labels: bool = True
     ) -> RawSolutions:
         """All solutions of N flange poses ``T_0_n (N, 4, 4)``; 8 slots."""
         W = self._to_chain(T_0_n)
-        h1, h6 = self._hints(hint)
-        th, valid, shoulder, elbow, wrist = self._closed_form(W, h1, h6)
+        h1, h6, hinted = self._hints(hint)
+        th, valid, shoulder, elbow, wrist = self._closed_form(W, h1, h6, hinted)
         goal = self.model.M[0] @ W @ self.model.M[6]  # the chain's own flange pose
         goal = np.broadcast_to(goal[:, None], th.shape[:-1] + (4, 4))
         th = np.where(valid[..., None], th, 0.0)
@@ -326,6 +379,11 @@ class ParallelAxesSolver(ChainPolish):
                 "wrist": wrist & valid,
             },
         )
+
+    def single_kernel(self, arm: SerialArm) -> ParallelKernel | None:
+        """The plain-float kernel for one regular pose (:mod:`rikin.ik.parallel3_kernel`),
+        or None; :func:`rikin.ik.api.solve` looks it up once per arm."""
+        return single_kernel(self, arm)
 
     def batch_kernel(self, arm: SerialArm) -> ParallelBatchKernel:
         """The batch path's kernel (:func:`rikin.ik.api.solve_batch` looks it up)."""
@@ -355,7 +413,7 @@ class ParallelAxesSolver(ChainPolish):
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         """Why one flange pose has no solution, and by how much (length units, or nan)."""
         W = self._to_chain(T_0_n[None])
-        h1, h6 = self._hints(None)
+        h1, h6, _ = self._hints(None)
         th1, th5, ok15, _ = self._joints_1_5(W, h1)
         if not ok15.any():
             return (
@@ -363,9 +421,8 @@ class ParallelAxesSolver(ChainPolish):
                 "tilt against the parallel axes and its offset along them do not fit",
                 float("nan"),
             )
-        th6, _ = self._joint6(W, th1, th5, h6)
-        V = (self.M1_inv @ _rz4(-th1) @ W[:, None] @ _rz4(-th6) @ self.M5_inv @ _rz4(-th5)
-             @ self.M4_inv)
+        th6 = self._joint6(W, th1, th5, h6)[0]
+        V = self._V(W, th1, th5, th6)
         dist = np.linalg.norm(V[..., :2, 3], axis=-1)[ok15]
         la, lb = float(np.linalg.norm(self.a)), float(np.linalg.norm(self.b))
         gap = np.maximum(dist - (la + lb), abs(la - lb) - dist)
