@@ -213,3 +213,86 @@ def test_offset_wrist_has_no_kernel_and_is_solved():
         res = arm.ik(T)
         assert_all_reach(arm, res, T)
         assert np.abs(rikin.wrap_angle(res.q - q)).max(axis=1).min() < 1e-6
+
+
+# ------------------------------------------------------------------ the batch on arrays
+def batch_poses(arm, rng, n):
+    """FK of random joints, and of joints 1e-9..1e-3 rad from q5 = 0 (wrist), q3 = 0
+    (stretched) and exactly on them."""
+    q = rng.uniform(-pi, pi, (4 * n, 6))
+    eps = 10.0 ** rng.uniform(-9, -3, 3 * n) * rng.choice([-1, 1], 3 * n)
+    eps[::5] = 0.0
+    q[n:2 * n, 4], q[2 * n:3 * n, 2] = eps[:n], eps[n:2 * n]
+    q[3 * n:, 2], q[3 * n:, 4] = eps[2 * n:], -eps[2 * n:]
+    return arm.fk(q)
+
+
+def assert_batch_fast_equals_closed_form(arm, Ts):
+    """The array kernel's slots equal the closed form's (the numpy path it replaces) on
+    every pose neither calls suspect, to 1e-9 rad or what the pose fixes (``same_q_bound``:
+    1e-4 rad from two singularities at once, neither path's unpolished joints are better
+    than 1e-8); what the old path flags, the kernel does."""
+    kernel = families6r.solver_for(arm).batch_kernel(arm)
+    assert kernel.fast is not None
+    X = np.ascontiguousarray(Ts.transpose(1, 2, 0))
+    q, valid, suspect = kernel.solve(X)
+    kernel.fast = None
+    q0, valid0, suspect0 = kernel.solve(X)
+    assert not (suspect0 & ~suspect).any()  # wider margins: what the old path flags, too
+    keep = ~suspect
+    assert np.array_equal(valid[:, keep], valid0[:, keep])
+    for n in np.flatnonzero(keep):
+        ok = valid[:, n]
+        assert np.isnan(q[~ok, :, n]).all()
+        gap = np.abs(rikin.wrap_angle(q[ok, :, n] - q0[ok, :, n]))
+        assert gap.max(initial=0.0) <= same_q_bound(arm, q0[ok, :, n])
+    return int(keep.sum())
+
+
+@pytest.mark.parametrize("make", UR_ARMS)
+def test_ur_batch_on_arrays_equals_closed_form_and_general_path(make):
+    arm = make()
+    rng = np.random.default_rng(31)
+    Ts = batch_poses(arm, rng, 60)
+    assert assert_batch_fast_equals_closed_form(arm, Ts) >= 60
+    batch = arm.ik_batch(Ts, workers=2)
+    for n, T in enumerate(Ts):
+        got = batch.q[n][batch.valid[n]]
+        F = arm.fk(got)  # every slot by FK, independently of the kernel's own check
+        assert np.abs(F[:, :3, 3] - T[:3, 3]).max() <= 1e-9 * arm.scale
+        assert np.abs(F[:, :3, :3] - T[:3, :3]).max() <= 1e-9
+        if batch.singular[n]:
+            continue
+        ref = arm.ik(T.tolist()).q  # the general path: polished, de-duplicated
+        gap = np.abs(rikin.wrap_angle(got[:, None] - ref[None])).max(-1)
+        bound = same_q_bound(arm, ref)
+        assert gap.min(1).max() <= bound and gap.min(0).max() <= bound
+
+
+@pytest.mark.parametrize("make", RANDOM_ARMS)
+def test_random_plane_wrist_tables_batch_on_arrays(make):
+    arm = make()
+    rng = np.random.default_rng(32)
+    Ts = batch_poses(arm, rng, 20)
+    assert assert_batch_fast_equals_closed_form(arm, Ts) >= 20
+    batch = arm.ik_batch(Ts)
+    for n, T in enumerate(Ts):
+        F = arm.fk(batch.q[n][batch.valid[n]])
+        assert np.abs(F[:, :3, 3] - T[:3, 3]).max(initial=0.0) <= 1e-9 * arm.scale
+        assert np.abs(F[:, :3, :3] - T[:3, :3]).max(initial=0.0) <= 1e-9
+
+
+def test_batch_on_arrays_sends_bad_rows_to_the_general_path():
+    """An unreachable pose and exact singular poses in a batch: no slot of the first,
+    every slot of the others reaches its pose and they are flagged singular."""
+    arm = ur5e()
+    q = np.array([[0.3, -1.0, 1.2, 0.4, 0.0, 0.5], [0.3, -1.0, 0.0, 0.4, 1.1, 0.5],
+                  [0.3, -1.0, 1.2, 0.4, 1.1, 0.5]])
+    Ts = arm.fk(q)
+    Ts[2, 0, 3] += 3.0
+    batch = arm.ik_batch(Ts)
+    assert not batch.valid[2].any() and np.isnan(batch.q[2]).all()
+    assert batch.singular[:2].all()
+    for n in range(2):
+        F = arm.fk(batch.q[n][batch.valid[n]])
+        assert np.abs(F[:, :3, 3] - Ts[n, :3, 3]).max() <= 1e-9 * arm.scale

@@ -35,7 +35,7 @@ from ..errors import InputError
 from ..tolerances import SINGULAR_TOL
 from .base import RawSolutions, Singularity, TargetKind
 from .kernels import wrap_in_place
-from .parallel3_kernel import ParallelKernel, single_kernel
+from .parallel3_kernel import ParallelKernel, single_kernel, solve_batch
 from .pieper import (
     ACCEPT_TOL,
     DIRECTION_FLOOR,
@@ -445,10 +445,14 @@ class ParallelBatchKernel:
         self.slots = solver.slots
         self.base_inv = np.linalg.inv(arm.base)
         self.tool_inv = np.linalg.inv(arm.tool)
+        #: the plain-float kernel's closed form on arrays, for the arms it takes
+        self.fast = single_kernel(solver, arm)
 
     def solve(self, X: FloatArray) -> tuple[FloatArray, np.ndarray, np.ndarray]:
         """Poses ``X (4, 4, n)`` (world frame) -> ``q (8, 6, n)`` wrapped (NaN where no
         solution), ``valid (8, n)`` and ``suspect (n,)``."""
+        if self.fast is not None:
+            return solve_batch(self.fast, X)
         sv = self.solver
         T = self.base_inv @ X.transpose(2, 0, 1) @ self.tool_inv
         W = sv._to_chain(T)

@@ -36,12 +36,14 @@ value near +-pi, or nothing reachable. The margins are :mod:`rikin.ik.pieper_ker
 from __future__ import annotations
 
 from math import acos, atan2, cos, hypot, pi, remainder, sin, sqrt
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from ..tolerances import REACH_TOL
 from ..transforms import _inv_transform
+from .kernels import wrap_in_place
+from .pieper import ACCEPT_TOL
 from .pieper_kernel import LABEL, NEAR_AXIS1, WRAP_EDGE
 from .result import Branch
 
@@ -49,7 +51,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
     from .parallel3 import ParallelAxesSolver
 
-__all__ = ["ParallelKernel", "single_kernel"]
+__all__ = ["ParallelKernel", "single_kernel", "solve_batch"]
 
 #: ``M2``, ``M3`` that turn z into +-z to within this are taken as exactly that (a DH twist
 #: of 0 or pi as typed: its sine rounds to 1.2e-16); else no kernel, as joint 4 is read off
@@ -164,6 +166,8 @@ class ParallelKernel:
         self.gamma2 = gamma2
         self.up = (float(up[0]), float(up[1]))
         self.offsets = tuple(float(o) for o in sv.offsets)
+        self.M = [_affine(M[k]) for k in range(7)]  # the batch's FK check
+        self.wrist_offset = self.offsets[1] if sv.reverse else self.offsets[4]
         #: ``labels[front][elbow up][sin(q of the wrist's middle joint) >= 0]``
         self.labels = [
             [[Branch("front" if f else "back", "up" if u_ else "down",
@@ -329,7 +333,7 @@ class ParallelKernel:
         return True
 
 
-def _mul(a: tuple[float, ...], b: tuple[float, ...]) -> tuple[float, ...]:
+def _mul(a: tuple[Any, ...], b: tuple[Any, ...]) -> tuple[Any, ...]:
     """The product of two affine maps given as their top three rows (12 floats each)."""
     a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = a
     b00, b01, b02, b03, b10, b11, b12, b13, b20, b21, b22, b23 = b
@@ -339,3 +343,187 @@ def _mul(a: tuple[float, ...], b: tuple[float, ...]) -> tuple[float, ...]:
             a10 * b02 + a11 * b12 + a12 * b22, a10 * b03 + a11 * b13 + a12 * b23 + a13,
             a20 * b00 + a21 * b10 + a22 * b20, a20 * b01 + a21 * b11 + a22 * b21,
             a20 * b02 + a21 * b12 + a22 * b22, a20 * b03 + a21 * b13 + a22 * b23 + a23)
+
+
+# ------------------------------------------------------------------------- many poses
+# The same closed form on stacks: every scalar above becomes an array over the poses (last
+# axis), joint 1's roots an axis of 2, joint 5's a second, the elbows a third (the slots in
+# the general solver's order), and "decline" a pose's ``suspect`` flag.
+
+def solve_batch(k: ParallelKernel, X: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The kernel's closed form for poses ``X (4, 4, n)`` (world frame, checked rigid).
+
+    Returns ``q (8, 6, n)`` wrapped (NaN where no solution), ``valid (8, n)`` and
+    ``suspect (n,)``: poses the one-pose kernel would decline (a margin of the module
+    docstring) or with a slot whose FK misses its pose by more than ``ACCEPT_TOL``; the
+    caller solves those on the general path.
+    """
+    n = X.shape[-1]
+    with np.errstate(all="ignore"):  # NaN and inf end up in suspect
+        W = _batch_chain(k, X)
+        th1, side, suspect = _batch_joint1(k, W)
+        th, valid, bad = _batch_rest(k, W, th1, side)
+        err = _batch_fk_error(k, W, th)
+        suspect = suspect | bad | (valid & ~(err <= ACCEPT_TOL)).any(axis=(0, 1, 2))
+        full = (2, 2, 2, n)
+        th = [np.broadcast_to(t, full).reshape(8, n) for t in th]
+        valid = np.broadcast_to(valid, full).reshape(8, n)
+    if k.reverse:
+        th = th[::-1]
+    q = np.stack(th, axis=1) - np.array(k.offsets)[:, None]  # (8, 6, n)
+    q = wrap_in_place(q)
+    q[np.broadcast_to(~valid[:, None], q.shape)] = np.nan
+    return q, valid, suspect
+
+
+def _batch_chain(k: ParallelKernel, X: np.ndarray) -> tuple[np.ndarray, ...]:
+    """``W`` of the poses ``X (4, 4, n)``: its top three rows, 12 arrays ``(n,)``."""
+    x00, x01, x02, x03, x10, x11, x12, x13, x20, x21, x22, x23 = X[:3].reshape(12, -1)
+    if k.reverse:  # the rigid inverse
+        x01, x02, x10, x12, x20, x21 = x10, x20, x01, x21, x02, x12
+        x03, x13, x23 = (-(x00 * x03 + x01 * x13 + x02 * x23),
+                         -(x10 * x03 + x11 * x13 + x12 * x23),
+                         -(x20 * x03 + x21 * x13 + x22 * x23))
+    x = (x00, x01, x02, x03, x10, x11, x12, x13, x20, x21, x22, x23)
+    return _mul(k.A, _mul_const(x, k.B))
+
+
+def _batch_joint1(k: ParallelKernel, W: tuple[np.ndarray, ...]
+                  ) -> tuple[np.ndarray, tuple[np.ndarray, ...], np.ndarray]:
+    """Joint 1's two roots ``(2, n)``, the sinusoid (A) or (B) that gives joint 5, and the
+    poses with joint 1 near free or its roots near each other (or none)."""
+    _, _, w02, w03, _, _, w12, w13, _, _, w22, w23 = W
+    u0, u1, u2 = k.u
+    c0a, c0b = k.c0
+    A0, Ac, As = u2 * w22 - c0a, u0 * w02 + u1 * w12, u0 * w12 - u1 * w02
+    B0, Bc, Bs = u2 * w23 - c0b, u0 * w03 + u1 * w13, u0 * w13 - u1 * w03
+    la, lb = k.lam
+    e0, ec, es = la * A0 + lb * B0, la * Ac + lb * Bc, la * As + lb * Bs
+    rho1 = np.hypot(ec, es)
+    ratio = -e0 / rho1
+    suspect = ~(rho1 >= NEAR_AXIS1 * (1.0 + np.abs(e0))) | ~(np.abs(ratio) <= 1.0 - EDGE)
+    phi1, d1 = np.arctan2(es, ec), np.arccos(np.clip(ratio, -1.0, 1.0))
+    side = (A0, Ac, As) if k.row == 0 else (B0, Bc, Bs)
+    return np.stack([phi1 + d1, phi1 - d1]), side, suspect
+
+
+def _batch_rest(k: ParallelKernel, W: tuple[np.ndarray, ...], th1: np.ndarray,
+                side: tuple[np.ndarray, ...]) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
+    """Joints 1-6 (broadcasting to ``(2, 2, 2, n)``: joint 1's root, joint 5's, the elbow),
+    which slots exist, and the poses :meth:`ParallelKernel._shoulder` would decline."""
+    w00, w01, w02, w03, w10, w11, w12, w13, w20, w21, w22, w23 = W
+    c1, s1 = np.cos(th1), np.sin(th1)  # (2, n)
+    u0, u1, u2 = k.u
+    nx, ny = c1 * u0 - s1 * u1, s1 * u0 + c1 * u1
+    ax, ay = w00 * nx + w10 * ny + w20 * u2, w01 * nx + w11 * ny + w21 * u2
+    na = np.hypot(ax, ay)
+    bad = ~(na >= NEAR_AXIS1)  # no labels here: only the margins of singularities
+    if k.tilt_row:
+        d5 = np.arctan2(na, w02 * nx + w12 * ny + w22 * u2)
+        ok5 = np.ones_like(bad)
+    else:
+        ratio = (side[0] + side[1] * c1 + side[2] * s1) / k.rho5
+        ok5 = np.abs(ratio) <= 1.0 + OUT
+        bad |= ok5 & ~(np.abs(ratio) <= 1.0 - EDGE)
+        d5 = np.arccos(np.clip(ratio, -1.0, 1.0))
+    th5 = k.phi5 + np.stack([d5, -d5], axis=1)  # (2, 2, n)
+    (r0, r1, r2), (m0, m1, m2) = k.R1cols
+    za = (c1 * r0 - s1 * r1, s1 * r0 + c1 * r1, r2)
+    zb = (c1 * m0 - s1 * m1, s1 * m0 + c1 * m1, m2)
+    # Z W (2 x 3) and Z W_p - (R1^T t1)[:2], each (2, 1, n)
+    g = [(z[0] * wa + z[1] * wb + z[2] * wc)[:, None] for z in (za, zb)
+         for wa, wb, wc in ((w00, w10, w20), (w01, w11, w21), (w02, w12, w22))]
+    zp = [(z[0] * w03 + z[1] * w13 + z[2] * w23 - t)[:, None] for z, t in
+          zip((za, zb), k.R1t1, strict=True)]
+    c5, s5 = np.cos(th5), np.sin(th5)
+    b0x, b0y, bcx, bcy, bsx, bsy = k.b
+    bx, by = b0x + c5 * bcx + s5 * bsx, b0y + c5 * bcy + s5 * bsy
+    ax, ay = ax[:, None], ay[:, None]
+    dot, cross = ax * bx + ay * by, ax * by - ay * bx
+    th6 = np.arctan2(cross, dot)
+    h = np.hypot(dot, cross)
+    c6, s6 = dot / h, cross / h
+
+    def in_frame2(v: tuple[tuple[float, ...], ...]) -> tuple[np.ndarray, np.ndarray]:
+        """``V``'s vector ``v0 + c5 vc + s5 vs`` turned by joint 6, in frame 2 (xy)."""
+        (p0x, p0y, p0z), (pcx, pcy, pcz), (psx, psy, psz) = v
+        x, y = p0x + c5 * pcx + s5 * psx, p0y + c5 * pcy + s5 * psy
+        z = p0z + c5 * pcz + s5 * psz
+        x, y = c6 * x + s6 * y, c6 * y - s6 * x
+        return g[0] * x + g[1] * y + g[2] * z, g[3] * x + g[4] * y + g[5] * z
+
+    Px, Py = in_frame2(k.vp)
+    Px, Py = Px + zp[0], Py + zp[1]
+    dx, dy = in_frame2(k.vd)
+    th234, valid, bad_p = _batch_planar(k, th5, Px, Py, np.arctan2(dy, dx), ok5[:, None])
+    return [th1[:, None, None], *th234, th5[:, :, None], th6[:, :, None]], valid, \
+        bad.any(axis=0) | bad_p
+
+
+def _batch_planar(k: ParallelKernel, th5: np.ndarray, Px: np.ndarray, Py: np.ndarray,
+                  phi_v: np.ndarray, ok5: np.ndarray
+                  ) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
+    """Joints 2-4 ``(2, 2, 2, n)`` (the elbows last but one) of :meth:`ParallelKernel._planar`,
+    which slots exist, and the poses with an elbow near stretched or folded."""
+    P2 = Px * Px + Py * Py
+    ratio = (P2 - k.aabb) / 2.0 / k.rho_ab
+    okp = ok5 & (np.abs(ratio) <= 1.0 + OUT)
+    bad = (okp & ~(np.abs(ratio) <= 1.0 - EDGE)).any(axis=(0, 1))
+    dpsi = np.arccos(np.clip(ratio, -1.0, 1.0))
+    psi = k.phi_ab + np.stack([dpsi, -dpsi], axis=2)  # (2, 2, 2, n)
+    a0, a1 = k.a
+    b0, b1 = k.bp
+    cp, sp = np.cos(psi), np.sin(psi)
+    ex, ey = a0 + cp * b0 - sp * b1, a1 + sp * b0 + cp * b1
+    Px, Py = Px[:, :, None], Py[:, :, None]
+    th2 = np.arctan2(ex * Py - ey * Px, Px * ex + Py * ey)
+    th3 = k.s2 * (psi - k.gamma2)
+    th4 = k.sig * (phi_v[:, :, None] - th2 - k.s2 * th3 - k.g4)
+    return [th2, th3, th4], np.repeat(okp[:, :, None], 2, axis=2), bad
+
+
+def _batch_fk_error(k: ParallelKernel, W: tuple[np.ndarray, ...], th: list[np.ndarray]
+                    ) -> np.ndarray:
+    """``max(|p - p_goal| / scale, max |R - R_goal|)`` ``(2, 2, 2, n)`` of the chain's
+    joints ``th`` (6 arrays broadcasting to that shape) against ``W``, both between ``M0``
+    and ``M6`` (the general batch kernel's check). Joints 1, 5 and 6 have fewer distinct
+    values than slots: the chain's two ends are multiplied out on their own shapes."""
+    c = [np.cos(t) for t in th]
+    s = [np.sin(t) for t in th]
+    M = k.M
+    head = _mul_const(_turn(M[0], c[0], s[0]), M[1])  # (2, 1, 1, n)
+    tail = _mul_const(_turn(_mul_const(_turn(M[4], c[4], s[4]), M[5]), c[5], s[5]), M[6])
+    T = _turn(_mul_const(_turn(_mul_const(_turn(head, c[1], s[1]), M[2]), c[2], s[2]), M[3]),
+              c[3], s[3])
+    T = _mul(T, tail)
+    goal = _mul_const(_mul(M[0], W), M[6])
+    dp = [T[i] - goal[i] for i in (3, 7, 11)]
+    pos = np.sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]) / k.L
+    rot = np.abs(T[0] - goal[0])
+    for i in (1, 2, 4, 5, 6, 8, 9, 10):
+        rot = np.maximum(rot, np.abs(T[i] - goal[i]))
+    return np.maximum(pos, rot)
+
+
+def _turn(T: tuple[Any, ...], c: np.ndarray, s: np.ndarray) -> tuple[Any, ...]:
+    """``T Rz(t)`` of an affine map given as 12 entries, with ``c, s`` the cosine and sine."""
+    out = list(T)
+    for r in (0, 4, 8):
+        x, y = T[r], T[r + 1]
+        out[r], out[r + 1] = x * c + y * s, y * c - x * s
+    return tuple(out)
+
+
+def _mul_const(a: tuple[Any, ...], b: tuple[float, ...]) -> tuple[Any, ...]:
+    """``a b`` for a constant affine map ``b`` (12 floats), skipping its zero and unit
+    entries (a DH table's matrices are mostly 0 and 1)."""
+    out: list[Any] = []
+    for i in (0, 4, 8):
+        for j in range(4):
+            acc: Any = a[i + 3] if j == 3 else 0.0
+            for m in range(3):
+                v = b[4 * m + j]
+                if v != 0.0:
+                    acc = acc + (a[i + m] if v == 1.0 else a[i + m] * v)
+            out.append(acc)
+    return tuple(out)
