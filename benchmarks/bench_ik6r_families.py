@@ -12,10 +12,14 @@ the machine's load hits all sides alike):
 * ``batch``: rikin ``arm.ik_batch(Ts, workers=2)`` of all poses (2 threads);
 * ``eaik``: EAIK's ``DhRobot.IK(T)`` one pose at a time (C++; arms it decomposes only);
 * ``eaik/ik``, ``eaik/batch``: EAIK's time over rikin's (1 = as fast as EAIK);
-* ``x sph``: this arm's ``arm.ik`` time over the Puma's (the general 6R's goal: <= 10).
+* ``x sph``: this arm's ``arm.ik`` time over the Puma's (the general 6R's goal: <= 10);
+* with ``--baseline CHECKOUT``: the same two times of the rikin in another checkout (run in
+  a subprocess, in turn with this one, round by round), and ``base/ik``, ``base/batch``: its
+  times over this checkout's (2 = this one twice as fast).
 
     python benchmarks/bench_ik6r_families.py             # 300 poses per arm
     python benchmarks/bench_ik6r_families.py --poses 30  # a smoke run
+    python benchmarks/bench_ik6r_families.py --baseline /work/main  # against main
 
 EAIK (``pip install eaik``) is in requirements.txt; without it its columns are blank.
 """
@@ -23,6 +27,10 @@ EAIK (``pip install eaik``) is in requirements.txt; without it its columns are b
 from __future__ import annotations
 
 import argparse
+import json
+import os
+import subprocess
+import sys
 import time
 
 import numpy as np
@@ -82,36 +90,90 @@ def per_pose(fn, Ts: np.ndarray) -> float:
     return (time.perf_counter() - start) / len(Ts)
 
 
-def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--poses", type=int, default=300, help="random poses per arm")
-    ap.add_argument("--rounds", type=int, default=3, help="alternating timing rounds")
-    args = ap.parse_args()
+def timings(poses: int, rounds: int) -> list[dict]:
+    """Per arm: its name, family, and the best of ``rounds`` of ``ik``, ``batch`` and
+    ``eaik`` (seconds per pose; eaik None where EAIK has no solver for the arm)."""
     rng = np.random.default_rng(2026)
-    head = f"{'arm':12} {'family':28} {'ik':>9} {'batch':>8} {'eaik':>7} {'eaik/ik':>8} " \
-           f"{'eaik/batch':>10} {'x sph':>6}"
-    print(head)
-    sph = None
+    out = []
     for arm in arms():
-        Ts = arm.fk(rng.uniform(-pi, pi, size=(args.poses, 6)))
+        Ts = arm.fk(rng.uniform(-pi, pi, size=(poses, 6)))
         arm.ik(Ts[0])  # build the solver once (no derivation step: reading the table)
         robot = eaik_of(arm)
         best = {"ik": np.inf, "batch": np.inf, "eaik": np.inf}
-        for _ in range(args.rounds):
+        for _ in range(rounds):
             best["ik"] = min(best["ik"], per_pose(arm.ik, Ts))
             start = time.perf_counter()
             arm.ik_batch(Ts, workers=2)
             best["batch"] = min(best["batch"], (time.perf_counter() - start) / len(Ts))
             if robot is not None:
                 best["eaik"] = min(best["eaik"], per_pose(robot.IK, Ts))
-        sph = best["ik"] if sph is None else sph
         family = str(rikin.ik.classify(arm)).split(":")[0][:28]
-        us = {k: v * 1e6 for k, v in best.items()}
-        e = f"{us['eaik']:7.1f}" if robot is not None else f"{'-':>7}"
-        r1 = f"{best['eaik'] / best['ik']:8.3f}" if robot is not None else f"{'-':>8}"
-        r2 = f"{best['eaik'] / best['batch']:10.3f}" if robot is not None else f"{'-':>10}"
-        print(f"{arm.name:12} {family:28} {us['ik']:9.1f} {us['batch']:8.1f} {e} {r1} {r2} "
-              f"{best['ik'] / sph:6.1f}")
+        out.append({"arm": arm.name, "family": family, "ik": best["ik"], "batch": best["batch"],
+                    "eaik": best["eaik"] if robot is not None else None})
+    return out
+
+
+def baseline_timings(checkout: str, poses: int) -> list[dict]:
+    """:func:`timings` (one round) of the rikin in another checkout, in a subprocess."""
+    env = dict(os.environ, PYTHONPATH=os.path.abspath(checkout))
+    done = subprocess.run([sys.executable, __file__, "--poses", str(poses), "--rounds", "1",
+                           "--json"], env=env, capture_output=True, text=True, check=True)
+    return json.loads(done.stdout)
+
+
+def best_of(runs: list[list[dict]]) -> list[dict]:
+    """Each arm's fastest time per column over several runs of :func:`timings`."""
+    out = [dict(row) for row in runs[0]]
+    for run in runs[1:]:
+        for mine, row in zip(out, run, strict=True):
+            for key in ("ik", "batch", "eaik"):
+                if mine[key] is not None:
+                    mine[key] = min(mine[key], row[key])
+    return out
+
+
+def print_table(rows: list[dict], base: list[dict] | None) -> None:
+    """The table of the module docstring; with a baseline, its times over these."""
+    head = f"{'arm':12} {'family':28} {'ik':>9} {'batch':>8} {'eaik':>7} {'eaik/ik':>8} " \
+           f"{'eaik/batch':>10} {'x sph':>6}"
+    if base is not None:
+        head += f" {'base ik':>9} {'base batch':>10} {'base/ik':>8} {'base/batch':>10}"
+    print(head)
+    sph = rows[0]["ik"]
+    for n, row in enumerate(rows):
+        us = {k: (v or 0.0) * 1e6 for k, v in row.items() if k in ("ik", "batch", "eaik")}
+        has = row["eaik"] is not None
+        e = f"{us['eaik']:7.1f}" if has else f"{'-':>7}"
+        r1 = f"{row['eaik'] / row['ik']:8.3f}" if has else f"{'-':>8}"
+        r2 = f"{row['eaik'] / row['batch']:10.3f}" if has else f"{'-':>10}"
+        line = (f"{row['arm']:12} {row['family']:28} {us['ik']:9.1f} {us['batch']:8.1f} {e} "
+                f"{r1} {r2} {row['ik'] / sph:6.1f}")
+        if base is not None:
+            b = base[n]
+            line += (f" {b['ik'] * 1e6:9.1f} {b['batch'] * 1e6:10.1f} "
+                     f"{b['ik'] / row['ik']:8.2f} {b['batch'] / row['batch']:10.2f}")
+        print(line)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--poses", type=int, default=300, help="random poses per arm")
+    ap.add_argument("--rounds", type=int, default=3, help="alternating timing rounds")
+    ap.add_argument("--baseline", metavar="CHECKOUT",
+                    help="another checkout of rikin (e.g. /work/main), timed in turn with this one")
+    ap.add_argument("--json", action="store_true", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    if args.json:
+        print(json.dumps(timings(args.poses, args.rounds)))
+        return
+    if args.baseline is None:
+        print_table(timings(args.poses, args.rounds), None)
+        return
+    mine, theirs = [], []
+    for _ in range(args.rounds):  # in turn, so that the machine's load hits both alike
+        theirs.append(baseline_timings(args.baseline, args.poses))
+        mine.append(timings(args.poses, 1))
+    print_table(best_of(mine), best_of(theirs))
 
 
 if __name__ == "__main__":

@@ -26,6 +26,11 @@ direction):
 The slots come in the general solver's order (joint-1 root, joint-5 root, elbow), so that
 the fast path returns the general path's solutions in the same order.
 
+:func:`solve_batch` is the same closed form on arrays (``arm.ik_batch``): each scalar an
+array over the poses, the roots of joints 1 and 5 and the elbows axes of 2; no labels (a
+batch's slots carry theirs), an FK check of every slot, and the margins below as a pose's
+``suspect`` flag.
+
 :meth:`ParallelKernel.solve` returns None, and the caller takes the general path, for a
 pose near anything the general solver decides with a tolerance: joint 1 near free (the
 shoulder), two roots of a sinusoid near each other (joint 1, joint 5, the elbow at its
