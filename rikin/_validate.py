@@ -15,6 +15,7 @@ from .tolerances import (
     DEGREES_ROUND,
     DEGREES_SUSPECT,
     MAX_ANGLE,
+    MAX_DISTANCE_RATIO,
     MAX_LENGTH,
     MIN_LENGTH,
     ORTHONORMAL_TOL,
@@ -64,6 +65,10 @@ def as_float_array(x: Any, name: str) -> FloatArray:
     else:
         arr = _to_float64(x, name)
     if not np.isfinite(arr).all():
+        if arr.ndim == 0:
+            what = "NaN" if np.isnan(arr) else f"{float(arr)} (infinite)"
+            raise InputError(f"{name} is {what}, not a number rikin can use; check the "
+                             "computation that produced it")
         bad = np.argwhere(~np.isfinite(arr))
         where = tuple(int(i) for i in bad[0])
         raise InputError(
@@ -135,6 +140,29 @@ def check_length_range(a: float, name: str, *, lower: bool = False) -> None:
             "which overflows or underflows double precision beyond that; change the unit "
             "(e.g. mm to m)"
         )
+
+
+def check_distances(P: FloatArray, size: float, name: str, what: str = "the world origin"
+                    ) -> None:
+    """Raise InputError when a position among ``P (N, 3)`` is farther than
+    ``MAX_DISTANCE_RATIO`` times ``size`` (the arm's) from ``what``: double precision
+    resolves it too coarsely for any IK answer there to be checked (say how coarsely).
+    ``name`` names the positions; with several, the message gives the first one's index."""
+    dist = np.linalg.norm(P, axis=-1)
+    limit = MAX_DISTANCE_RATIO * size
+    if not dist.max(initial=0.0) > limit:
+        return
+    i = int(np.argmax(dist > limit))
+    label = name if len(dist) == 1 else f"{name}[{i}]"
+    d = float(dist[i])
+    grain = d * np.finfo(float).eps
+    raise InputError(
+        f"{label} is {d:.3g} from {what}, {d / size:.3g} times the arm's size ({size:.6g}): "
+        f"double precision places a point that far only to about {grain:.2g}, "
+        f"{grain / size:.2g} of the arm's size, so no IK answer there could be checked. rikin "
+        f"solves within {MAX_DISTANCE_RATIO:g} times the arm's size ({limit:.3g}) of {what}: "
+        "give the target, base and tool in a frame near the arm"
+    )
 
 
 def check_shape_tail(arr: FloatArray, tail: tuple[int, ...], name: str, what: str) -> None:

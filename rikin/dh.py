@@ -9,8 +9,13 @@ Two conventions (see the book's conventions page):
   Rz(theta_i) Tz(d_i)``; joint i moves about or along ``z_i``. A modified
   link stores ``alpha_{i-1}`` and ``a_{i-1}`` in its ``alpha`` and ``a``.
 
-For a revolute joint ``theta_i = q_i + offset``; for a prismatic joint
-``theta_i`` is the link's fixed ``theta`` and ``d_i = d + q_i + offset``.
+For a revolute joint ``theta_i = s_i q_i + offset``; for a prismatic joint
+``theta_i`` is the link's fixed ``theta`` and ``d_i = d + s_i q_i + offset``,
+where ``s_i`` is the link's ``direction``: +1 (the default) when the joint
+turns about (or slides along) its DH z axis as ``q_i`` grows, -1 when the
+robot's data sheet counts it the other way (KUKA's A1, A4, A6). ``q`` and the
+joint limits are always the data sheet's values; IK solvers see the DH values
+``s_i q_i`` (see :attr:`SerialArm.directions`).
 The arm's pose is ``T_world_tcp = base @ T_0_n(q) @ tool``.
 """
 
@@ -69,10 +74,23 @@ class Link:
     theta : float
         Fixed joint angle of a prismatic joint, radians (ignored if revolute).
     qlim : (float, float) or None
-        Joint limits (rad or length units), inclusive.
+        Joint limits (rad or length units), inclusive, of the joint value ``q`` as the
+        data sheet counts it (so with ``direction=-1`` exactly as printed).
+    direction : {1, -1}
+        +1: ``q`` turns the joint about (or slides it along) its DH z axis, so
+        ``theta = q + offset``. -1: the data sheet counts the joint the other way,
+        ``theta = -q + offset`` (``d = d - q + offset`` for a prismatic joint).
 
     The fields accept sympy expressions too, so the same table function can
     build a numeric arm and a symbolic one (see :mod:`rikin.symbolic`).
+
+    Examples
+    --------
+    KUKA counts A1 clockwise seen from above, about -z:
+
+    >>> a1 = Link(d=0.4, a=0.18, alpha=-np.pi / 2, direction=-1)
+    >>> float(link_transform(a1, np.array(0.3), "standard")[1, 0].round(6))  # sin(theta)
+    -0.29552
     """
 
     joint: JointType = "R"
@@ -82,10 +100,12 @@ class Link:
     offset: Any = 0.0
     theta: Any = 0.0
     qlim: tuple[float, float] | None = None
+    direction: int = 1
 
     def __post_init__(self) -> None:
         if not isinstance(self.joint, str) or self.joint not in ("R", "P"):
             raise InputError(f"joint must be 'R' or 'P', got {self.joint!r}")
+        object.__setattr__(self, "direction", _direction(self.direction))
         for fname in ("d", "a", "alpha", "offset", "theta"):
             value = getattr(self, fname)
             if type(value).__module__.startswith("sympy"):
@@ -124,6 +144,18 @@ class Link:
         return self.joint == "R"
 
 
+def _direction(value: Any) -> int:
+    """A joint's direction, +1 or -1 (numbers only: not a bool, not text), or InputError."""
+    if not isinstance(value, (bool, np.bool_)) and isinstance(
+        value, (int, float, np.integer, np.floating)
+    ) and value in (1, -1):
+        return int(value)
+    raise InputError(
+        f"direction must be +1 (q turns the joint about, or slides it along, its DH z axis) "
+        f"or -1 (the data sheet counts the joint the other way), got {value!r:.60}"
+    )
+
+
 def _limit(value: Any, name: str) -> float:
     """One joint limit: a real number, possibly infinite, never NaN."""
     if isinstance(value, float) and value == value:
@@ -158,6 +190,8 @@ def link_transform(link: Link, q: FloatArray, convention: Convention) -> FloatAr
     """
     if q.ndim == 0:
         return _link_transform_one(link, float(q), convention)
+    if link.direction < 0:
+        q = -q
     if link.is_revolute:
         theta = q + link.offset
         d = np.full_like(q, link.d)
@@ -198,6 +232,7 @@ def link_transform(link: Link, q: FloatArray, convention: Convention) -> FloatAr
 
 def _link_transform_one(link: Link, q: float, convention: Convention) -> FloatArray:
     """:func:`link_transform` for one joint value, in scalar arithmetic (same formulas)."""
+    q = q * link.direction
     if link.is_revolute:
         theta, d = q + float(link.offset), float(link.d)
     else:
@@ -304,6 +339,9 @@ class SerialArm:
         revolute = np.array([lk.is_revolute for lk in links])
         revolute.setflags(write=False)
         object.__setattr__(self, "_revolute", revolute)
+        directions = np.array([lk.direction for lk in links], dtype=np.int64)
+        directions.setflags(write=False)
+        object.__setattr__(self, "_directions", directions)
         for fname in ("base", "tool"):
             T, dist = clean_pose(_one_pose(getattr(self, fname), fname))
             T = T.copy()
@@ -312,6 +350,24 @@ class SerialArm:
         size = sum(abs(float(lk.a)) + abs(float(lk.d)) for lk in links)
         check_length_range(size, "the arm's size (sum of |a| and |d|)", lower=True)
         object.__setattr__(self, "_scale", size if size > 0 else 1.0)
+        if self.solver is not None:
+            self._check_solver()
+
+    def _check_solver(self) -> None:
+        """Raise InputError unless ``self.solver`` solves this arm: a lesson solver handed
+        to another arm would otherwise give wrong solutions (or none) without saying why.
+        The solver sees the arm in DH joint values (:attr:`_dh`)."""
+        if self.reversed_joints:
+            self._dh  # noqa: B018 - building the twin checks its solver (this same one)
+            return
+        try:
+            self.solver.check(self)
+        except InputError as exc:
+            raise InputError(
+                f"solver={type(self.solver).__name__} does not fit this arm, so it cannot "
+                f"solve its IK: {exc}. Leave solver out: rikin then finds the arm's family "
+                "from its table (rikin.ik.classify says which)"
+            ) from None
 
     # ------------------------------------------------------------------ info
     @property
@@ -323,6 +379,42 @@ class SerialArm:
     def revolute(self) -> FloatArray:
         """Boolean mask, shape ``(n,)``: True where the joint is revolute (read-only)."""
         return self._revolute  # type: ignore[attr-defined]
+
+    @property
+    def directions(self) -> FloatArray:
+        """Each joint's direction, shape ``(n,)``: +1 where ``q`` turns (slides) about
+        (along) the DH z axis, -1 where the data sheet counts the joint the other way
+        (read-only). The DH joint values are ``directions * q``."""
+        return self._directions  # type: ignore[attr-defined]
+
+    @property
+    def reversed_joints(self) -> tuple[int, ...]:
+        """The joints (numbered from 1) whose direction is -1; empty for most arms."""
+        return tuple(int(i) + 1 for i in np.flatnonzero(self.directions < 0))
+
+    @property
+    def _dh(self) -> SerialArm:
+        """The arm as its IK solvers see it: the same table with every direction +1, so
+        its joint values are the DH ones (``directions * q``); no joint limits (the
+        data sheet's apply to ``q``). ``self`` when no joint is reversed."""
+        if not self.reversed_joints:
+            return self
+        twin = self.__dict__.get("_dh_twin")
+        if twin is None:
+            links = tuple(replace(lk, direction=1, qlim=None) for lk in self.links)
+            twin = replace(self, links=links)
+            object.__setattr__(self, "_dh_twin", twin)
+        return twin
+
+    @property
+    def _flange(self) -> SerialArm:
+        """:attr:`_dh` with no base, no tool and no solver: ``_flange._fk(q_dh)`` is
+        ``T_0_n`` in DH joint values (what solvers fit their geometry to)."""
+        bare = self.__dict__.get("_flange_arm")
+        if bare is None:
+            bare = replace(self._dh, base=np.eye(4), tool=np.eye(4), solver=None)
+            object.__setattr__(self, "_flange_arm", bare)
+        return bare
 
     @property
     def qlim(self) -> FloatArray:
@@ -358,7 +450,8 @@ class SerialArm:
         )
 
     def dh_table(self) -> str:
-        """The DH table as aligned text, one row per joint."""
+        """The DH table as aligned text, one row per joint; a joint whose ``direction`` is -1
+        reads ``-q<i>``."""
         head = (
             ("alpha_{i-1}", "a_{i-1}", "theta_i", "d_i")
             if self.convention == "modified"
@@ -366,8 +459,9 @@ class SerialArm:
         )
         rows = [f"{'j':>2} {'type':>4} " + " ".join(f"{h:>11}" for h in head) + f" {'offset':>9}"]
         for i, lk in enumerate(self.links, 1):
-            th = f"q{i}" if lk.is_revolute else f"{float(lk.theta):.6g}"
-            d = f"{float(lk.d):.6g}" if lk.is_revolute else f"q{i}+{float(lk.d):.6g}"
+            qi = f"q{i}" if lk.direction > 0 else f"-q{i}"
+            th = qi if lk.is_revolute else f"{float(lk.theta):.6g}"
+            d = f"{float(lk.d):.6g}" if lk.is_revolute else f"{qi}+{float(lk.d):.6g}"
             vals = (
                 (f"{float(lk.alpha):.6g}", f"{float(lk.a):.6g}", th, d)
                 if self.convention == "modified"
@@ -476,12 +570,16 @@ class SerialArm:
         for out in (C1, C2, C3):
             out[0] = self.base @ out[0]
             out[-1] = out[-1] @ self.tool
-        return C1, C2, C3, np.array([float(lk.offset) for lk in self.links])
+        # a reversed joint: theta = -q + o, and cos(-q + o) C1 + sin(-q + o) C2 is
+        # cos(q - o) C1 + sin(q - o) (-C2)
+        s = self.directions.astype(np.float64)
+        C2 *= s[:, None, None]
+        return C1, C2, C3, s * np.array([float(lk.offset) for lk in self.links])
 
     def fk_flange(self, q: Any) -> FloatArray:
         """``T_0_n(q)``: the last link's frame in frame 0 (no base, no tool)."""
         qv = self.check_q(q)
-        return self.replace(base=np.eye(4), tool=np.eye(4))._fk(qv)
+        return self._flange._fk(qv * self.directions)
 
     def joint_axes(self, q: Any) -> tuple[FloatArray, FloatArray]:
         """World position and direction of every joint axis at ``q``.
@@ -489,6 +587,9 @@ class SerialArm:
         Returns
         -------
         origins, axes : ndarray, shape (..., n, 3)
+            A point on each axis, and its unit direction: the way a revolute joint
+            turns (right hand) or a prismatic joint slides as its ``q`` grows, so the
+            DH z axis times the joint's ``direction``.
         """
         qv = self.check_q(q)
         F = self._fk(qv, frames=True)
@@ -497,7 +598,7 @@ class SerialArm:
         else:
             idx = np.arange(1, self.n + 1)  # joint i moves about z_i
         Fj = np.take(F, idx, axis=-3)  # (..., n, 4, 4): the frame each joint moves about
-        return Fj[..., :3, 3], Fj[..., :3, 2]
+        return Fj[..., :3, 3], Fj[..., :3, 2] * self.directions[:, None]
 
     def jacobian(self, q: Any) -> FloatArray:
         """Geometric Jacobian in the world frame at the TCP.

@@ -18,6 +18,14 @@ constructor        lesson      table
 ``rprrr``          notes       standard DH, revolute, prismatic + spherical wrist
 ``epson_c4``       lab 2       modified DH in mm, tool Rx(pi) Tz(65), real joint limits
 =================  ==========  ======================================================
+
+Two industrial arms as their makers count their joints, with the limits as printed
+(no closed form of their own: rikin reads their IK from the table, :mod:`rikin.ik.pieper`):
+
+=========================  ===========================================================
+``kuka_kr5_arc``           standard DH in m; A1, A4, A6 turn against their DH z axes
+``fanuc_lrmate200id``      standard DH in m; J3, J4, J6 turn against their DH z axes
+=========================  ===========================================================
 """
 
 from __future__ import annotations
@@ -33,7 +41,7 @@ from .ik.anthropomorphic import Angular3RSolver, RRRGeometry
 from .ik.decoupled import Decoupled6RSolver
 from .ik.planar import Planar2RSolver, Planar3RSolver
 from .ik.prismatic import PPRRRSolver, RPRRRSolver
-from .transforms import homogeneous, rotx
+from .transforms import homogeneous, rotx, rotz
 
 __all__ = [
     "planar_2r",
@@ -54,6 +62,10 @@ __all__ = [
     "epson_c4_links",
     "LESSON_ROBOTS",
     "EPSON_C4_LIMITS_DEG",
+    "kuka_kr5_arc",
+    "fanuc_lrmate200id",
+    "KUKA_KR5_ARC_LIMITS_DEG",
+    "FANUC_LRMATE200ID_LIMITS",
 ]
 
 
@@ -83,9 +95,8 @@ def _arm(
         tool=np.eye(4) if tool is None else tool,
         units=units,
         name=name,
-        solver=solver,
+        solver=solver,  # SerialArm checks that it fits
     )
-    solver.check(arm)
     return arm
 
 
@@ -402,3 +413,100 @@ LESSON_ROBOTS = {
     "rprrr": rprrr,
     "epson_c4": epson_c4,
 }
+
+
+# ---------------------------------------------------------------- arms as their data sheets count
+#: The KUKA KR 5 arc's axis ranges as its data sheet prints them, degrees (A1..A6).
+KUKA_KR5_ARC_LIMITS_DEG = (
+    (-155.0, 155.0),
+    (-180.0, 65.0),
+    (-15.0, 158.0),
+    (-350.0, 350.0),
+    (-130.0, 130.0),
+    (-350.0, 350.0),
+)
+
+
+def kuka_kr5_arc(*, base: Any = None, tool: Any = None, limits: bool = True) -> SerialArm:
+    """The KUKA KR 5 arc (metres), its joints counted as the KUKA controller counts A1..A6.
+
+    KUKA counts A1 clockwise seen from above (about -z), A2, A3 and A5 about +y and A4,
+    A6 about -x of its base frame at the zero pose (arm stretched forward, flange at
+    x = 1.515, z = 0.52): A1, A4 and A6 turn against the z axes of this standard-DH
+    table, so their rows say ``direction=-1``, and the limits are the data sheet's
+    (``KUKA_KR5_ARC_LIMITS_DEG``, ``limits=False`` for none). FK reproduces
+    ROS-Industrial's KR 5 arc model (``kuka_kr5_support``) to rounding at any joints, its
+    flange frame being KUKA's $FLANGE (the tool here is ``Rz(pi/2)``).
+
+    Examples
+    --------
+    >>> arm = kuka_kr5_arc()
+    >>> arm.fk(np.zeros(6))[:3, 3].round(6)
+    array([1.515, 0.   , 0.52 ])
+    >>> arm.fk(np.radians([30, 0, 0, 0, 0, 0]))[1, 3] < 0  # A1 > 0 turns clockwise
+    np.True_
+    """
+    limits = as_flag(limits, "limits")
+    lim = [(float(np.radians(lo)), float(np.radians(hi))) if limits else None
+           for lo, hi in KUKA_KR5_ARC_LIMITS_DEG]
+    pi = np.pi
+    links = (
+        Link(d=0.4, a=0.18, alpha=-pi / 2, direction=-1, qlim=lim[0]),
+        Link(a=0.6, qlim=lim[1]),
+        Link(a=0.12, alpha=-pi / 2, offset=-pi / 2, qlim=lim[2]),
+        Link(d=0.62, alpha=pi / 2, direction=-1, qlim=lim[3]),
+        Link(alpha=-pi / 2, qlim=lim[4]),
+        Link(d=0.115, direction=-1, qlim=lim[5]),
+    )
+    return SerialArm(links, base=np.eye(4) if base is None else base,
+                     tool=homogeneous(rotz(pi / 2), None) if tool is None else tool,
+                     units="m", name="KUKA KR 5 arc")
+
+
+#: The FANUC LR Mate 200iD's joint limits as ROS-Industrial's model prints them, radians
+#: (J1..J6; J3 there is the joint's own angle, see :func:`fanuc_lrmate200id`).
+FANUC_LRMATE200ID_LIMITS = (
+    (-2.965, 2.965),
+    (-1.745329, 2.530727),
+    (-2.450966, 4.886922),
+    (-3.315, 3.315),
+    (-2.18, 2.18),
+    (-6.285, 6.285),
+)
+
+
+def fanuc_lrmate200id(*, base: Any = None, tool: Any = None, limits: bool = True) -> SerialArm:
+    """The FANUC LR Mate 200iD (metres), its joints counted as ROS-Industrial's model does.
+
+    At the zero pose the upper arm stands upright and the forearm points forward; J1 and
+    J2 turn about +z and +y, J3 and J5 about -y, J4 and J6 about -x of the base frame,
+    so in this standard-DH table J3, J4 and J6 say ``direction=-1`` (J5 does not: the
+    table's z5 points along -y). The limits are ROS-Industrial's
+    (``FANUC_LRMATE200ID_LIMITS``). The default base puts frame 0 0.33 m below the
+    world frame, where FANUC's World frame is (at J2's height on J1's axis); FK
+    reproduces ROS-Industrial's model (``fanuc_lrmate200id_support``) there.
+
+    FANUC's controller shows J3 as the forearm's angle from the horizontal, which moves
+    when J2 does: this table's ``q3`` is the controller's J3 plus J2 (ROS-Industrial's
+    ``J23_factor = 1``). A sign per joint cannot say that; convert before and after IK.
+
+    Examples
+    --------
+    >>> arm = fanuc_lrmate200id()
+    >>> arm.fk(np.zeros(6))[:3, 3].round(6)
+    array([0.465, 0.   , 0.365])
+    """
+    limits = as_flag(limits, "limits")
+    lim = [lm if limits else None for lm in FANUC_LRMATE200ID_LIMITS]
+    pi = np.pi
+    links = (
+        Link(d=0.33, a=0.05, alpha=-pi / 2, qlim=lim[0]),
+        Link(a=0.33, offset=-pi / 2, qlim=lim[1]),
+        Link(a=0.035, alpha=-pi / 2, direction=-1, qlim=lim[2]),
+        Link(d=0.335, alpha=-pi / 2, direction=-1, qlim=lim[3]),
+        Link(alpha=pi / 2, qlim=lim[4]),
+        Link(d=0.08, direction=-1, qlim=lim[5]),
+    )
+    return SerialArm(links, base=homogeneous(None, np.array([0.0, 0.0, -0.33])) if base is None
+                     else base, tool=np.eye(4) if tool is None else tool, units="m",
+                     name="FANUC LR Mate 200iD")

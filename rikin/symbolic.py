@@ -219,8 +219,9 @@ def joint_symbols(links: Any, revolute: str = "q", prismatic: str = "d") -> tupl
 def link_matrix(link: Link, q_symbol: Any, convention: str = "standard") -> sp.Matrix:
     """``T_{i-1,i}`` of one :class:`~rikin.dh.Link` with joint variable ``q_symbol``.
 
-    Revolute: ``theta = q + offset`` and ``d = link.d``; prismatic:
-    ``theta = link.theta`` and ``d = link.d + q + offset`` (as :mod:`rikin.dh`).
+    Revolute: ``theta = s q + offset`` and ``d = link.d``; prismatic:
+    ``theta = link.theta`` and ``d = link.d + s q + offset`` (as :mod:`rikin.dh`), with
+    ``s = link.direction`` (+1, or -1 for a joint its data sheet counts the other way).
 
     Parameters
     ----------
@@ -236,7 +237,7 @@ def link_matrix(link: Link, q_symbol: Any, convention: str = "standard") -> sp.M
     """
     if not isinstance(link, Link):
         raise InputError(f"link must be a rikin.Link, got {type(link).__name__}")
-    q = _exact(q_symbol, name="q_symbol")
+    q = _exact(q_symbol, name="q_symbol") * link.direction
     offset = _exact(link.offset, angle=link.is_revolute, name="link.offset")
     if link.is_revolute:
         return dh_matrix(q + offset, link.d, link.a, link.alpha, convention)
@@ -358,7 +359,8 @@ def rotation(links: Any, convention: str | None = None, start: int = 0, end: int
     for k in range(lo, hi):
         lk = seq[k]
         # lengths do not change a rotation: only theta and alpha enter
-        theta = _exact(qs[k]) + _exact(lk.offset, angle=True) if lk.is_revolute else lk.theta
+        theta = (_exact(qs[k]) * lk.direction + _exact(lk.offset, angle=True)
+                 if lk.is_revolute else lk.theta)
         R = R * dh_matrix(theta, 0, 0, lk.alpha, conv)[:3, :3]
         if simplify:
             R = simplify_trig(R)

@@ -181,7 +181,8 @@ def dh_table(arm: Any, decimals: int = 4) -> Table:
     The HTML counterpart of ``arm.dh_table()`` (aligned text, angles in radians): columns
     theta, d, a, alpha for standard DH and alpha_{i-1}, a_{i-1}, theta, d for modified DH,
     then the joint offset. A revolute joint's theta reads ``q<i>`` (plus its offset), a
-    prismatic joint's d reads ``q<i> + d``.
+    prismatic joint's d reads ``q<i> + d``; a joint whose ``direction`` is -1 (its data
+    sheet counts it against the DH z axis) reads ``−q<i>``.
 
     Parameters
     ----------
@@ -212,8 +213,9 @@ def dh_table(arm: Any, decimals: int = 4) -> Table:
               ["joint", "type", "θ(i)", f"d(i){unit}", f"a(i){unit}", "α(i)", "offset"])
     rows = []
     for i, lk in enumerate(links, 1):
-        theta = f"q{i}" if lk.is_revolute else deg(lk.theta)
-        d = length(lk.d) if lk.is_revolute else f"q{i} + {length(lk.d)}"
+        qi = f"q{i}" if getattr(lk, "direction", 1) > 0 else f"−q{i}"  # counted against z
+        theta = qi if lk.is_revolute else deg(lk.theta)
+        d = length(lk.d) if lk.is_revolute else f"{qi} + {length(lk.d)}"
         cells = ([deg(lk.alpha), length(lk.a), theta, d] if modified
                  else [theta, d, length(lk.a), deg(lk.alpha)])
         rows.append([i, lk.joint, *cells, deg(lk.offset)])

@@ -36,6 +36,13 @@ ROUNDED_POSE_TOL = 1e-4
 MAX_LENGTH = 1e100
 MIN_LENGTH = 1e-100
 
+#: IK takes targets, bases and tools within this many times the arm's size of the world
+#: origin. Double precision places a point at distance D only to ~1e-16 D, and an IK
+#: answer is checked to ``FK_CHECK_TOL`` of the arm's size: at 1e6 sizes the rounding is
+#: ~2e-10 of the size, with room for the few dozen roundings of FK and IK; at 1e16 it
+#: would be more than the arm itself (a slide's joint value that far is known to ~2).
+MAX_DISTANCE_RATIO = 1e6
+
 #: A point closer than this (times the arm's size) to a joint axis is on it,
 #: and an elbow this close (relative) to stretched or folded is exactly so:
 #: the singular families start where the target's own rounding (~1e-16 of its

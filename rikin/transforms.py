@@ -283,20 +283,24 @@ def r_to_zyz(R: Any, *, branch: int = 1, degrees: bool = False) -> FloatArray:
 def wrap_angle(theta: Any) -> FloatArray:
     """Wrap angles (radians) to the interval (-pi, pi]; shape preserved.
 
-    NaN stays NaN and an infinite angle becomes NaN (no angle to wrap), like numpy's
-    ufuncs, so a check cell can wrap a lesson's formula that produced NaN.
+    Every finite value is wrapped exactly as the double it is (``numpy.where(revolute,
+    wrap_angle(q), q)`` wraps a prismatic joint's length too, and drops it).
 
     Raises
     ------
     InputError
-        ``theta`` is not real numbers (None, text, booleans, complex, symbols).
+        ``theta`` is not real numbers (None, text, booleans, complex, symbols), or
+        contains NaN or infinity: no angle to wrap (the message says where the first is).
     """
     if type(theta) is np.ndarray and theta.dtype == np.float64:
         t = theta
     else:
         t = _to_float64(theta, "theta")
-    with np.errstate(invalid="ignore"):
-        return _wrap_angle(t)
+    with np.errstate(invalid="ignore"):  # infinity: refused below
+        w = _wrap_angle(t)
+    if not np.isfinite(w).all():  # NaN or infinity came in: say where
+        as_float_array(t, "theta")
+    return w
 
 
 def _wrap_angle(t: FloatArray) -> FloatArray:

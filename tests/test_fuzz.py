@@ -335,8 +335,7 @@ def _cases() -> list[Case]:
                  fn=ik_numerical_multistart),
         Case("ik.solve arm", "arm", lambda v: rikin.ik.solve(v, T6), None, fn=rikin.ik.solve),
         Case("ik_numerical arm", "arm", lambda v: ik_numerical(v, T6), None, fn=ik_numerical),
-        Case("wrap_angle", "theta", rikin.wrap_angle, [0.5, 7.0], nan_in_nan_out=True,
-             fn=rikin.wrap_angle),
+        Case("wrap_angle", "theta", rikin.wrap_angle, [0.5, 7.0], fn=rikin.wrap_angle),
         Case("deg", "theta", rikin.deg, [0.5, 1.0], fn=rikin.deg),
         Case("rad", "theta", rikin.rad, [30.0, 45.0], fn=rikin.rad),
         Case("rotx", "theta", rikin.rotx, 0.3, fn=rikin.rotx),
@@ -368,6 +367,8 @@ def _cases() -> list[Case]:
              fn=rikin.Link),
         Case("Link qlim", "qlim", lambda v: rikin.Link(qlim=v), (-1.0, 1.0), accepts_none=True,
              fn=rikin.Link),
+        Case("Link direction", "direction", lambda v: rikin.Link(direction=v), -1, fn=rikin.Link,
+             numeric=False, accept=_sign),
         Case("SerialArm base", "base",
              lambda v: rikin.SerialArm((rikin.Link(a=1.0),), base=v), np.eye(4), fn=SA),
         Case("SerialArm tool", "tool",
@@ -428,6 +429,12 @@ def _text(v: Any) -> bool:
 
 def _flag(v: Any) -> bool:
     return isinstance(v, (bool, np.bool_))
+
+
+def _sign(v: Any) -> bool:
+    """+1 or -1 as a number (a joint's direction), not a bool."""
+    return (isinstance(v, (int, float, np.integer, np.floating))
+            and not isinstance(v, (bool, np.bool_)) and v in (1, -1))
 
 
 def _one_of(*choices: str) -> Callable[[Any], bool]:
@@ -1061,6 +1068,15 @@ def _api_cases() -> list[Case]:
         C("robots.epson_c4_links limits", "limits", lambda v: robots.epson_c4_links(limits=v),
           True, fn=robots.epson_c4_links, **flag),
     ]
+    for make in (robots.kuka_kr5_arc, robots.fanuc_lrmate200id):
+        name = f"robots.{make.__name__}"
+        cases += [
+            C(f"{name} limits", "limits", lambda v, mk=make: mk(limits=v), True, fn=make, **flag),
+            C(f"{name} base", "base", lambda v, mk=make: mk(base=v), np.eye(4),
+              accepts_none=True, fn=make),
+            C(f"{name} tool", "tool", lambda v, mk=make: mk(tool=v), np.eye(4),
+              accepts_none=True, fn=make),
+        ]
     # the lesson robots' DH rows, one length at a time (sympy lengths are documented input)
     import inspect
 

@@ -414,18 +414,37 @@ def test_huge_targets_raise_input_error_not_nan(name, value):
             rikin.ik.ik_numerical(arm, T, mask=None if arm.n == 6 else (1, 1, 1, 0, 0, 0))
 
 
-def test_far_but_representable_targets_of_a_prismatic_arm_are_solved():
-    arm = robots.rprrr()
-    T = arm.fk([0.1, 1.0, 0.2, 0.3, 0.4])
-    for x in (1e8, 1e16, 1e40):
+@pytest.mark.parametrize("make", [robots.rprrr, robots.pprrr])
+def test_far_targets_are_solved_to_the_arms_size_or_refused(make):
+    """Issue 29's leftover: a PPRRR/RPRRR target at x = 1e16 came back with solutions that
+    missed it by 4-9% of the arm's size, unflagged (the FK check was relative to the
+    target's distance). Up to MAX_DISTANCE_RATIO times the arm's size every solution
+    reaches the target to 1e-9 of the arm's size; beyond, ik and ik_batch refuse, saying
+    how coarse double precision is there."""
+    arm = make()
+    T = arm.fk([0.3, 1.5, 1.4, 1.95, 2.5])
+    for ratio in (1e2, 1e4, 3e5, 9e5):
         far = T.copy()
-        far[0, 3] = x
+        far[0, 3] = ratio * arm.scale
         with warnings.catch_warnings():
             warnings.simplefilter("error")
             res = arm.ik(far)
+            batch = arm.ik_batch(far[None])
+        assert len(res) == batch.counts[0] > 0
         F = arm.fk(res.q)
-        assert np.abs(F[:, :3, 3] - far[:3, 3]).max() <= 1e-14 * x
-        assert np.isfinite(res.q).all()
+        assert np.abs(F[:, :3, 3] - far[:3, 3]).max() <= 1e-9 * arm.scale
+        Fb = arm.fk(batch.q[0][batch.valid[0]])
+        assert np.abs(Fb[:, :3, 3] - far[:3, 3]).max() <= 1e-9 * arm.scale
+    for x in (1.1e6 * arm.scale, 1e16, 1e40):
+        far = T.copy()
+        far[0, 3] = x
+        with pytest.raises(InputError, match=r"^target is .* times the arm's size .* about"):
+            arm.ik(far)
+        with pytest.raises(InputError, match=r"^T\[1\] is .* times the arm's size"):
+            arm.ik_batch(np.stack([T, far]))
+    moved = arm.replace(base=rikin.transl(1e16, 0.0, 0.0))
+    with pytest.raises(InputError, match=r"^the arm's base is 1e\+16 from the world origin"):
+        moved.ik(moved.fk([0.3, 1.5, 1.4, 1.95, 2.5]))
 
 
 # ---------------------------------------------------------------- the one-pose fast path

@@ -1,5 +1,6 @@
 """Inverse kinematics: closed forms per arm family, results, numerical IK for comparison."""
 
+from . import families  # noqa: F401  (registers the course families with solve and classify)
 from .api import solve, solve_batch
 from .families6r import classify
 from .numerical import NumericalIKResult, ik_numerical, ik_numerical_multistart

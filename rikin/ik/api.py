@@ -8,7 +8,9 @@ filter by joint limits and sort by distance to previous joints.
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import replace
 from typing import Any, cast
 
 import numpy as np
@@ -19,6 +21,7 @@ from .._validate import (
     as_flag,
     as_float_array,
     as_pose,
+    check_distances,
     check_length_range,
     check_radians,
     clean_pose,
@@ -26,7 +29,13 @@ from .._validate import (
 )
 from ..dh import SerialArm
 from ..errors import InputError, UnreachableError
-from ..tolerances import FK_CHECK_TOL, MAX_LENGTH, ROTATION_CLEAN_TOL, SAME_SOLUTION_TOL
+from ..tolerances import (
+    FK_CHECK_TOL,
+    MAX_DISTANCE_RATIO,
+    MAX_LENGTH,
+    ROTATION_CLEAN_TOL,
+    SAME_SOLUTION_TOL,
+)
 from ..transforms import _wrap_angle, homogeneous, rotz
 from .base import RawSolutions, Solver
 from .families6r import solver_for
@@ -70,6 +79,13 @@ _KIND_HELP = {
     "planar_pose": "(x, y, phi) with phi the tool angle in radians, or a 4x4 pose in the xy plane",
     "planar_position": "(x, y) or a 4x4 pose in the xy plane whose position is used",
 }
+
+
+#: Recognisers of arm families (:mod:`rikin.ik.families` registers its own when
+#: :mod:`rikin.ik` is imported): each takes an arm with no solver of its own and returns
+#: the family's solver, None when the arm is not of theirs, or raises InputError saying why
+#: the arm has no closed form.
+FAMILY_SOLVERS: list[Callable[[SerialArm], Solver | None]] = []
 
 
 def _solver(arm: Any) -> Solver:
@@ -122,10 +138,11 @@ def _wrap(q: FloatArray, revolute: FloatArray) -> FloatArray:
 
 
 def _fk_error(arm: SerialArm, q: FloatArray, T: FloatArray, kind: str) -> FloatArray:
-    """Per-solution error of FK(q) against T: max of the position error (relative to the arm's
-    size, or to the target's distance when that is larger) and the rotation error."""
+    """Per-solution error of FK(q) against T: max of the position error (relative to the
+    arm's size, its tool's length included; never to the target's distance, which would let
+    a far target's rounding pass for an answer) and the rotation error."""
     F = arm._fk(q)
-    size = max(arm.scale, float(np.abs(T[:3, 3]).max()))
+    size = arm.scale + float(np.linalg.norm(arm.tool[:3, 3]))
     pos = np.linalg.norm(F[:, :3, 3] - T[:3, 3], axis=-1) / size
     if kind in ("position", "planar_position"):
         return pos
@@ -201,6 +218,8 @@ def solve(
     InputError
         Malformed target or ``near``.
     """
+    if isinstance(arm, SerialArm) and arm.reversed_joints:
+        return _solve_reversed(arm, target, within_limits, near)
     if near is None and within_limits is False and type(target) is np.ndarray:
         # the one-pose fast path, looked up once per arm (arms are immutable) and first,
         # before _solver: finding a table's general solver costs as much as a tenth of a pose
@@ -226,6 +245,7 @@ def solve(
         raise InputError(f"near must have shape ({arm.n},), got shape {hint.shape}")
     if kind in ("position", "planar_position"):  # the target's rotation plays no part
         T_world = homogeneous(None, T_world[:3, 3])
+    _check_distances(arm, T_world[None, :3, 3], "target")
     T_0_n = arm._world_to_base(T_world)
     raw = solver.solve(arm, T_0_n[None], hint)
     raw, T_solved, reach = _onto_reach(arm, solver, T_world[None], raw, hint)
@@ -235,6 +255,61 @@ def solve(
     return _finish(
         arm, solver, raw, T_solved[0], kind, hint, within_limits, rot_dist, float(reach[0])
     )
+
+
+def _check_distances(arm: SerialArm, P: FloatArray, name: str, first: int = 0) -> None:
+    """InputError when the targets' positions ``P (N, 3)`` (world frame; ``name[first + i]``
+    in messages), the base or the tool lie so far off that double precision cannot resolve
+    the arm there (see ``MAX_DISTANCE_RATIO``)."""
+    size = arm.scale
+    check_distances(arm.base[None, :3, 3], size, "the arm's base")
+    check_distances(arm.tool[None, :3, 3], size, "the tool's offset", "the flange")
+    if len(P) == 1 and not first:
+        check_distances(P, size, name)
+        return
+    try:
+        check_distances(P, size, name)
+    except InputError:  # name the pose in the whole batch
+        i = int(np.argmax(np.linalg.norm(P, axis=-1) > MAX_DISTANCE_RATIO * size))
+        check_distances(P[i : i + 1], size, f"{name}[{first + i}]")
+        raise
+
+
+def _solve_reversed(arm: SerialArm, target: Any, within_limits: Any, near: Any) -> IKResult:
+    """:func:`solve` for an arm with reversed joints: its DH twin solves (in DH joint
+    values, ``directions * q``), and the solutions come back as the data sheet counts
+    them, then meet the data sheet's limits and ``near``."""
+    within_limits = as_flag(within_limits, "within_limits")
+    hint = None if near is None else arm.check_q(near, "near")
+    if hint is not None and hint.ndim != 1:
+        raise InputError(f"near must have shape ({arm.n},), got shape {hint.shape}")
+    s = arm.directions
+    res = solve(arm._dh, target, near=None if hint is None else hint * s)
+    q = _wrap(res.q * s, arm.revolute)
+    q, branches, discarded = _select(arm, q, list(res.branches), hint, within_limits)
+    return replace(res, q=q, branches=tuple(branches), discarded=discarded)
+
+
+def _select(
+    arm: SerialArm, q: FloatArray, branches: list[Branch], hint: FloatArray | None,
+    within_limits: bool,
+) -> tuple[FloatArray, list[Branch], int]:
+    """The solutions ``q (k, n)`` that meet the joint limits (moved to an in-limit ``2 pi``
+    equivalent) when ``within_limits``, sorted by distance to ``hint`` when given; and how
+    many the limits removed."""
+    discarded = 0
+    if within_limits:
+        q, fits = _limits_filter(q, arm, hint)
+        discarded = int((~fits).sum())
+        q = q[fits]
+        branches = [b for b, f in zip(branches, fits, strict=True) if f]
+    if hint is not None and len(q):
+        diff = q - hint
+        diff = diff if within_limits else _wrap(diff, arm.revolute)
+        order = list(np.argsort(np.linalg.norm(diff, axis=1), kind="stable"))
+        q = q[order]
+        branches = [branches[i] for i in order]
+    return q, branches, discarded
 
 
 def _unreachable(arm: SerialArm, solver: Solver, T_0_n: FloatArray) -> UnreachableError:
@@ -359,7 +434,7 @@ def _finish(
 
     branches = []
     for i, (row, s) in enumerate(zip(q, slots, strict=True)):
-        elbow = None
+        elbow = raw.slots[s].elbow
         if raw.elbow_up is not None:
             elbow = "up" if raw.elbow_up[0, s] else "down"
         wrist = None
@@ -381,18 +456,7 @@ def _finish(
             f"{float(err.max()):.3g} (relative); please report it with the target pose"
         )
 
-    discarded = 0
-    if within_limits:
-        q, fits = _limits_filter(q, arm, hint)
-        discarded = int((~fits).sum())
-        q = q[fits]
-        branches = [b for b, f in zip(branches, fits, strict=True) if f]
-    if hint is not None and len(q):
-        diff = q - hint
-        diff = diff if within_limits else _wrap(diff, rev)
-        order = list(np.argsort(np.linalg.norm(diff, axis=1), kind="stable"))
-        q = q[order]
-        branches = [branches[i] for i in order]
+    q, branches, discarded = _select(arm, q, branches, hint, within_limits)
 
     free = tuple(sorted({j for spec in specs for j in spec.free_joints}))
     return IKResult(
@@ -448,6 +512,9 @@ def solve_batch(
         ``T`` is not an ``(N, 4, 4)`` array of homogeneous transforms (the same
         checks and messages as a single pose), or bad ``chunk_size``/``workers``.
     """
+    if isinstance(arm, SerialArm) and arm.reversed_joints:
+        res = solve_batch(arm._dh, T, chunk_size=chunk_size, workers=workers)
+        return replace(res, q=_wrap(res.q * arm.directions, arm.revolute))
     solver = _solver(arm)
     chunk_size = _count(chunk_size, "chunk_size")
     if workers is not None:
@@ -496,6 +563,7 @@ def solve_batch(
         if not valid_poses:
             as_pose(Tw, "T")  # raises with the detailed message
             raise AssertionError("rikin bug: pose_defects and as_pose disagree")
+        _check_distances(arm, T_chunk[:, :3, 3], "T", start)
         if defect.max(initial=0.0) > ROTATION_CLEAN_TOL:  # rounded poses: nearest rotations
             T_chunk = T_chunk.copy()
             dist_out[start:stop] = clean_poses(T_chunk, defect)

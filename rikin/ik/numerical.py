@@ -147,7 +147,7 @@ def _pose_and_jacobian(arm: SerialArm, q: FloatArray) -> tuple[FloatArray, Float
     """
     F = arm._fk(q, frames=True)  # (n + 2, 4, 4)
     idx = np.arange(arm.n) if arm.convention == "standard" else np.arange(1, arm.n + 1)
-    origins, axes = F[idx, :3, 3], F[idx, :3, 2]
+    origins, axes = F[idx, :3, 3], F[idx, :3, 2] * arm.directions[:, None]  # reversed: -z
     p_e = F[-1, :3, 3]
     rev = arm.revolute[:, None]
     lin = np.where(rev, np.cross(axes, p_e - origins), axes)

@@ -40,6 +40,7 @@ from __future__ import annotations
 import itertools
 import math
 import weakref
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -319,14 +320,22 @@ class IKClass:
         meet, so placing the wrist centre gives a quadratic equation in q3"``), or ``""``.
     reason : str
         Why there is no closed form, in the arm's terms; ``""`` when there is.
+    solutions : int
+        The most solutions a target has (0 when unknown or there is no closed form).
+    fallback : str
+        What rikin offers instead when there is no closed form (numerical IK).
     """
 
     closed_form: bool
     family: str = ""
     reason: str = ""
+    solutions: int = 0
+    fallback: str = ""
 
     def __str__(self) -> str:
-        return self.family if self.closed_form else f"no closed form: {self.reason}"
+        if self.closed_form:
+            return self.family
+        return f"no closed form: {self.reason}" + (f". {self.fallback}" if self.fallback else "")
 
 
 def six_revolute_reason(arm: SerialArm) -> str:
@@ -428,11 +437,27 @@ def classify(arm: SerialArm) -> IKClass:
 
     if not isinstance(arm, SerialArm):
         raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
+    arm = arm._dh  # the geometry, in DH joint values (a reversed joint changes nothing here)
     if arm.solver is not None:
         doc = (type(arm.solver).__doc__ or type(arm.solver).__name__).strip()
         return IKClass(True, " ".join(doc.split("\n\n")[0].split()))
+    for of_family in FAMILY_CLASSES:
+        found = of_family(arm)
+        if found is not None:
+            return found
     family, reason = _general_reason(arm)
-    return IKClass(not reason, family, reason)
+    return IKClass(not reason, family, reason, solutions=0 if reason else 8,
+                   fallback=NUMERICAL if reason else "")
+
+
+#: What rikin offers an arm with no closed form.
+NUMERICAL = ("rikin.ik.ik_numerical finds one solution, the one its iteration falls into "
+             "from a start q0; rikin.ik.ik_numerical_multistart tries many starts and lists "
+             "the distinct solutions found, with no promise that none is missed")
+
+#: The course families' classifiers (:mod:`rikin.ik.families` registers its own when
+#: :mod:`rikin.ik` is imported): each returns an IKClass, or None when the arm is not theirs.
+FAMILY_CLASSES: list[Callable[[SerialArm], IKClass | None]] = []
 
 
 _SOLVERS: weakref.WeakKeyDictionary[SerialArm, Pieper6RSolver] = weakref.WeakKeyDictionary()
@@ -452,11 +477,8 @@ def general_solver(arm: SerialArm) -> Pieper6RSolver:
     if solver is None:
         family, reason = _general_reason(arm)
         if reason:
-            raise InputError(
-                f"{arm.name!r} has no closed-form IK in rikin: {reason}. "
-                "Use rikin.ik.ik_numerical (one solution near a start) or "
-                "rikin.ik.ik_numerical_multistart (several)"
-            )
+            raise InputError(f"{arm.name!r} has no closed-form IK in rikin: {reason}. "
+                             f"{NUMERICAL[0].upper()}{NUMERICAL[1:]}")
         solver = Pieper6RSolver(arm)
         _SOLVERS[arm] = solver
     return solver

@@ -41,7 +41,7 @@ _WRIST = Singularity(
 def _origin_2(arm: SerialArm, q: FloatArray) -> FloatArray:
     """World-free position of the wrist centre for joint values ``q (..., 5)``."""
     W = wrist_model(arm, 2)
-    F = arm.replace(base=np.eye(4), tool=np.eye(4))._fk(q)
+    F = arm._flange._fk(q)
     return F[..., :3, :3] @ W.centre + F[..., :3, 3]
 
 
@@ -80,7 +80,7 @@ class PPRRRSolver(ClosedForm):
         q[2, 1] = step
         p = _origin_2(arm, q)
         U = np.stack([p[1] - p[0], p[2] - p[0]], axis=-1) / step  # (3, 2)
-        R_0_2 = arm.replace(base=np.eye(4), tool=np.eye(4))._fk(np.zeros(5), frames=True)[2, :3, :3]
+        R_0_2 = arm._flange._fk(np.zeros(5), frames=True)[2, :3, :3]
         return p[0], U, R_0_2
 
     def _wrist_centre(self, arm: SerialArm, T: FloatArray) -> FloatArray:

@@ -1,0 +1,469 @@
+"""The course's arm families, recognised from a DH table, each with its closed form.
+
+A student who types a planar 2R or 3R, the angular 3R, one of Aula 10's positioning
+arms (cartesian, cylindrical, spherical, SCARA; with or without a spherical wrist; the
+Stanford arm), or the notes' PPRRR and RPRRR as a DH table gets the closed form rikin
+uses for the lesson robots, fitted to the table:
+
+* planar 2R and 3R and the angular 3R: the lesson solvers themselves, on the lesson
+  arm the table is, up to constant frames and a change of joint zero and sign
+  (:class:`rikin.ik.fitted.Fitted`);
+* PPRRR, RPRRR: the notes' solvers, which read any such table;
+* cartesian, cylindrical, spherical, SCARA (and with a spherical wrist, Aula 10's
+  decoupling): :mod:`rikin.ik.positioning`, written on the joint axes.
+
+:func:`family_of` says which family an arm is, with its closed form in words and how
+many solutions to expect, or why it is none of them (a near miss is named: "axes 1 and 2
+are 0.3 deg from parallel: not a SCARA"). Arms with six revolute joints are left to
+:mod:`rikin.ik.pieper`. Every fit is checked by FK at random joint values before use.
+
+The module registers itself with :func:`rikin.ik.solve` and :func:`rikin.ik.classify`
+when :mod:`rikin.ik` is imported (it imports them; they never import it).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .._validate import FloatArray
+from ..errors import InputError
+from . import api, pieper
+from .anthropomorphic import Angular3RSolver, RRRGeometry
+from .axes import ZeroAxes, zero_axes
+from .decoupled import wrist_model
+from .fitted import Fitted
+from .planar import Planar2RSolver, Planar3RSolver
+from .positioning import (
+    Cartesian,
+    Cylindrical,
+    PositionFamily,
+    PositioningSolver,
+    Scara,
+    Spherical,
+    WristedSolver,
+)
+from .prismatic import PPRRRSolver, RPRRRSolver
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..dh import SerialArm
+
+
+#: Directions whose cross product is below this are parallel (sine of the angle); axes
+#: closer than this times the arm's size meet. DH tables carry exact zeros, so this only
+#: absorbs the rounding of cos(pi / 2) and of the FK at q = 0.
+GEOMETRY_TOL = 1e-9
+
+#: A fitted family must reproduce the table's FK to this (relative to the arm's size)
+#: at random joint values.
+FIT_TOL = 1e-9
+
+#: The families, in the book's words, with the most solutions each has.
+FAMILIES = (
+    ("planar 2R", "RR", 2),
+    ("planar 3R", "RRR", 2),
+    ("angular (anthropomorphic) 3R", "RRR", 4),
+    ("cartesian", "PPP", 1),
+    ("cylindrical", "RPP", 2),
+    ("spherical (polar)", "RRP", 4),
+    ("SCARA", "RRP", 2),
+    ("cartesian with a spherical wrist", "PPPRRR", 2),
+    ("cylindrical with a spherical wrist", "RPPRRR", 4),
+    ("spherical with a spherical wrist (the Stanford arm)", "RRPRRR", 8),
+    ("SCARA with a spherical wrist", "RRPRRR", 4),
+    ("PPRRR of the notes (5 DOF)", "PPRRR", 2),
+    ("RPRRR of the notes (5 DOF)", "RPRRR", 4),
+    ("6R with a spherical wrist (Pieper)", "RRRRRR", 8),
+)
+
+
+@dataclass(frozen=True)
+class Family:
+    """An arm's course family and its closed form.
+
+    Attributes
+    ----------
+    name : str
+        The family in the book's words, e.g. ``"SCARA with a spherical wrist"``.
+    how : str
+        The closed form in words.
+    count : int
+        The most solutions a target has.
+    solver : object
+        The closed-form solver, fitted to the arm's table.
+    """
+
+    name: str
+    how: str
+    count: int
+    solver: Any
+
+    def __str__(self) -> str:
+        return f"{self.name}: {self.how}; up to {self.count} solution{'s' * (self.count > 1)}"
+
+
+def family_of(arm: SerialArm) -> Family | str | None:
+    """The course family of ``arm`` (read in DH joint values), or why it is none of them
+    (text); None for an arm of six revolute joints (:mod:`rikin.ik.pieper` decides those).
+
+    Built once per arm (arms are immutable).
+    """
+    dh = arm._dh
+    cached = dh.__dict__.get("_course_family", False)
+    if cached is False:
+        cached = _recognise(dh)
+        object.__setattr__(dh, "_course_family", cached)
+    return cached
+
+
+def _units(arm: SerialArm) -> str:
+    return f" {arm.units}" if arm.units else ""
+
+
+def _angle(u: FloatArray, v: FloatArray) -> float:
+    """The angle between two lines' directions, degrees in [0, 90]."""
+    return math.degrees(math.atan2(float(np.linalg.norm(np.cross(u, v))), abs(float(u @ v))))
+
+
+def _parallel(u: FloatArray, v: FloatArray) -> bool:
+    return float(np.linalg.norm(np.cross(u, v))) <= GEOMETRY_TOL
+
+
+def _closest(ax: ZeroAxes, i: int, j: int) -> tuple[FloatArray, FloatArray, float]:
+    """The closest points of axes ``i`` and ``j`` (not parallel) and their distance."""
+    p1, d1, p2, d2 = ax.r[i], ax.w[i], ax.r[j], ax.w[j]
+    b = float(d1 @ d2)
+    w0 = p1 - p2
+    denom = 1.0 - b * b
+    s1 = (b * float(d2 @ w0) - float(d1 @ w0)) / denom
+    s2 = (float(d2 @ w0) - b * float(d1 @ w0)) / denom
+    a, c = p1 + s1 * d1, p2 + s2 * d2
+    return a, c, float(np.linalg.norm(a - c))
+
+
+# ------------------------------------------------------------------ recognition
+def _recognise(arm: SerialArm) -> Family | str | None:
+    types, n = arm.joint_types, arm.n
+    if types == "RRRRRR":
+        return None
+    if n > 6:
+        return (f"it has {n} joints, more than the six a pose fixes: a redundant arm reaches "
+                "a pose in infinitely many ways, so there is no list of solutions to give")
+    ax = zero_axes(arm)
+    if types == "RR":
+        return _planar(arm, ax)
+    if types == "RRR":
+        planar = _planar(arm, ax)
+        if isinstance(planar, Family):
+            return planar
+        angular = _angular(arm, ax)
+        if isinstance(angular, Family):
+            return angular
+        return f"it is neither planar ({planar}) nor angular ({angular})"
+    if types in ("PPP", "RPP", "RRP"):
+        return _positioning(arm, ax, np.zeros(3), "the TCP")
+    if n == 6 and types[:3] in ("PPP", "RPP", "RRP") and types[3:] == "RRR":
+        return _wristed(arm, ax)
+    if types in ("PPRRR", "RPRRR"):
+        return _notes_5dof(arm)
+    return (f"its joints are {types}, and no course family has those: the families are "
+            + ", ".join(f"{name} ({t})" for name, t, _ in FAMILIES))
+
+
+def _slides(arm: SerialArm) -> np.ndarray:
+    """Boolean mask ``(n,)`` of the prismatic joints."""
+    return np.array([not lk.is_revolute for lk in arm.links])
+
+
+def _positions_span(arm: SerialArm, ax: ZeroAxes, c_n: FloatArray) -> bool:
+    """True when joints 1-3 move the point ``c_n`` (frame n) in three independent
+    directions at one of a few random configurations (the position Jacobian's rank)."""
+    rng = np.random.default_rng(0)
+    q = rng.uniform(-np.pi, np.pi, size=(6, arm.n))
+    q[:, _slides(arm)] *= arm.scale
+    F = arm._flange._fk(q, frames=True)
+    pts = F[:, arm.n, :3, :3] @ c_n + F[:, arm.n, :3, 3]
+    idx = np.arange(3) if arm.convention == "standard" else np.arange(1, 4)
+    Fj = F[:, idx]
+    z, o = Fj[..., :3, 2], Fj[..., :3, 3]
+    cols = np.where(arm.revolute[:3, None], np.cross(z, pts[:, None, :] - o), z)
+    sv = np.linalg.svd(cols, compute_uv=False)
+    return bool((sv[:, -1] > 1e-9 * arm.scale).any())
+
+
+def _verify(arm: SerialArm, family: PositionFamily, c_n: FloatArray) -> bool:
+    """The fitted family finds the joints 1-3 that placed ``c_n`` at random joint values."""
+    rng = np.random.default_rng(1)
+    q = rng.uniform(-np.pi, np.pi, size=(8, arm.n))
+    q[:, _slides(arm)] *= arm.scale * rng.uniform(0.1, 1.0, size=(8, 1))
+    F = arm._flange._fk(q)
+    p = F[:, :3, :3] @ c_n + F[:, :3, 3]
+    placed = family.place(p, None)
+    d = np.abs(placed.q - q[:, None, :3])
+    d = np.where(arm.revolute[:3], np.abs(np.remainder(d + np.pi, 2 * np.pi) - np.pi),
+                 d / arm.scale)
+    d = np.where(placed.valid[..., None], d, np.inf)
+    return bool((d.max(axis=-1).min(axis=-1) <= 1e-7).all())
+
+
+def _positioning(arm: SerialArm, ax: ZeroAxes, c_n: FloatArray, what: str
+                 ) -> Family | str:
+    """The family of joints 1-3 placing ``c_n`` (frame n): a 3-joint arm's solver, or
+    the reason. ``what`` names the point in messages."""
+    family = _position_family(arm, ax, ax.point(c_n), what)
+    if isinstance(family, str):
+        return family
+    if not _positions_span(arm, ax, c_n):
+        return (f"joints 1-3 cannot move {what} in three independent directions at any "
+                "configuration")
+    if not _verify(arm, family, c_n):
+        return f"rikin could not fit the {family.words} to this table (its FK check failed)"
+    if arm.n == 3:
+        return Family(family.words, _HOW[type(family)], family.count, PositioningSolver(family))
+    solver = WristedSolver(family, arm)
+    name = family.words.split(":")[0].split(" (")[0] + " with a spherical wrist"
+    if isinstance(family, Spherical) and float(np.linalg.norm(np.cross(
+            family.x0, ax.w[2]))) > GEOMETRY_TOL * arm.scale:
+        name += " (the boom's line misses the shoulder point, as on the Stanford arm)"
+    return Family(name, _HOW[type(family)] + "; then the spherical wrist, two ways",
+                  2 * family.count, solver)
+
+
+_HOW = {
+    Cartesian: "the slides' values are the target's coordinates along them (one linear "
+               "system)",
+    Cylindrical: "joint 1 keeps the height and the distance from axis 1: a quadratic in one "
+                 "slide (front and back), the other slide from the height",
+    Spherical: "turns about the shoulder point keep the distance from it: a quadratic in the "
+               "boom (towards or away), then the two turns that bring it onto the target "
+               "(front or back)",
+    Scara: "the height gives the quill, then the planar two-link chain (elbow right or left)",
+}
+
+
+def _position_family(arm: SerialArm, ax: ZeroAxes, c0: FloatArray, what: str
+                     ) -> PositionFamily | str:
+    """The positioning family of joints 1-3 (PPP, RPP or RRP), or why none fits."""
+    types = arm.joint_types[:3]
+    w = ax.w
+    if types == "PPP":
+        if abs(float(np.linalg.det(w[:3]))) <= GEOMETRY_TOL:
+            return "the three slides' directions lie in one plane: they cannot place a point in 3D"
+        return Cartesian(ax, c0)
+    if types == "RPP":
+        heights = np.abs(w[1:3] @ w[0])
+        if heights.max() <= GEOMETRY_TOL:
+            return ("both slides are at right angles to axis 1, so nothing changes the height "
+                    "along it: not a cylindrical arm")
+        family = Cylindrical(ax, c0)
+        if float(np.linalg.norm(family.B)) <= GEOMETRY_TOL:
+            return ("the slides cannot change the distance from axis 1 (both move along it, or "
+                    "one undoes the other's): not a cylindrical arm")
+        return family
+    if _parallel(w[0], w[1]):
+        if not _parallel(w[2], w[0]):
+            return (f"axes 1 and 2 are parallel but the slide (joint 3) is "
+                    f"{_angle(w[2], w[0]):.4g} deg from them: a SCARA's quill moves along them")
+        across = (ax.r[1] - ax.r[0]) - ((ax.r[1] - ax.r[0]) @ w[0]) * w[0]
+        if float(np.linalg.norm(across)) <= GEOMETRY_TOL * arm.scale:
+            return "axes 1 and 2 are the same line, so joints 1 and 2 do the same motion"
+        scara = Scara(ax, c0)
+        if scara.L2 <= GEOMETRY_TOL * arm.scale:
+            return f"{what} lies on axis 2, so joint 2 cannot move it"
+        return scara
+    a, b, dist = _closest(ax, 0, 1)
+    if dist > GEOMETRY_TOL * arm.scale:
+        return (f"axes 1 and 2 neither meet nor are parallel: they pass {dist:.6g}{_units(arm)} "
+                f"apart at {_angle(w[0], w[1]):.4g} deg (a spherical arm's meet, a SCARA's are "
+                "parallel)")
+    return Spherical(ax, c0, (a + b) / 2)
+
+
+def _wristed(arm: SerialArm, ax: ZeroAxes) -> Family | str:
+    """A positioning arm with a spherical wrist (joints 4-6), or why not."""
+    try:
+        W = wrist_model(arm, 3)
+    except InputError:
+        return _wrist_reason(arm, ax)
+    return _positioning(arm, ax, W.centre, "the wrist centre")
+
+
+def _wrist_reason(arm: SerialArm, ax: ZeroAxes) -> str:
+    """Why joints 4-6 are not a spherical wrist rikin's decoupling takes, in the arm's terms."""
+    tol = GEOMETRY_TOL * arm.scale
+    u = _units(arm)
+    for i, j in ((3, 4), (4, 5)):
+        if _parallel(ax.w[i], ax.w[j]):
+            return f"axes {i + 1} and {j + 1} are parallel, so joints 4-6 have no wrist centre"
+    a45, b45, d45 = _closest(ax, 3, 4)
+    if d45 > tol:
+        return f"axes 4, 5, 6 do not meet: axis 5 passes {d45:.6g}{u} from axis 4"
+    centre = (a45 + b45) / 2
+    off = centre - ax.r[5]
+    d6 = float(np.linalg.norm(off - (off @ ax.w[5]) * ax.w[5]))
+    if d6 > tol:
+        return (f"axes 4, 5, 6 do not meet: axis 6 passes {d6:.6g}{u} from the point where "
+                "axes 4 and 5 meet")
+    return ("joints 4-6 meet in one point, but their twists are not the +-90 deg of the "
+            "course's spherical wrist (alpha_4 = -alpha_5 = +-90 deg)")
+
+
+def _notes_5dof(arm: SerialArm) -> Family | str:
+    solver = PPRRRSolver() if arm.joint_types == "PPRRR" else RPRRRSolver()
+    try:
+        solver.check(arm)
+    except InputError as exc:
+        return str(exc).split(": ", 1)[-1]
+    if arm.joint_types == "PPRRR":
+        return Family("PPRRR of the notes (5 DOF)", "the two slides place the wrist centre "
+                      "(one linear system), then the spherical wrist, two ways", 2, solver)
+    return Family("RPRRR of the notes (5 DOF)", "joint 1 and the slide place the wrist centre "
+                  "in its plane (two ways), then the spherical wrist, two ways", 4, solver)
+
+
+# ------------------------------------------------------------------ the lesson solvers, fitted
+def _verify_fit(arm: SerialArm, fitted: Fitted) -> bool:
+    """``T_0_n(q) = pre @ lesson(sign q + shift) @ post`` at random joint values."""
+    rng = np.random.default_rng(2)
+    q = rng.uniform(-np.pi, np.pi, size=(8, arm.n))
+    got = arm._flange._fk(q)
+    want = fitted.pre @ fitted.lesson._fk(fitted.sign * q + fitted.shift) @ fitted.post
+    err = np.abs(got - want)
+    return bool(err[:, :3, :3].max() <= FIT_TOL and err[:, :3, 3].max() <= FIT_TOL * arm.scale)
+
+
+def _frame(z: FloatArray, x: FloatArray, origin: FloatArray) -> FloatArray:
+    """The frame with axes ``x``, ``z x x``, ``z`` at ``origin`` (x across z, unit)."""
+    T = np.eye(4)
+    T[:3, 0], T[:3, 1], T[:3, 2], T[:3, 3] = x, np.cross(z, x), z, origin
+    return T
+
+
+def _turn(w: FloatArray, a: FloatArray, b: FloatArray) -> float:
+    """The angle about ``w`` from ``a`` to ``b`` (both across ``w``)."""
+    return math.atan2(float(np.cross(a, b) @ w), float(a @ b))
+
+
+def _planar(arm: SerialArm, ax: ZeroAxes) -> Family | str:
+    """A planar 2R or 3R (every axis parallel): the lesson solver, fitted; or why not."""
+    n, w1 = arm.n, ax.w[0]
+    for i in range(1, n):
+        if not _parallel(ax.w[i], w1):
+            return f"axes 1 and {i + 1} are {_angle(ax.w[i], w1):.4g} deg from parallel"
+    f = ax.frames[-1]
+    origin = ax.r[0] + ((f[:3, 3] - ax.r[0]) @ w1) * w1  # on axis 1, at the flange's height
+
+    def across(x: FloatArray) -> FloatArray:
+        v = x - origin
+        return v - (v @ w1) * w1
+
+    pts = [across(ax.r[i]) for i in range(n)] + [across(f[:3, 3])]
+    links = [pts[i + 1] - pts[i] for i in range(n)]
+    lengths = [float(np.linalg.norm(v)) for v in links]
+    tol = GEOMETRY_TOL * arm.scale
+    for i in range(n - 1):
+        if lengths[i] <= tol:
+            return f"axes {i + 1} and {i + 2} are the same line"
+    if lengths[-1] <= tol:
+        if n == 2:
+            return "the flange origin is on axis 2, so joint 2 cannot move it"
+        x_last = across(f[:3, 3] + f[:3, 0]) if not _parallel(f[:3, 0], w1) else \
+            across(f[:3, 3] + f[:3, 1])
+        links[-1] = x_last / np.linalg.norm(x_last)  # link 3's direction: the flange's x
+    pre = _frame(w1, links[0] / lengths[0], origin)
+    shift = np.zeros(n)
+    for i in range(1, n):
+        shift[i] = _turn(w1, links[i - 1], links[i])
+    sign = np.array([float(np.sign(ax.w[i] @ w1)) for i in range(n)])
+    lesson = _lesson_arm(arm, [dict(a=L) for L in lengths],
+                         Planar2RSolver() if n == 2 else Planar3RSolver())
+    post = np.linalg.inv(lesson._fk(shift) ) @ np.linalg.inv(pre) @ f
+    post[:3, 3] = 0.0  # the flange origin is the lesson arm's (rounding aside)
+    fitted = Fitted(lesson, pre, post, sign, shift)
+    if not _verify_fit(arm, fitted):
+        return "it is not planar (the fitted planar arm's FK differs from the table's)"
+    if n == 2:
+        return Family("planar 2R", "the law of cosines (elbow up and down), for a position "
+                      "in its plane", 2, fitted)
+    return Family("planar 3R", "the wrist point (target minus link 3 along the tool angle), "
+                  "then the planar 2R, for a position and tool angle in its plane", 2, fitted)
+
+
+def _lesson_arm(arm: SerialArm, rows: list[dict[str, Any]], solver: Any,
+                **kw: Any) -> SerialArm:
+    from ..dh import Link, SerialArm
+
+    return SerialArm(tuple(Link(**r) for r in rows), solver=solver, name=arm.name,
+                     units=arm.units, **kw)
+
+
+def _angular(arm: SerialArm, ax: ZeroAxes) -> Family | str:
+    """The angular 3R of Aula 23 (axis 1 across axes 2 and 3, which are parallel): the
+    lesson solver, fitted; or why not."""
+    w1, w2 = ax.w[0], ax.w[1]
+    u = _units(arm)
+    if not _parallel(ax.w[2], w2):
+        return f"axes 2 and 3 are {_angle(ax.w[2], w2):.4g} deg from parallel"
+    if abs(float(w1 @ w2)) > GEOMETRY_TOL:
+        return f"axes 1 and 2 are {90 - _angle(w1, w2):.4g} deg from perpendicular"
+    f = ax.frames[-1][:3, 3]
+    tol = GEOMETRY_TOL * arm.scale
+    side = float((f - ax.r[0]) @ w2)
+    if abs(side) > tol:
+        return (f"the flange origin is {abs(side):.6g}{u} off axis 1's plane across axis 2 "
+                "(a shoulder offset, as the Puma's d3): the angular 3R has none")
+    o1, o2, _ = _closest(ax, 0, 1)
+    x = np.cross(w1, w2)
+    r0 = float((o2 - o1) @ x)
+
+    def across(v: FloatArray) -> FloatArray:
+        return v - (v @ w2) * w2
+
+    upper = across(ax.r[2] - o2)
+    fore = across(f - ax.r[2])
+    L2, L3 = float(np.linalg.norm(upper)), float(np.linalg.norm(fore))
+    if L2 <= tol:
+        return "axes 2 and 3 are the same line"
+    if L3 <= tol:
+        return "the flange origin is on axis 3, so joint 3 cannot move it"
+    pre = _frame(w1, x, o1)
+    shift = np.array([0.0, _turn(w2, x, upper), _turn(w2, upper, fore)])
+    sign = np.array([1.0, 1.0, float(np.sign(ax.w[2] @ w2))])
+    g = RRRGeometry(z0=0.0, r0=r0, L2=L2, L3=L3)
+    lesson = _lesson_arm(arm, [dict(a=r0, alpha=np.pi / 2), dict(a=L2), dict(a=L3)],
+                         Angular3RSolver(g))
+    post = np.linalg.inv(lesson._fk(shift)) @ np.linalg.inv(pre) @ ax.frames[-1]
+    post[:3, 3] = 0.0
+    fitted = Fitted(lesson, pre, post, sign, shift)
+    if not _verify_fit(arm, fitted):
+        return "it is not the angular 3R (the fitted arm's FK differs from the table's)"
+    return Family("angular (anthropomorphic) 3R", "joint 1 turns to the target, then the "
+                  "planar two-link chain of joints 2-3 (front or back, elbow up or down), for "
+                  "a position", 4, fitted)
+
+
+# ------------------------------------------------------------------ hooks into rikin.ik
+def _solver_of(arm: SerialArm) -> Any:
+    """For :func:`rikin.ik.solve`: the family's solver, None for a 6R (Pieper decides), or
+    InputError saying why the arm is in no family and what to use instead."""
+    found = family_of(arm)
+    if found is None or isinstance(found, Family):
+        return None if found is None else found.solver
+    raise InputError(f"{arm.name!r} has no closed-form IK in rikin: {found}. {pieper.NUMERICAL}")
+
+
+def _ikclass_of(arm: SerialArm) -> pieper.IKClass | None:
+    """For :func:`rikin.ik.classify`: the family in words, None for a 6R."""
+    found = family_of(arm)
+    if found is None:
+        return None
+    if isinstance(found, Family):
+        return pieper.IKClass(True, str(found), solutions=found.count)
+    return pieper.IKClass(False, reason=found, fallback=pieper.NUMERICAL)
+
+
+api.FAMILY_SOLVERS.append(_solver_of)
+pieper.FAMILY_CLASSES.append(_ikclass_of)
