@@ -122,9 +122,12 @@ def test_position_only_arm_refuses_a_tool_offset():
 
 
 def test_arm_without_closed_form():
-    arm = SerialArm((Link(a=1.0), Link(a=1.0, alpha=0.3)))
-    with pytest.raises(InputError, match="no closed-form IK"):
+    # twisted between axes 1 and 2, so not planar (a twist after joint 2 would only turn the
+    # flange: that arm is a planar 2R, solved by the lesson's solver)
+    arm = SerialArm((Link(a=1.0, alpha=0.3), Link(a=1.0)))
+    with pytest.raises(InputError, match="no closed-form IK.*17.19 deg from parallel"):
         arm.ik(np.eye(4))
+    assert len(SerialArm((Link(a=1.0), Link(a=1.0, alpha=0.3))).ik([1.5, 0.5])) == 2
 
 
 def test_batch_never_returns_nan_in_valid_slots_and_marks_unreachable():

@@ -169,8 +169,14 @@ def _recognise(arm: SerialArm) -> Family | str | None:
         return _wristed(arm, ax)
     if types in ("PPRRR", "RPRRR"):
         return _notes_5dof(arm)
-    return (f"its joints are {types}, and no course family has those: the families are "
-            + ", ".join(f"{name} ({t})" for name, t, _ in FAMILIES))
+    slides = [i + 1 for i, t in enumerate(types) if t == "P"]
+    which = ""
+    if n == 6:  # the six-joint closed forms are for six revolute joints
+        which = (f" (joint{'s' * (len(slides) > 1)} {', '.join(map(str, slides))} "
+                 f"{'are' if len(slides) > 1 else 'is'} prismatic, and six-joint arms other "
+                 "than the positioning arms with a spherical wrist need six revolute joints)")
+    return (f"it has {n} joints, {types}{which}, and no course family has those: the "
+            "families are " + ", ".join(f"{name} ({t})" for name, t, _ in FAMILIES))
 
 
 def _slides(arm: SerialArm) -> np.ndarray:
@@ -220,16 +226,16 @@ def _positioning(arm: SerialArm, ax: ZeroAxes, c_n: FloatArray, what: str
         return (f"joints 1-3 cannot move {what} in three independent directions at any "
                 "configuration")
     if not _verify(arm, family, c_n):
-        return f"rikin could not fit the {family.words} to this table (its FK check failed)"
+        return f"rikin could not fit the {family.name} to this table (its FK check failed)"
+    how = f"{family.words}; {_HOW[type(family)]}"
     if arm.n == 3:
-        return Family(family.words, _HOW[type(family)], family.count, PositioningSolver(family))
-    solver = WristedSolver(family, arm)
-    name = family.words.split(":")[0].split(" (")[0] + " with a spherical wrist"
+        return Family(family.name, how, family.count, PositioningSolver(family))
+    name = family.name + " with a spherical wrist"
     if isinstance(family, Spherical) and float(np.linalg.norm(np.cross(
             family.x0, ax.w[2]))) > GEOMETRY_TOL * arm.scale:
-        name += " (the boom's line misses the shoulder point, as on the Stanford arm)"
-    return Family(name, _HOW[type(family)] + "; then the spherical wrist, two ways",
-                  2 * family.count, solver)
+        name += " (as the Stanford arm: the boom's line misses the shoulder point)"
+    return Family(name, how + "; then the spherical wrist, two ways", 2 * family.count,
+                  WristedSolver(family, arm))
 
 
 _HOW = {

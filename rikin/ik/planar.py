@@ -32,11 +32,11 @@ _ORIGIN = Singularity(
 
 
 def _lengths(arm: SerialArm, n: int) -> list[float]:
-    if arm.joint_types != "R" * n or any(
+    if arm.convention != "standard" or arm.joint_types != "R" * n or any(
         float(lk.d) != 0 or float(lk.alpha) != 0 or float(lk.offset) != 0 for lk in arm.links
     ):
         raise InputError(
-            f"{arm.name}: the planar {n}R solver needs {n} revolute links with "
+            f"{arm.name}: the planar {n}R solver needs {n} revolute standard-DH links with "
             "d = alpha = offset = 0"
         )
     return [float(lk.a) for lk in arm.links]

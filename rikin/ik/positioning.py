@@ -65,7 +65,8 @@ class PositionFamily:
     """Joints 1-3 of a family: every joint triple that puts a point ``c`` of link 3 at
     ``p``. ``c0`` is ``c`` at ``q = 0`` (frame 0)."""
 
-    #: The family in the book's words, and how many solutions it has at most.
+    #: The family in the book's words, what it is made of, and the most solutions it has.
+    name = ""
     words = ""
     count = 1
     slots: tuple[Branch, ...] = (Branch(),)
@@ -86,7 +87,7 @@ class PositionFamily:
 class Cartesian(PositionFamily):
     """Three slides: ``q = W^-1 (p - c0)``, one solution."""
 
-    words = "cartesian arm (three slides)"
+    name, words = "cartesian arm", "three slides"
 
     def __init__(self, ax: ZeroAxes, c0: FloatArray) -> None:
         super().__init__(ax, c0)
@@ -100,7 +101,7 @@ class Cartesian(PositionFamily):
 class Cylindrical(PositionFamily):
     """A turning column and two slides: two solutions, front and back."""
 
-    words = "cylindrical arm (a turning column and two slides)"
+    name, words = "cylindrical arm", "a turning column and two slides"
     count = 2
     slots = (Branch("front"), Branch("back"))
     singularities = {
@@ -170,7 +171,7 @@ class Cylindrical(PositionFamily):
 class Spherical(PositionFamily):
     """Two turning axes that meet in ``O`` and a slide (the boom): up to four solutions."""
 
-    words = "spherical (polar) arm: two turning axes that meet, and a slide"
+    name, words = "spherical (polar) arm", "two turning axes that meet, and a slide (the boom)"
     count = 4
     slots = (Branch(None, "towards"), Branch(None, "towards"),
              Branch(None, "away"), Branch(None, "away"))
@@ -254,7 +255,7 @@ class Spherical(PositionFamily):
 class Scara(PositionFamily):
     """Two parallel turning axes and a quill along them: two solutions (elbow right, left)."""
 
-    words = "SCARA: two parallel turning axes and a quill along them"
+    name, words = "SCARA", "two parallel turning axes and a quill along them"
     count = 2
     slots = (Branch(None, "right"), Branch(None, "left"))
     singularities = {
