@@ -104,7 +104,7 @@ FAMILIES = {
     "cylindrical with a wrist": (cylindrical_wrist, "cylindrical arm with a spherical wrist", 4,
                                  "pose"),
     "spherical": (spherical, "spherical (polar) arm", 4, "position"),
-    "Stanford": (stanford, "spherical (polar) arm with a spherical wrist (as the Stanford", 8,
+    "Stanford": (stanford, "spherical (polar) arm with a spherical wrist (as on the Stanford", 8,
                  "pose"),
     "cartesian": (cartesian, "cartesian arm", 1, "position"),
     "cartesian with a wrist": (cartesian_wrist, "cartesian arm with a spherical wrist", 2,

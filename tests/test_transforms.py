@@ -92,3 +92,17 @@ def test_nan_and_shape_errors():
         rikin.r_to_rpy(np.eye(4))
     with pytest.raises(InputError, match="last row"):
         rikin.inv_transform(np.ones((4, 4)))
+
+
+def test_wrap_angle_refuses_nan_and_infinity_saying_where():
+    """Issue 29's leftover: rikin.wrap_angle(float('nan')) returned nan."""
+    with pytest.raises(InputError, match=r"^theta is NaN, not a number rikin can use"):
+        rikin.wrap_angle(float("nan"))
+    with pytest.raises(InputError, match=r"^theta is -inf \(infinite\)"):
+        rikin.wrap_angle(-np.inf)
+    with pytest.raises(InputError, match=r"NaN or infinity \(first at index \(1, 0\)\)"):
+        rikin.wrap_angle(np.array([[0.5, 1.0], [np.nan, 2.0]]))
+    # finite values, however large, are wrapped as the doubles they are (a prismatic
+    # joint's length in numpy.where(revolute, wrap_angle(q), q) is dropped anyway)
+    assert rikin.wrap_angle(3 * np.pi / 2) == pytest.approx(-np.pi / 2)
+    assert np.isfinite(rikin.wrap_angle(1e300))

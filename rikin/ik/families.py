@@ -233,7 +233,7 @@ def _positioning(arm: SerialArm, ax: ZeroAxes, c_n: FloatArray, what: str
     name = family.name + " with a spherical wrist"
     if isinstance(family, Spherical) and float(np.linalg.norm(np.cross(
             family.x0, ax.w[2]))) > GEOMETRY_TOL * arm.scale:
-        name += " (as the Stanford arm: the boom's line misses the shoulder point)"
+        name += " (as on the Stanford arm, the boom's line misses the shoulder point)"
     return Family(name, how + "; then the spherical wrist, two ways", 2 * family.count,
                   WristedSolver(family, arm))
 
@@ -458,7 +458,8 @@ def _solver_of(arm: SerialArm) -> Any:
     found = family_of(arm)
     if found is None or isinstance(found, Family):
         return None if found is None else found.solver
-    raise InputError(f"{arm.name!r} has no closed-form IK in rikin: {found}. {pieper.NUMERICAL}")
+    raise InputError(f"{arm.name!r} has no closed-form IK in rikin: {found}. "
+                     f"Instead: {pieper.NUMERICAL}")
 
 
 def _ikclass_of(arm: SerialArm) -> pieper.IKClass | None:

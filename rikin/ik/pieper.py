@@ -478,7 +478,7 @@ def general_solver(arm: SerialArm) -> Pieper6RSolver:
         family, reason = _general_reason(arm)
         if reason:
             raise InputError(f"{arm.name!r} has no closed-form IK in rikin: {reason}. "
-                             f"{NUMERICAL[0].upper()}{NUMERICAL[1:]}")
+                             f"Instead: {NUMERICAL}")
         solver = Pieper6RSolver(arm)
         _SOLVERS[arm] = solver
     return solver
