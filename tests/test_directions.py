@@ -297,3 +297,22 @@ def test_drawings_and_sliders_follow_the_data_sheets_joints():
     lo, hi = panel.ranges()[0][2:]
     assert (lo, hi) == pytest.approx((-155.0, 155.0))  # the data sheet's range, as printed
     assert f"{arm.fk(q)[1, 3]:.4g}" in panel.pose_text()
+
+
+def test_the_fast_paths_fk_check_counts_reversed_joints():
+    """FKCheck folds each link into constant matrices (rikin.SerialArm._link_constants);
+    a reversed joint negates its sine part and its offset there."""
+    from rikin.ik.fkcheck import FKCheck
+
+    arm = robots.kuka_kr5_arc().replace(base=rikin.transl(0.1, 0.2, 0.3))
+    arm = SerialArm(tuple(Link(**{**lk.__dict__, "offset": 0.3 * i})
+                          for i, lk in enumerate(arm.links)), base=arm.base, tool=arm.tool)
+    rng = np.random.default_rng(6)
+    q = rng.uniform(-pi, pi, size=(3, 6))
+    T = arm.fk(q[0])
+    check = FKCheck(arm)
+    assert check(q[:1], T) < 1e-28
+    F = arm.fk(q)
+    want = sum(np.sum((F[k, :3, :3] - T[:3, :3]) ** 2)
+               + np.sum((F[k, :3, 3] - T[:3, 3]) ** 2) / arm.scale**2 for k in range(3))
+    assert check(q, T) == pytest.approx(want, rel=1e-9)

@@ -280,9 +280,15 @@ def test_unreachable_targets_say_why_and_by_how_much():
         (SerialArm((Link(d=1.0), Link("P", alpha=-pi / 2), Link("P", d=0.5, a=0.4))),
          np.array([0.1, 0.2, 0.3]), r"closer than the slides can bring it"),
         (stanford((0.4, 0.15, 0.2, 0.2))._dh, None, r"closer than the boom's line"),
+        (stanford((0.412, 0.154, 0.203, 0.263)), rikin.homogeneous(
+            rikin.rotx(pi), np.array([0.1, 0.0, 0.649])),
+         r"0\.1 from axis 1, 0\.0337 inside the cylinder of radius 0\.1337"),
     ]
     for arm, p, why in cases:
-        if p is None:  # the Stanford arm's wrist centre 0.05 from the shoulder point
+        if p is not None and p.shape == (4, 4):
+            with pytest.raises(UnreachableError, match=why) as exc:
+                arm.ik(p)
+        elif p is None:  # the Stanford arm's wrist centre 0.05 from the shoulder point
             T = rikin.transl(0.0, 0.05, 0.4 - 0.2)
             T[:3, :3] = rikin.rotx(pi)
             with pytest.raises(UnreachableError, match=why) as exc:
@@ -291,6 +297,35 @@ def test_unreachable_targets_say_why_and_by_how_much():
             with pytest.raises(UnreachableError, match=why) as exc:
                 arm.ik(p)
         assert 0 < exc.value.excess < arm.scale
+
+
+def test_targets_rounded_off_the_edge_of_reach_are_solved_for_the_nearest_reachable_pose():
+    """Rounded numbers are input: a target typed 4e-5 beyond a SCARA's stretched reach,
+    inside a cylindrical arm's offset or the Stanford arm's shoulder offset is solved for
+    the nearest pose the arm reaches, and says how far that was; 4e-3 off is unreachable."""
+    scara_arm = scara((0.4, 0.35, 0.25))
+    stan = stanford((0.412, 0.154, 0.203, 0.263))  # a3 = 0.0203
+    T_in = rikin.homogeneous(rikin.rotx(pi), np.array([0.154 - 0.0203 - 4e-5, 0.0, 0.649]))
+    cyl = SerialArm((Link(d=1.0), Link("P", alpha=-pi / 2), Link("P", d=0.5, a=0.4)))
+    T_far = T_in.copy()
+    T_far[0, 3] -= 4e-3
+    cases = [  # arm, target 4e-5 off, the same 4e-3 off, solutions
+        (scara_arm, np.array([0.6 + 4e-5, 0.0, 0.3]), np.array([0.604, 0.0, 0.3]), 1),
+        (scara_arm, np.array([0.1 - 4e-5, 0.0, 0.3]), np.array([0.096, 0.0, 0.3]), 1),
+        (cyl, np.array([0.4 - 4e-5, 0.0, 0.7]), np.array([0.396, 0.0, 0.7]), 1),
+        (stan, T_in, T_far, 4),
+    ]
+    for arm, t, far, count in cases:
+        res = arm.ik(t)
+        assert len(res) == count and res.singular
+        assert res.reach_distance == pytest.approx(4e-5, rel=1e-6)
+        F = arm.fk(res.q)
+        p = t if t.shape == (3,) else t[:3, 3]
+        assert np.abs(F[:, :3, 3] - p).max() <= 4e-5 * (1 + 1e-6)
+        batch = arm.ik_batch((rikin.transl(*t) if t.shape == (3,) else t)[None])
+        assert batch.counts[0] >= count and batch.reach_distance[0] == pytest.approx(4e-5)
+        with pytest.raises(UnreachableError, match="taken as rounded"):
+            arm.ik(far)
 
 
 def test_singular_targets_are_flagged_with_their_free_joints():

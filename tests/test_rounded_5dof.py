@@ -363,13 +363,20 @@ def test_numerical_multistart_finds_every_solution_of_a_rounded_pose(name, mount
 def test_numerical_ik_of_other_arms_is_unchanged():
     """A 6R arm reaches every pose near its workspace: a rounded pose is solved as given
     (nearest rotation only); a 5-DOF arm of one's own, with no closed form to say which poses
-    it reaches, still needs a mask."""
+    it reaches, still needs a mask. (The PPRRR typed from its table has one since issue 29:
+    its rounded poses are solved as the lesson arm's are.)"""
     arm = robots.aula10_6r()
     q = np.array([0.3, -1.2, 2.0, 0.4, -0.7, 3.0])
     G = np.round(arm.fk(q), 4)
     sol = _numerical(arm, G, q)
     assert sol.success and sol.reach_distance == 0.0 and sol.rotation_distance > 0
-    own = rikin.SerialArm(robots.pprrr().links)
-    assert own.solver is None
+    own = rikin.SerialArm(robots.aula10_6r().links[:5])
+    assert own.solver is None and not rikin.ik.classify(own).closed_form
     with pytest.raises(rikin.InputError, match="mask"):
         ik_numerical(own, own.fk([1.0, 2.0, 0.3, 0.4, 0.5]))
+    typed = rikin.SerialArm(robots.pprrr().links)
+    qp = np.array([1.0, 2.0, 0.3, 0.4, 0.5])
+    Gp = np.round(typed.fk(qp), 4)
+    a, b = _numerical(typed, Gp, qp), _numerical(robots.pprrr(), Gp, qp)
+    assert a.success and b.reach_distance > 0
+    assert a.reach_distance == pytest.approx(b.reach_distance)

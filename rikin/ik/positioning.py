@@ -36,6 +36,7 @@ from .axes import ZeroAxes, rotate, turn_angle, two_turns
 from .base import RawSolutions, Singularity
 from .decoupled import WRIST, rotation_0_3, wrist_angles, wrist_model, wrist_slot_labels
 from .kernels import reach_excess, two_link_parts, two_link_slots
+from .reach import Gap, nearest_reachable, rounding_note
 from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -82,6 +83,13 @@ class PositionFamily:
     def explain(self, p: FloatArray, units: str, what: str) -> tuple[str, float]:
         """Why ``what`` at ``p (3,)`` is out of reach, and by how much (length units)."""
         return f"{what} is out of reach of joints 1-3", float("inf")
+
+    def gap(self, p: FloatArray, active: np.ndarray | None) -> Gap:
+        """The ``gap`` of :func:`rikin.ik.reach.nearest_reachable` for points ``p (N, 3)``
+        (frame 0): signed distances from the set joints 1-3 reach, their gradients, and which
+        apply. A family that reaches every point has none: nothing applies."""
+        N = len(p)
+        return np.zeros((N, 1)), np.zeros((N, 1, 3)), np.zeros((N, 1), dtype=bool)
 
 
 class Cartesian(PositionFamily):
@@ -157,6 +165,21 @@ class Cylindrical(PositionFamily):
         return Placed(q, both(ok), {"shoulder": both(on_axis & ok),
                                     "radial": both((root <= SINGULAR_TOL * np.sqrt(BB) * self.size)
                                                    & ok)})
+
+    def gap(self, p: FloatArray, active: np.ndarray | None) -> Gap:
+        """Inside the cylinder around axis 1 that the slides' line cannot enter: the
+        distance to its wall, along the way out from axis 1."""
+        A, t, rho = self._line(p)
+        B = self.B
+        d = np.abs(A[:, 0] * B[1] - A[:, 1] * B[0]) / np.sqrt(B @ B)
+        if active is None:
+            active = (rho < d)[:, None]
+        on = active[:, 0] & (rho > 0)  # on axis 1 no way out is nearest: none taken
+        out = np.zeros((len(p), 3))
+        safe = np.where(on, rho, 1.0)
+        out[:, :2] = t[:, :2] / safe[:, None]
+        J = np.where(on[:, None], -(out @ self.basis), 0.0)[:, None, :]
+        return np.where(on, d - rho, 0.0)[:, None], J, on[:, None]
 
     def explain(self, p: FloatArray, units: str, what: str) -> tuple[str, float]:
         A, _, rho = self._line(p[None])
@@ -240,6 +263,28 @@ class Spherical(PositionFamily):
             shoulder_front=flat(front),
         )
 
+    def gap(self, p: FloatArray, active: np.ndarray | None) -> Gap:
+        """Two walls the boom cannot pass: the sphere around the shoulder point its line
+        never comes closer than, and the cylinder around axis 1 of the boom's offset along
+        axis 2 (the Stanford arm's d2): the distance inside each, outwards."""
+        w1, w2 = self.ax.w[0], self.ax.w[1]
+        v = p - self.O
+        R = np.linalg.norm(v, axis=-1)
+        _, disc, e2 = self._boom(R * R)
+        e = np.sqrt(e2)
+        side = abs(float(self.x0 @ w2))  # the boom's offset along axis 2
+        across = v - (v @ w1)[:, None] * w1
+        rho = np.linalg.norm(across, axis=-1)
+        if active is None:
+            active = np.stack([R < e, rho < side], axis=-1)
+        on = active & np.stack([R > 0, rho > 0], axis=-1)
+        J = np.zeros((len(p), 2, 3))
+        J[:, 0] = -v / np.where(on[:, 0], R, 1.0)[:, None]
+        J[:, 1] = -across / np.where(on[:, 1], rho, 1.0)[:, None]
+        J[~on] = 0.0
+        r = np.stack([e - R, side - rho], axis=-1)
+        return np.where(on, r, 0.0), J, on
+
     def explain(self, p: FloatArray, units: str, what: str) -> tuple[str, float]:
         v = p - self.O
         R = float(np.linalg.norm(v))
@@ -249,7 +294,12 @@ class Spherical(PositionFamily):
         if disc[0] < 0:
             return (f"{what} is {R:.6g}{u} from the point where axes 1 and 2 meet, {e - R:.4g}{u} "
                     f"closer than the boom's line ever passes it ({e:.6g}{u})", e - R)
-        return (f"joints 1-2 cannot turn the boom onto {what}", float("inf"))
+        w1 = self.ax.w[0]
+        rho = float(np.linalg.norm(v - (v @ w1) * w1))
+        side = abs(float(self.x0 @ self.ax.w[1]))
+        return (f"{what} is {rho:.6g}{u} from axis 1, {side - rho:.4g}{u} inside the cylinder "
+                f"of radius {side:.6g}{u} around it (the boom's offset along axis 2) that "
+                "joints 1-2 cannot turn the boom into", side - rho)
 
 
 class Scara(PositionFamily):
@@ -299,6 +349,18 @@ class Scara(PositionFamily):
         return Placed(q, both(ok), {"elbow": both(parts.stretched & ok),
                                     "origin": both(parts.fold & ok)})
 
+    def gap(self, p: FloatArray, active: np.ndarray | None) -> Gap:
+        """Across the axes, the annulus links 1-2 sweep around axis 1: the distance beyond
+        it (or inside its hole), along the way from axis 1."""
+        t = (p - self.ax.r[0]) @ self.basis.T
+        d = np.hypot(t[:, 0], t[:, 1])
+        r = d - np.clip(d, abs(self.L1 - self.L2), self.L1 + self.L2)
+        if active is None:
+            active = (r != 0.0)[:, None]
+        on = active[:, 0] & (d > 0)
+        J = ((t / np.where(on, d, 1.0)[:, None]) @ self.basis)[:, None, :]
+        return np.where(on, r, 0.0)[:, None], np.where(on[:, None, None], J, 0.0), on[:, None]
+
     def explain(self, p: FloatArray, units: str, what: str) -> tuple[str, float]:
         t = (p - self.ax.r[0]) @ self.basis.T
         d = float(np.hypot(t[0], t[1]))
@@ -331,7 +393,15 @@ class PositioningSolver(ClosedForm):
                             shoulder_front=placed.shoulder_front, singular=placed.singular)
 
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
-        return self.family.explain(T_0_n[:3, 3], arm.units, "the target")
+        message, excess = self.family.explain(T_0_n[:3, 3], arm.units, "the target")
+        return message + rounding_note(arm, T_0_n[:3, 3]), excess
+
+    def nearest_reachable(
+        self, arm: SerialArm, T_world: FloatArray
+    ) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        """:func:`rikin.ik.reach.nearest_reachable`: a target rounded off the reach moved
+        onto it."""
+        return nearest_reachable(arm, self.family.gap, T_world, np.zeros(3))
 
 
 class WristedSolver(ClosedForm):
@@ -372,4 +442,12 @@ class WristedSolver(ClosedForm):
 
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         pw = T_0_n[:3, :3] @ self.wrist.centre + T_0_n[:3, 3]
-        return self.family.explain(pw, arm.units, "the wrist centre")
+        message, excess = self.family.explain(pw, arm.units, "the wrist centre")
+        return message + rounding_note(arm, pw), excess
+
+    def nearest_reachable(
+        self, arm: SerialArm, T_world: FloatArray
+    ) -> tuple[FloatArray, FloatArray, np.ndarray]:
+        """:func:`rikin.ik.reach.nearest_reachable`: the wrist centre of a pose rounded off
+        the reach moved onto it."""
+        return nearest_reachable(arm, self.family.gap, T_world, self.wrist.centre)
