@@ -11,6 +11,7 @@ what rikin then offers.
 """
 
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -80,11 +81,12 @@ def planar_3r(L, modified=False):
     if modified:
         return SerialArm((Link(), Link(a=L[0]), Link(a=L[1])), convention="modified",
                          tool=rikin.transl(L[2], 0, 0))
-    return SerialArm((Link(a=L[0], d=0.2), Link(a=L[1], alpha=pi, offset=0.3), Link(a=L[2])))
+    return SerialArm((Link(a=L[0], d=0.2 * L[3]), Link(a=L[1], alpha=pi, offset=0.3),
+                      Link(a=L[2])))
 
 
 def planar_2r(L, modified=False):
-    return SerialArm((Link(a=L[0], offset=-0.4), Link(a=L[1], d=0.1)))
+    return SerialArm((Link(a=L[0], offset=-0.4), Link(a=L[1], d=0.1 * L[2])))
 
 
 def angular_3r(L, modified=False):
@@ -168,6 +170,25 @@ def test_typed_family_solves_every_target_with_every_solution(name, modified):
             batch = arm.ik_batch(T[None])
             got = batch.q[0][batch.valid[0]]
             assert all(near(arm, got, row) for row in res.q)
+
+
+@pytest.mark.parametrize("s", [1e-90, 1e-8, 1e8, 1e90])
+def test_every_family_at_any_size_rikin_takes(s):
+    """Lengths from 1e-100 to 1e100 are input (the lesson arms are checked so in
+    test_real_input): the families' geometry and tolerances scale with the arm."""
+    rng = np.random.default_rng(12)
+    base = rikin.homogeneous(rikin.rpy_to_r(0.1, 0.2, 0.3), np.array([1.0, 2.0, 3.0]) * s)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for name, (make, family, count, _) in FAMILIES.items():
+            arm = make(rng.uniform(0.5, 2.0, 4) * s).replace(base=base)
+            assert classify(arm).family.startswith(family), (name, str(classify(arm)))
+            for _ in range(2):
+                q = random_q(arm, rng)
+                T = arm.fk(q)
+                res = arm.ik(target(arm, T, name))
+                assert_fk(arm, res, T, name)
+                assert near(arm, res.q, q, 1e-6) and (len(res) == count or res.singular)
 
 
 @pytest.mark.parametrize("name", ["planar 3R", "SCARA", "Stanford", "SCARA with a wrist",

@@ -195,9 +195,11 @@ def _positions_span(arm: SerialArm, ax: ZeroAxes, c_n: FloatArray) -> bool:
     idx = np.arange(3) if arm.convention == "standard" else np.arange(1, 4)
     Fj = F[:, idx]
     z, o = Fj[..., :3, 2], Fj[..., :3, 3]
-    cols = np.where(arm.revolute[:3, None], np.cross(z, pts[:, None, :] - o), z)
+    # a turn moves the point by its distance from the axis, a slide by its own length: both
+    # per unit of the arm's size, so that the rank does not depend on the unit
+    cols = np.where(arm.revolute[:3, None], np.cross(z, pts[:, None, :] - o) / arm.scale, z)
     sv = np.linalg.svd(cols, compute_uv=False)
-    return bool((sv[:, -1] > 1e-9 * arm.scale).any())
+    return bool((sv[:, -1] > 1e-9).any())
 
 
 def _verify(arm: SerialArm, family: PositionFamily, c_n: FloatArray) -> bool:
