@@ -430,3 +430,22 @@ def test_a_lesson_solver_given_to_an_arm_it_does_not_fit_is_refused_not_a_rikin_
                     t = np.array([T[0, 3], T[1, 3], np.arctan2(T[1, 0], T[0, 0])])
                 res = arm.ik(t)
                 assert near(arm, res.q, q), (a_name, b_name)
+
+
+def test_a_fitted_solver_given_to_another_arm_is_refused():
+    """The same class of defect as the lesson solvers': a family's solver fitted to one
+    table and handed to another through solver= is refused when that arm is built."""
+    from rikin.ik.families import family_of
+
+    rng = np.random.default_rng(13)
+    for name in ("planar 3R", "angular 3R", "SCARA", "Stanford", "cylindrical with a wrist"):
+        make = FAMILIES[name][0]
+        mine = typed(name, rng)
+        solver = family_of(mine).solver
+        again = mine.replace(solver=solver, base=np.eye(4))  # the same table: it fits
+        q = random_q(again, rng)
+        T = again.fk(q)
+        assert near(again, again.ik(target(again, T, name)).q, q)
+        other = make(rng.uniform(0.5, 2.0, 4))
+        with pytest.raises(InputError, match=f"solver={type(solver).__name__} does not fit"):
+            other.replace(solver=solver)

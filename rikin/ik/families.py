@@ -57,10 +57,6 @@ if TYPE_CHECKING:  # pragma: no cover
 #: absorbs the rounding of cos(pi / 2) and of the FK at q = 0.
 GEOMETRY_TOL = 1e-9
 
-#: A fitted family must reproduce the table's FK to this (relative to the arm's size)
-#: at random joint values.
-FIT_TOL = 1e-9
-
 #: The families, in the book's words, with the most solutions each has.
 FAMILIES = (
     ("planar 2R", "RR", 2),
@@ -202,21 +198,6 @@ def _positions_span(arm: SerialArm, ax: ZeroAxes, c_n: FloatArray) -> bool:
     return bool((sv[:, -1] > 1e-9).any())
 
 
-def _verify(arm: SerialArm, family: PositionFamily, c_n: FloatArray) -> bool:
-    """The fitted family finds the joints 1-3 that placed ``c_n`` at random joint values."""
-    rng = np.random.default_rng(1)
-    q = rng.uniform(-np.pi, np.pi, size=(8, arm.n))
-    q[:, _slides(arm)] *= arm.scale * rng.uniform(0.1, 1.0, size=(8, 1))
-    F = arm._flange._fk(q)
-    p = F[:, :3, :3] @ c_n + F[:, :3, 3]
-    placed = family.place(p, None)
-    d = np.abs(placed.q - q[:, None, :3])
-    d = np.where(arm.revolute[:3], np.abs(np.remainder(d + np.pi, 2 * np.pi) - np.pi),
-                 d / arm.scale)
-    d = np.where(placed.valid[..., None], d, np.inf)
-    return bool((d.max(axis=-1).min(axis=-1) <= 1e-7).all())
-
-
 def _positioning(arm: SerialArm, ax: ZeroAxes, c_n: FloatArray, what: str
                  ) -> Family | str:
     """The family of joints 1-3 placing ``c_n`` (frame n): a 3-joint arm's solver, or
@@ -227,17 +208,20 @@ def _positioning(arm: SerialArm, ax: ZeroAxes, c_n: FloatArray, what: str
     if not _positions_span(arm, ax, c_n):
         return (f"joints 1-3 cannot move {what} in three independent directions at any "
                 "configuration")
-    if not _verify(arm, family, c_n):
+    solver: PositioningSolver | WristedSolver = (
+        PositioningSolver(family, arm.joint_types) if arm.n == 3 else WristedSolver(family, arm))
+    try:
+        solver.check(arm)
+    except InputError:
         return f"rikin could not fit the {family.name} to this table (its FK check failed)"
     how = f"{family.words}; {_HOW[type(family)]}"
     if arm.n == 3:
-        return Family(family.name, how, family.count, PositioningSolver(family))
+        return Family(family.name, how, family.count, solver)
     name = family.name + " with a spherical wrist"
     if isinstance(family, Spherical) and float(np.linalg.norm(np.cross(
             family.x0, ax.w[2]))) > GEOMETRY_TOL * arm.scale:
         name += " (as on the Stanford arm, the boom's line misses the shoulder point)"
-    return Family(name, how + "; then the spherical wrist, two ways", 2 * family.count,
-                  WristedSolver(family, arm))
+    return Family(name, how + "; then the spherical wrist, two ways", 2 * family.count, solver)
 
 
 _HOW = {
@@ -333,16 +317,6 @@ def _notes_5dof(arm: SerialArm) -> Family | str:
 
 
 # ------------------------------------------------------------------ the lesson solvers, fitted
-def _verify_fit(arm: SerialArm, fitted: Fitted) -> bool:
-    """``T_0_n(q) = pre @ lesson(sign q + shift) @ post`` at random joint values."""
-    rng = np.random.default_rng(2)
-    q = rng.uniform(-np.pi, np.pi, size=(8, arm.n))
-    got = arm._flange._fk(q)
-    want = fitted.pre @ fitted.lesson._fk(fitted.sign * q + fitted.shift) @ fitted.post
-    err = np.abs(got - want)
-    return bool(err[:, :3, :3].max() <= FIT_TOL and err[:, :3, 3].max() <= FIT_TOL * arm.scale)
-
-
 def _frame(z: FloatArray, x: FloatArray, origin: FloatArray) -> FloatArray:
     """The frame with axes ``x``, ``z x x``, ``z`` at ``origin`` (x across z, unit)."""
     T = np.eye(4)
@@ -391,7 +365,9 @@ def _planar(arm: SerialArm, ax: ZeroAxes) -> Family | str:
     post = np.linalg.inv(lesson._fk(shift) ) @ np.linalg.inv(pre) @ f
     post[:3, 3] = 0.0  # the flange origin is the lesson arm's (rounding aside)
     fitted = Fitted(lesson, pre, post, sign, shift)
-    if not _verify_fit(arm, fitted):
+    try:
+        fitted.check(arm)
+    except InputError:
         return "it is not planar (the fitted planar arm's FK differs from the table's)"
     if n == 2:
         return Family("planar 2R", "the law of cosines (elbow up and down), for a position "
@@ -446,7 +422,9 @@ def _angular(arm: SerialArm, ax: ZeroAxes) -> Family | str:
     post = np.linalg.inv(lesson._fk(shift)) @ np.linalg.inv(pre) @ ax.frames[-1]
     post[:3, 3] = 0.0
     fitted = Fitted(lesson, pre, post, sign, shift)
-    if not _verify_fit(arm, fitted):
+    try:
+        fitted.check(arm)
+    except InputError:
         return "it is not the angular 3R (the fitted arm's FK differs from the table's)"
     return Family("angular (anthropomorphic) 3R", "joint 1 turns to the target, then the "
                   "planar two-link chain of joints 2-3 (front or back, elbow up or down), for "

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .._validate import FloatArray
+from ..errors import InputError
 from ..transforms import _inv_transform
 from .api import ClosedForm
 from .base import RawSolutions
@@ -27,6 +28,8 @@ from .base import RawSolutions
 if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
 
+#: How close (relative to the arm's size for positions) a fitted arm reproduces the table.
+FIT_TOL = 1e-9
 
 
 class Fitted(ClosedForm):
@@ -56,8 +59,19 @@ class Fitted(ClosedForm):
     def __repr__(self) -> str:
         return f"Fitted({type(self.inner).__name__} of {self.lesson.links!r:.80})"
 
-    def check(self, arm: SerialArm) -> None:  # noqa: D102 - fitted by rikin.ik.families
-        pass
+    def check(self, arm: SerialArm) -> None:
+        """Raise InputError unless ``arm``'s flange pose is ``pre @ lesson(sign q + shift) @
+        post`` at random joint values (``FIT_TOL``): the arm this solver was fitted to."""
+        if arm.joint_types != self.lesson.joint_types:
+            raise InputError(f"{arm.name}: this {type(self.inner).__name__} was fitted to a "
+                             f"{self.lesson.joint_types} arm, got {arm.joint_types}")
+        rng = np.random.default_rng(2)
+        q = rng.uniform(-np.pi, np.pi, size=(8, arm.n))
+        err = np.abs(arm._flange._fk(q)
+                     - self.pre @ self.lesson._fk(self.sign * q + self.shift) @ self.post)
+        if not (err[:, :3, :3].max() <= FIT_TOL and err[:, :3, 3].max() <= FIT_TOL * arm.scale):
+            raise InputError(f"{arm.name}: its table is not the {self.lesson.joint_types} arm "
+                             f"this {type(self.inner).__name__} was fitted to")
 
     def to_lesson(self, T_0_n: FloatArray) -> FloatArray:
         """The lesson arm's flange poses ``(N, 4, 4)`` for the arm's ``T_0_n (N, 4, 4)``."""

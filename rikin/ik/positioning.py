@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .._validate import FloatArray
+from ..errors import InputError
 from ..tolerances import AXIS_TOL, REACH_TOL, SINGULAR_TOL
 from .api import ClosedForm
 from .axes import ZeroAxes, rotate, turn_angle, two_turns
@@ -373,19 +374,45 @@ class Scara(PositionFamily):
                 f"the folded arm reaches no closer than {abs(self.L1 - self.L2):.6g}{u})", ex)
 
 
+def check_family(arm: SerialArm, family: PositionFamily, c_n: FloatArray, types: str) -> None:
+    """Raise InputError unless ``family`` solves joints 1-3 of ``arm`` (in DH joint values)
+    placing ``c_n`` (frame n): its joint types, and at random joint values the joints that
+    placed the point are among what ``family`` finds for it."""
+    if arm.joint_types != types:
+        raise InputError(f"{arm.name}: the {family.name} solver was fitted to a {types} arm, "
+                         f"got {arm.joint_types}")
+    rng = np.random.default_rng(1)
+    q = rng.uniform(-np.pi, np.pi, size=(8, arm.n))
+    slides = np.array([not lk.is_revolute for lk in arm.links])
+    q[:, slides] *= arm.scale * rng.uniform(0.1, 1.0, size=(8, 1))
+    F = arm._flange._fk(q)
+    placed = family.place(F[:, :3, :3] @ c_n + F[:, :3, 3], None)
+    d = np.abs(placed.q - q[:, None, :3])
+    d = np.where(slides[:3], d / arm.scale, np.abs(np.remainder(d + np.pi, 2 * np.pi) - np.pi))
+    d = np.where(placed.valid[..., None], d, np.inf)
+    if not (d.max(axis=-1).min(axis=-1) <= FIT_TOL).all():
+        raise InputError(f"{arm.name}: its joints 1-3 are not the {family.name} this solver was "
+                         "fitted to (it misses the joints that placed a point)")
+
+
+#: How close (rad, or relative to the arm's size) a fitted family finds the joints.
+FIT_TOL = 1e-7
+
+
 class PositioningSolver(ClosedForm):
     """Closed-form IK of a 3-joint positioning arm of the exercises: the TCP's position."""
 
     target_kind = "position"
     wrist_middle = None
 
-    def __init__(self, family: PositionFamily) -> None:
-        self.family = family
+    def __init__(self, family: PositionFamily, types: str) -> None:
+        self.family, self.types = family, types
         self.singularities = family.singularities
         self.slots = family.slots
 
-    def check(self, arm: SerialArm) -> None:  # noqa: D102 - fitted by rikin.ik.families
-        pass
+    def check(self, arm: SerialArm) -> None:
+        """Raise InputError unless ``arm`` is the arm this solver was fitted to."""
+        check_family(arm, self.family, np.zeros(3), self.types)
 
     def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         placed = self.family.place(T_0_n[:, :3, 3], hint)
@@ -412,15 +439,24 @@ class WristedSolver(ClosedForm):
     wrist_middle = 4
 
     def __init__(self, family: PositionFamily, arm: SerialArm) -> None:
-        self.family = family
+        self.family, self.types = family, arm.joint_types
         self.wrist = wrist_model(arm, 3)
         self.singularities = {**family.singularities, "wrist": WRIST}
         labels = wrist_slot_labels(self.wrist)
         self.slots = tuple(Branch(b.shoulder, b.elbow, labels[k])
                            for b in family.slots for k in (0, 1))
 
-    def check(self, arm: SerialArm) -> None:  # noqa: D102 - fitted by rikin.ik.families
-        pass
+    def check(self, arm: SerialArm) -> None:
+        """Raise InputError unless ``arm`` is the arm this solver was fitted to: its
+        positioning joints (:func:`check_family`) and the same spherical wrist."""
+        check_family(arm, self.family, self.wrist.centre, self.types)
+        W, mine = wrist_model(arm, 3), self.wrist
+        same = (W.s == mine.s and np.allclose(W.pre, mine.pre, atol=FIT_TOL)
+                and np.allclose(W.post, mine.post, atol=FIT_TOL)
+                and np.allclose(W.offsets, mine.offsets, atol=FIT_TOL)
+                and np.allclose(W.centre, mine.centre, atol=FIT_TOL * arm.scale))
+        if not same:
+            raise InputError(f"{arm.name}: its wrist is not the one this solver was fitted to")
 
     def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         R_0_6 = T_0_n[:, :3, :3]
