@@ -449,3 +449,14 @@ def test_a_fitted_solver_given_to_another_arm_is_refused():
         other = make(rng.uniform(0.5, 2.0, 4))
         with pytest.raises(InputError, match=f"solver={type(solver).__name__} does not fit"):
             other.replace(solver=solver)
+
+
+def test_classify_says_how_many_solutions_to_expect_for_the_lesson_robots_too():
+    expected = {"planar_2r": 2, "planar_3r": 2, "angular_3r": 4, "aula10_6r": 8,
+                "barrientos_6r": 8, "pprrr": 2, "rprrr": 4, "epson_c4": 8}
+    for name, make in robots.LESSON_ROBOTS.items():
+        arm = make()
+        c = classify(arm)
+        assert c.closed_form and c.solutions == expected[name]
+        table = SerialArm(arm.links, convention=arm.convention, tool=arm.tool)
+        assert classify(table).solutions == expected[name]

@@ -194,6 +194,7 @@ class Angular3RSolver(ClosedForm):
 
     target_kind = "position"
     wrist_middle = None
+    count = 4
     singularities = {"shoulder": Singularity("the target is on the axis of joint 1, so q1 is free",
                                              (1,), drop_back=True),
                      "elbow": ELBOW, "fold": FOLD}

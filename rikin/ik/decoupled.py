@@ -179,6 +179,7 @@ class Decoupled6RSolver(ClosedForm):
 
     target_kind = "pose"
     wrist_middle = 4
+    count = 8
     singularities = {"shoulder": SHOULDER, "elbow": ELBOW, "fold": FOLD, "wrist": WRIST}
 
     def __init__(self, geometry: RRRGeometry) -> None:

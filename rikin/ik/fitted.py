@@ -53,6 +53,7 @@ class Fitted(ClosedForm):
         self.pre_inv, self.post_inv = _inv_transform(pre), _inv_transform(post)
         self.sign, self.shift = np.asarray(sign, dtype=float), np.asarray(shift, dtype=float)
         self.target_kind = self.inner.target_kind
+        self.count = self.inner.count
         self.wrist_middle = self.inner.wrist_middle
         self.singularities = self.inner.singularities
 

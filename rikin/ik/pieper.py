@@ -440,7 +440,8 @@ def classify(arm: SerialArm) -> IKClass:
     arm = arm._dh  # the geometry, in DH joint values (a reversed joint changes nothing here)
     if arm.solver is not None:
         doc = (type(arm.solver).__doc__ or type(arm.solver).__name__).strip()
-        return IKClass(True, " ".join(doc.split("\n\n")[0].split()))
+        return IKClass(True, " ".join(doc.split("\n\n")[0].split()),
+                       solutions=getattr(arm.solver, "count", 0))
     for of_family in FAMILY_CLASSES:
         found = of_family(arm)
         if found is not None:

@@ -108,6 +108,7 @@ class Planar2RSolver(_PlanarBase):
     """IK of the planar 2R arm: up to 2 solutions (elbow up and down)."""
 
     target_kind = "planar_position"
+    count = 2
 
     def check(self, arm: SerialArm) -> None:
         _lengths(arm, 2)
@@ -145,6 +146,7 @@ class Planar3RSolver(_PlanarBase):
     """IK of the planar 3R arm for ``(x, y, phi)``: up to 2 solutions."""
 
     target_kind = "planar_pose"
+    count = 2
 
     def check(self, arm: SerialArm) -> None:
         _lengths(arm, 3)

@@ -407,6 +407,7 @@ class PositioningSolver(ClosedForm):
 
     def __init__(self, family: PositionFamily, types: str) -> None:
         self.family, self.types = family, types
+        self.count = family.count
         self.singularities = family.singularities
         self.slots = family.slots
 
@@ -440,6 +441,7 @@ class WristedSolver(ClosedForm):
 
     def __init__(self, family: PositionFamily, arm: SerialArm) -> None:
         self.family, self.types = family, arm.joint_types
+        self.count = 2 * family.count
         self.wrist = wrist_model(arm, 3)
         self.singularities = {**family.singularities, "wrist": WRIST}
         labels = wrist_slot_labels(self.wrist)

@@ -55,6 +55,7 @@ class PPRRRSolver(ClosedForm):
 
     target_kind = "pose"
     wrist_middle = 3
+    count = 2
     singularities = {"wrist": _WRIST}
 
     def check(self, arm: SerialArm) -> None:
@@ -145,6 +146,7 @@ class RPRRRSolver(ClosedForm):
 
     target_kind = "pose"
     wrist_middle = 3
+    count = 4
     singularities = {
         "wrist": _WRIST,
         "radial": Singularity(
