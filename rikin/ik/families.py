@@ -171,8 +171,8 @@ def _recognise(arm: SerialArm) -> Family | str | None:
         which = (f" (joint{'s' * (len(slides) > 1)} {', '.join(map(str, slides))} "
                  f"{'are' if len(slides) > 1 else 'is'} prismatic, and six-joint arms other "
                  "than the positioning arms with a spherical wrist need six revolute joints)")
-    return (f"it has {n} joints, {types}{which}, and no course family has those: the "
-            "families are " + ", ".join(f"{name} ({t})" for name, t, _ in FAMILIES))
+    return (f"it has {n} joint{'s' * (n != 1)}, {types}{which}, and no course family has "
+            "those: the families are " + ", ".join(f"{name} ({t})" for name, t, _ in FAMILIES))
 
 
 def _slides(arm: SerialArm) -> np.ndarray:
