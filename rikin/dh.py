@@ -342,6 +342,8 @@ class SerialArm:
         directions = np.array([lk.direction for lk in links], dtype=np.int64)
         directions.setflags(write=False)
         object.__setattr__(self, "_directions", directions)
+        reversed_joints = tuple(i for i, lk in enumerate(links, 1) if lk.direction < 0)
+        object.__setattr__(self, "_reversed_joints", reversed_joints)
         for fname in ("base", "tool"):
             T, dist = clean_pose(_one_pose(getattr(self, fname), fname))
             T = T.copy()
@@ -390,7 +392,7 @@ class SerialArm:
     @property
     def reversed_joints(self) -> tuple[int, ...]:
         """The joints (numbered from 1) whose direction is -1; empty for most arms."""
-        return tuple(int(i) + 1 for i in np.flatnonzero(self.directions < 0))
+        return self._reversed_joints  # type: ignore[attr-defined]
 
     @property
     def _dh(self) -> SerialArm:
