@@ -8,7 +8,6 @@ filter by joint limits and sort by distance to previous joints.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import replace
 from typing import Any, cast
@@ -79,13 +78,6 @@ _KIND_HELP = {
     "planar_pose": "(x, y, phi) with phi the tool angle in radians, or a 4x4 pose in the xy plane",
     "planar_position": "(x, y) or a 4x4 pose in the xy plane whose position is used",
 }
-
-
-#: Recognisers of arm families (:mod:`rikin.ik.families` registers its own when
-#: :mod:`rikin.ik` is imported): each takes an arm with no solver of its own and returns
-#: the family's solver, None when the arm is not of theirs, or raises InputError saying why
-#: the arm has no closed form.
-FAMILY_SOLVERS: list[Callable[[SerialArm], Solver | None]] = []
 
 
 def _solver(arm: Any) -> Solver:

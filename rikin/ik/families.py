@@ -18,7 +18,8 @@ are 0.3 deg from parallel: not a SCARA"). Arms with six revolute joints are left
 :mod:`rikin.ik.pieper`. Every fit is checked by FK at random joint values before use.
 
 The module registers itself with :func:`rikin.ik.solve` and :func:`rikin.ik.classify`
-when :mod:`rikin.ik` is imported (it imports them; they never import it).
+(:mod:`rikin.ik.families6r`, ahead of the 6R families) when :mod:`rikin.ik` is imported
+(it imports them; they never import it).
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ import numpy as np
 
 from .._validate import FloatArray
 from ..errors import InputError
-from . import api, pieper
+from . import families6r
 from .anthropomorphic import Angular3RSolver, RRRGeometry
 from .axes import ZeroAxes, zero_axes
 from .decoupled import wrist_model
@@ -431,26 +432,15 @@ def _angular(arm: SerialArm, ax: ZeroAxes) -> Family | str:
                   "a position", 4, fitted)
 
 
-# ------------------------------------------------------------------ hooks into rikin.ik
-def _solver_of(arm: SerialArm) -> Any:
-    """For :func:`rikin.ik.solve`: the family's solver, None for a 6R (Pieper decides), or
-    InputError saying why the arm is in no family and what to use instead."""
+# ------------------------------------------------------------------ the hook into rikin.ik
+def _course_match(arm: SerialArm) -> families6r.Match | str | None:
+    """For :mod:`rikin.ik.families6r`: the course family's match, the reason an arm that is
+    not a 6R has no closed form, or None for a 6R (the 6R families decide those)."""
     found = family_of(arm)
-    if found is None or isinstance(found, Family):
-        return None if found is None else found.solver
-    raise InputError(f"{arm.name!r} has no closed-form IK in rikin: {found}. "
-                     f"Instead: {pieper.NUMERICAL}")
-
-
-def _ikclass_of(arm: SerialArm) -> pieper.IKClass | None:
-    """For :func:`rikin.ik.classify`: the family in words, None for a 6R."""
-    found = family_of(arm)
-    if found is None:
-        return None
     if isinstance(found, Family):
-        return pieper.IKClass(True, str(found), solutions=found.count)
-    return pieper.IKClass(False, reason=found, fallback=pieper.NUMERICAL)
+        solver = found.solver
+        return families6r.Match(str(found), lambda _arm: solver, found.count)
+    return found
 
 
-api.FAMILY_SOLVERS.append(_solver_of)
-pieper.FAMILY_CLASSES.append(_ikclass_of)
+families6r.BEFORE.append(_course_match)

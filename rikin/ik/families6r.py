@@ -33,10 +33,11 @@ __all__ = ["Match", "Family", "FAMILIES", "classify", "solver_for"]
 @dataclass(frozen=True)
 class Match:
     """An arm recognised as one family: its name in words (with how many solutions to
-    expect) and the solver's constructor."""
+    expect), the solver's constructor, and the most solutions a target has (0: unknown)."""
 
     family: str
     build: Callable[[SerialArm], Solver]
+    solutions: int = 0
 
 
 @dataclass(frozen=True)
@@ -52,7 +53,7 @@ def _spherical_wrist(arm: SerialArm) -> Match | str:
     family, reason = pieper._general_reason(arm)
     if reason:
         return reason
-    return Match(f"{family}: up to 8 solutions", pieper.general_solver)
+    return Match(f"{family}: up to 8 solutions", pieper.general_solver, 8)
 
 
 def _parallel(arm: SerialArm) -> Match | str:
@@ -65,6 +66,12 @@ def _general(arm: SerialArm) -> Match | str:
     return reason or Match(family, general6r.General6RSolver)
 
 
+#: Recognisers tried before :data:`FAMILIES`: the course's families of arms that are not
+#: 6R (:mod:`rikin.ik.families` registers its own when :mod:`rikin.ik` is imported). Each
+#: returns a Match, the reason the arm has no closed form (then no 6R family is tried), or
+#: None to leave the arm to FAMILIES.
+BEFORE: list[Callable[[SerialArm], Match | str | None]] = []
+
 #: The families tried, in order (the first that matches solves the arm).
 FAMILIES: list[Family] = [
     Family("spherical wrist", _spherical_wrist),
@@ -75,6 +82,10 @@ FAMILIES: list[Family] = [
 
 def _first_match(arm: SerialArm) -> tuple[Match | None, list[tuple[str, str]]]:
     """The first family's match (or None), and the ``(name, reason)`` of those before it."""
+    for before in BEFORE:
+        ahead = before(arm)
+        if ahead is not None:
+            return (ahead, []) if isinstance(ahead, Match) else (None, [("", ahead)])
     reasons: list[tuple[str, str]] = []
     for fam in FAMILIES:
         found = fam.recognise(arm)
@@ -120,16 +131,19 @@ def classify(arm: SerialArm) -> IKClass:
     True
     """
     check_arm(arm)
+    arm = arm._dh  # the geometry, in DH joint values (a reversed joint changes nothing here)
     if arm.solver is not None:
         doc = (type(arm.solver).__doc__ or type(arm.solver).__name__).strip()
-        return IKClass(True, " ".join(doc.split("\n\n")[0].split()))
+        return IKClass(True, " ".join(doc.split("\n\n")[0].split()),
+                       solutions=getattr(arm.solver, "count", 0))
     match, reasons = _first_match(arm)
     if match is None:
-        return IKClass(False, "", _why_not(reasons))
+        return IKClass(False, "", _why_not(reasons), fallback=pieper.NUMERICAL)
     if not reasons:
-        return IKClass(True, match.family)
+        return IKClass(True, match.family, solutions=match.solutions)
     # why the simpler families do not apply: the book's reading of the table
-    return IKClass(True, f"{match.family} (not {_why_not_named(reasons)})")
+    return IKClass(True, f"{match.family} (not {_why_not_named(reasons)})",
+                   solutions=match.solutions)
 
 
 _SOLVERS: weakref.WeakKeyDictionary[SerialArm, Solver] = weakref.WeakKeyDictionary()

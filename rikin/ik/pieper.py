@@ -40,7 +40,6 @@ from __future__ import annotations
 import itertools
 import math
 import weakref
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -442,10 +441,6 @@ def classify(arm: SerialArm) -> IKClass:
         doc = (type(arm.solver).__doc__ or type(arm.solver).__name__).strip()
         return IKClass(True, " ".join(doc.split("\n\n")[0].split()),
                        solutions=getattr(arm.solver, "count", 0))
-    for of_family in FAMILY_CLASSES:
-        found = of_family(arm)
-        if found is not None:
-            return found
     family, reason = _general_reason(arm)
     return IKClass(not reason, family, reason, solutions=0 if reason else 8,
                    fallback=NUMERICAL if reason else "")
@@ -455,10 +450,6 @@ def classify(arm: SerialArm) -> IKClass:
 NUMERICAL = ("rikin.ik.ik_numerical finds one solution, the one its iteration falls into "
              "from a start q0; rikin.ik.ik_numerical_multistart tries many starts and lists "
              "the distinct solutions found, with no promise that none is missed")
-
-#: The course families' classifiers (:mod:`rikin.ik.families` registers its own when
-#: :mod:`rikin.ik` is imported): each returns an IKClass, or None when the arm is not theirs.
-FAMILY_CLASSES: list[Callable[[SerialArm], IKClass | None]] = []
 
 
 _SOLVERS: weakref.WeakKeyDictionary[SerialArm, Pieper6RSolver] = weakref.WeakKeyDictionary()
