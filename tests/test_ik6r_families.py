@@ -147,6 +147,19 @@ def test_families_in_order_and_an_arm_outside_all_says_why():
     assert "degenerates" in verdict.reason
 
 
+def test_classify_says_how_many_solutions_each_6r_family_gives():
+    """classify's count (issue 29, Wanted 5): 8 for a spherical wrist and three parallel
+    axes, 16 for the general 6R, and a pose of each has no more."""
+    rng = np.random.default_rng(16)
+    for arm, most in ((kr5(), 8), (ur5e(), 8), (random_6r(rng, "standard"), 16),
+                      (random_6r(rng, "modified"), 16)):
+        verdict = rikin.ik.classify(arm)
+        assert verdict.closed_form and verdict.solutions == most, str(verdict)
+        assert f"up to {most} solutions" in verdict.family
+        for q in rng.uniform(-pi, pi, size=(3, 6)):
+            assert 1 <= len(arm.ik(arm.fk(q))) <= most
+
+
 def kr5():
     return SerialArm((
         Link(d=0.4, a=0.18, alpha=pi / 2), Link(a=0.6), Link(a=0.12, alpha=pi / 2),

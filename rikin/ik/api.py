@@ -81,8 +81,9 @@ _KIND_HELP = {
 
 
 def _solver(arm: Any) -> Solver:
-    """The arm's own solver (lesson robots), else the first family of
-    :data:`rikin.ik.families6r.FAMILIES` that takes its table (raises if none does)."""
+    """The arm's own solver (lesson robots), else the first family that takes its table
+    (:func:`rikin.ik.families6r.solver_for`: the course families, then the 6R families;
+    raises if none does)."""
     if not isinstance(arm, SerialArm):
         raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
     if arm.solver is None:

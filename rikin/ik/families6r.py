@@ -2,9 +2,11 @@
 
 Each family is a *recogniser*: a function of the arm that returns a :class:`Match` (the
 family in the book's words, and how to build its solver) or a string, the reason the arm
-is not of that family. :func:`classify` and :func:`solver_for` try :data:`FAMILIES` in
-order and take the first match, so a family that is a special case of a later one (a
-spherical wrist is a special 6R) comes first.
+is not of that family. :func:`classify` and :func:`solver_for` (the one path from a table
+to its solver: :func:`rikin.ik.solve` asks it) try the recognisers of :data:`BEFORE` (the
+course's families of :mod:`rikin.ik.families`, which decide every arm that is not a 6R),
+then :data:`FAMILIES` in order, and take the first match, so a family that is a special
+case of a later one (a spherical wrist is a special 6R) comes first.
 
 To add a family: write its recogniser (cheap, no solving: it reads the table) and its
 solver (the :class:`~rikin.ik.base.Solver` protocol), and insert
@@ -58,12 +60,12 @@ def _spherical_wrist(arm: SerialArm) -> Match | str:
 
 def _parallel(arm: SerialArm) -> Match | str:
     family, reason = parallel3.recognise(arm)
-    return reason or Match(family, parallel3.ParallelAxesSolver)
+    return reason or Match(family, parallel3.ParallelAxesSolver, 8)
 
 
 def _general(arm: SerialArm) -> Match | str:
     family, reason = general6r.recognise(arm)
-    return reason or Match(family, general6r.General6RSolver)
+    return reason or Match(family, general6r.General6RSolver, 16)
 
 
 #: Recognisers tried before :data:`FAMILIES`: the course's families of arms that are not
