@@ -203,19 +203,37 @@ def lm_flange_solutions(arm, T, rng, position, starts=200):
     return np.array(found)
 
 
+#: The joint whose DH angle 0 is a singular configuration of each family's typed table:
+#: the elbow stretched (planar, angular, SCARA) or the wrist's axes 4 and 6 in line.
+SINGULAR_JOINT = {"planar 2R": 1, "planar 3R": 1, "angular 3R": 2, "SCARA": 1,
+                  "SCARA with a wrist": 4, "cylindrical with a wrist": 4, "Stanford": 4,
+                  "cartesian with a wrist": 4}
+
+
+def near_singular_q(arm, name, rng):
+    """Random joints, but the family's singular joint 2e-3..1e-2 rad from DH angle 0 (in
+    the data sheet's count: ``q = direction * (theta - offset)``)."""
+    q = random_q(arm, rng)
+    j = SINGULAR_JOINT[name]
+    theta = rng.uniform(2e-3, 1e-2) * rng.choice([-1, 1])
+    q[j] = arm.links[j].direction * (theta - arm.links[j].offset)
+    return q
+
+
 @pytest.mark.parametrize(("name", "modified"), [(n, False) for n in sorted(FAMILIES)]
                          + [(n, True) for n in MODIFIED])
 def test_course_family_with_reversed_joints_base_and_tool_matches_ik_lm(name, modified):
-    """Each course family typed at random (lengths, base, tool, reversed joints): rikin's
+    """Each course family typed at random (lengths, base, tool, reversed joints), at a
+    random pose and, where the family has one, 2e-3..1e-2 rad from a singular one: rikin's
     FK is roboticstoolbox's at the same joint values, every solution (one pose at a time
     and in a batch) passes rtb's fkine, and the set is what ik_LM finds from 200 starts."""
     rng = np.random.default_rng([29, len(name), int(modified), sum(map(ord, name))])
     position = FAMILIES[name][3] == "position"
-    for _ in range(2):
+    for k in range(3 if name in SINGULAR_JOINT else 2):
         arm = reversed_at_random(typed(name, rng, modified), rng)
         robot = to_rtb(arm)
         assert rikin.ik.classify(arm).family.startswith(FAMILIES[name][1])
-        q = random_q(arm, rng)
+        q = near_singular_q(arm, name, rng) if k == 2 else random_q(arm, rng)
         T = arm.fk(q)
         assert np.abs(robot.fkine(q).A - T).max() <= 1e-12 * max(1.0, arm.scale)
         res = arm.ik(target(arm, T, name))
