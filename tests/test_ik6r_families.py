@@ -136,6 +136,22 @@ def test_batch_holds_the_solutions_of_one_pose_at_a_time(make):
         assert (gap.min(1) <= SAME_Q).all() and (gap.min(0) <= SAME_Q).all()
 
 
+def test_one_path_from_a_table_to_its_solver():
+    """solve, solve_batch and classify find a typed arm's solver by one ordered registry:
+    the course families (rikin.ik.families, registered once) first, then the 6R families;
+    what solver_for builds is what arm.ik uses."""
+    from rikin.ik import api
+    from rikin.ik import families as course
+
+    assert families.BEFORE == [course._course_match]
+    scara = SerialArm((Link(d=0.4, a=0.35), Link(a=0.25, alpha=pi), Link("P")))
+    for arm, family in ((scara, "SCARA"), (ur5e(), "three parallel axes"),
+                        (kr5(), "6R with a spherical wrist")):
+        assert str(rikin.ik.classify(arm)).startswith(family)
+        assert api._solver(arm) is families.solver_for(arm)
+    assert families.solver_for(scara) is course.family_of(scara).solver
+
+
 def test_families_in_order_and_an_arm_outside_all_says_why():
     assert [f.name for f in families.FAMILIES] == [
         "spherical wrist", "three parallel axes", "general 6R"]
