@@ -1249,6 +1249,15 @@ NOT_FUZZED = {
     "rikin.ik.pieper_kernel.PieperKernel.solve": "one-pose kernel on the validated pose, "
     "as PieperKernel",
     "rikin.ik.pieper_kernel.single_kernel": "builds the one-pose kernel, as PieperKernel",
+    "rikin.ik.parallel3.ParallelAxesSolver.single_kernel": "solver protocol, as "
+    "Pieper6RSolver.check",
+    "rikin.ik.parallel3_kernel.ParallelKernel": "the one-pose kernel rikin.ik.solve builds "
+    "from a solver it made (fuzzed through SerialArm.ik of a UR arm typed as a table)",
+    "rikin.ik.parallel3_kernel.ParallelKernel.solve": "one-pose kernel on the validated "
+    "pose, as ParallelKernel",
+    "rikin.ik.parallel3_kernel.single_kernel": "builds the one-pose kernel, as ParallelKernel",
+    "rikin.ik.parallel3_kernel.solve_batch": "the batch kernel on validated poses, as "
+    "ParallelKernel (fuzzed through SerialArm.ik_batch of a UR arm typed as a table)",
     "rikin.dh.link_transform": "documented kernel on validated input, FK's and the IK "
     "solvers' inner loop; users call SerialArm.fk (fuzzed)",
 }
