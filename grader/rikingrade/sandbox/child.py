@@ -41,7 +41,6 @@ self-contained: it is bind-mounted alone into the sandbox.
 import builtins
 import io
 import json
-import linecache
 import math
 import os
 import resource
@@ -92,6 +91,7 @@ _getpid = os.getpid
 _exit = os._exit
 _monotonic = __import__("time").monotonic
 _sleep = __import__("time").sleep
+importlib_invalidate = __import__("importlib").invalidate_caches
 
 np = None  # numpy, once preloaded
 
@@ -279,51 +279,152 @@ def _no_input(*args, **kwargs):
     )
 
 
-class _ShellStub:
-    """Enough of ``get_ipython()`` for magics that IPython's transformer emits."""
+# ----------------------------------------------------------------------------- IPython
+SHELL = None  # IPython's InteractiveShell, made once in the zygote (None: IPython missing)
+#: Shell commands that need the network (``!pip install``, ``%pip``, ``!wget`` ...).
+NETWORK_WORDS = ("pip", "conda", "mamba", "wget", "curl", "git", "apt", "apt-get", "uv")
 
-    EXEC_CELL_MAGICS = ("time", "timeit", "capture", "prun")
-    EXEC_LINE_MAGICS = ("time", "timeit", "prun")
 
-    def __init__(self, ns):
-        self.ns = ns
-        self.user_ns = ns
-        self.notes = []
+def _leading_empty_lines(lines):
+    for i, line in enumerate(lines):
+        if line and not line.isspace():
+            return lines[i:]
+    return lines
 
-    def run_line_magic(self, name, line, *args, **kwargs):
-        if name in self.EXEC_LINE_MAGICS:
-            src = line.strip()
-            if name == "timeit":  # drop timeit options such as -n1 -r1
-                while src.startswith("-"):
-                    src = src.split(None, 1)[1] if " " in src else ""
-            try:
-                return eval(compile(src, "<magic>", "eval"), self.ns)
-            except SyntaxError:
-                exec(compile(src, "<magic>", "exec"), self.ns)
-                return None
-        self.notes.append(f"%{name} ignored")
-        return None
 
-    def run_cell_magic(self, name, line, cell):
-        if name in self.EXEC_CELL_MAGICS:
-            exec(compile(cell, "<magic>", "exec"), self.ns)
-        else:
-            self.notes.append(f"%%{name} cell ignored")
-        return None
+def _shell_class():
+    """``GradingShell``: IPython's own InteractiveShell, as a Jupyter kernel's, minus a screen.
 
-    def system(self, cmd, *args, **kwargs):
-        self.notes.append("shell command ignored")
-        return None
+    Cells run through ``run_cell`` (input transformers, line and cell magics, ``!``
+    commands, top-level ``await``, the displayhook); what differs only concerns drawing
+    and speed: the matplotlib magic keeps the Agg backend (no figure is shown), a
+    traceback is not printed (the grader reports the exception), and a cell that is plain
+    Python of several lines is parsed once instead of tokenized by the transformers, which
+    leave such a cell as it is.
+    """
+    import contextlib
 
-    def getoutput(self, cmd, *args, **kwargs):
-        self.notes.append("shell command ignored")
-        return []
+    from IPython.core.interactiveshell import InteractiveShell
 
-    def run_cell(self, *args, **kwargs):
-        raise RuntimeError("get_ipython().run_cell is not available while grading")
+    class GradingShell(InteractiveShell):
+        runner = None  # the Runner whose cell is running (its name, its notes)
 
-    def __getattr__(self, name):
-        raise AttributeError(f"get_ipython().{name} is not available while grading")
+        def enable_gui(self, gui=None):
+            pass
+
+        def enable_matplotlib(self, gui=None):
+            mpl = sys.modules.get("matplotlib")
+            backend = mpl.get_backend() if mpl is not None else "agg"
+            return (gui or "inline", backend)
+
+        def ask_exit(self):  # ``exit`` / ``quit`` in a cell: the kernel would stop
+            raise SystemExit(None)
+
+        def showtraceback(self, *args, **kwargs):
+            pass
+
+        def showsyntaxerror(self, *args, **kwargs):
+            pass
+
+        def showindentationerror(self, *args, **kwargs):
+            pass
+
+        def _format_exception_for_storage(self, exception, *args, **kwargs):
+            return {"ename": type(exception).__name__, "evalue": "", "traceback": []}
+
+        @contextlib.contextmanager
+        def _tee(self, channel):  # IPython 9 keeps every output in memory for %history
+            yield
+
+        def transform_cell(self, raw_cell):
+            cell = raw_cell if raw_cell.endswith("\n") else raw_cell + "\n"
+            lines = _leading_empty_lines(cell.splitlines(True))
+            # several lines of plain Python, not indented: the transformers leave them as
+            # they are (a single line may be an automagic, and goes through IPython)
+            if len(lines) > 1 and not lines[0][:1].isspace() and not self.input_transformers_post:
+                text = "".join(lines)
+                try:
+                    tree = self.compile.ast_parse(text)
+                except Exception:
+                    pass
+                else:
+                    self._parsed = (text, tree)
+                    return text
+            return InteractiveShell.transform_cell(self, raw_cell)
+
+        def should_run_async(self, raw_cell, **kwargs):
+            cell = kwargs.get("transformed_cell") or raw_cell
+            if "await" not in cell and "async" not in cell:
+                return False  # no top-level await without those words
+            return InteractiveShell.should_run_async(self, raw_cell, **kwargs)
+
+        def system_piped(self, cmd):
+            """A ``!`` line or ``%pip``: run as IPython runs it, noting a failure."""
+            if cmd.rstrip().endswith("&"):
+                raise OSError("Background processes not supported.")
+            from IPython.utils.process import system
+
+            expanded = self.var_expand(cmd, depth=1)
+            code = system(expanded)
+            self.user_ns["_exit_code"] = code
+            if code and self.runner is not None:
+                self.runner.note_command(expanded, code)
+            if getattr(self, "system_raise_on_error", False) and code != 0:
+                from subprocess import CalledProcessError
+
+                raise CalledProcessError(code, cmd)
+
+        system = system_piped
+
+    return GradingShell
+
+
+def make_shell(scratch, errors):
+    """The shell every child inherits, made before forking (IPython's profile folder is
+    made in ``scratch`` and removed again: nothing of the shell stays writable there)."""
+    global SHELL
+    ipdir = os.path.join(scratch, ".ipython-zygote")
+    os.environ["IPYTHONDIR"] = ipdir
+    try:
+        from traitlets.config import Config
+
+        cfg = Config()
+        cfg.HistoryManager.enabled = False  # no SQLite history file
+        cfg.InteractiveShell.autocall = 0
+        shell = _shell_class().instance(config=cfg)
+        shell.display_formatter.active_types = ["text/plain"]  # no figure is rendered
+        parse = shell.compile.ast_parse
+
+        def ast_parse(source, filename="<unknown>", symbol="exec"):
+            done, shell._parsed = shell._parsed, None
+            if done is not None and done[0] is source and symbol == "exec":
+                return done[1]
+            return parse(source, filename, symbol)
+
+        shell._parsed = None
+        shell.compile.ast_parse = ast_parse
+        shell.compile.get_code_name = lambda raw, transformed, number: (
+            shell.runner.cell_name if shell.runner is not None else f"<cell {number}>"
+        )
+        shell.run_cell("pass", store_history=False, silent=True)  # the first-run imports
+        SHELL = shell
+    except Exception as exc:  # noqa: BLE001 - cells then run as plain Python
+        errors.append(f"IPython shell: {type(exc).__name__}: {exc}")
+    finally:
+        _remove(ipdir)
+        os.environ.pop("IPYTHONDIR", None)
+
+
+def _notebook_path():
+    """``sys.path`` as a Jupyter kernel has it: '' (the working folder) before the first
+    site-packages, and not the folder of this script."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    sys.path[:] = [p for p in sys.path if p and os.path.abspath(p) != here]
+    for i, p in enumerate(sys.path):
+        if os.path.basename(p) in ("site-packages", "dist-packages"):
+            sys.path.insert(i, "")
+            return
+    sys.path.insert(0, "")
 
 
 # ----------------------------------------------------------------------------- child process
@@ -398,12 +499,18 @@ class Channel:
         return _loads(line)
 
 
-def _short_error(exc, cell_name):
+#: File names of the code a notebook's cells compile (its cells; IPython's %time, %timeit).
+CELL_FILES = ("<cell", "<timed exec>", "<timed eval>", "<magic-timeit>")
+
+
+def _short_error(exc, cell_name, roots=CELL_FILES):
     tb = traceback.TracebackException.from_exception(exc, limit=-8)
-    frames = [f for f in tb.stack if f.filename.startswith("<cell") or f.filename == "<magic>"]
+    frames = [f for f in tb.stack if f.filename.startswith(roots)]
     lines = []
     for f in frames[-4:]:
         where = f.filename.strip("<>")
+        if not f.filename.startswith("<"):
+            where = os.path.basename(f.filename)  # a module a cell wrote: its file name
         lines.append(
             f"  {where}, line {f.lineno}" + (f", in {f.name}" if f.name != "<module>" else "")
         )
@@ -417,6 +524,32 @@ def _short_error(exc, cell_name):
         "message": msg[:MAX_ERROR_CHARS],
         "traceback": "\n".join(lines)[:MAX_ERROR_CHARS],
     }
+
+
+def _bad_source(source):
+    """A SyntaxError for a cell that is not valid Unicode (a lone surrogate), else None."""
+    try:
+        source.encode("utf-8")
+        return None
+    except UnicodeEncodeError as exc:
+        line = source.count("\n", 0, exc.start) + 1
+        bad = f"U+{ord(source[exc.start]):04X}" if exc.start < len(source) else "?"
+        err = SyntaxError(
+            f"the cell contains a character that is not valid Unicode ({bad}, a lone "
+            f"surrogate) at line {line}: retype that line"
+        )
+        err.lineno = None
+        return err
+
+
+def _fresh_imports():
+    """Forget what the import system cached about folders, so a module a cell has just
+    written (``%%writefile helper.py``, ``open(...)``) is found by the next import even
+    when the folder changed within its timestamp's resolution."""
+    try:
+        importlib_invalidate()
+    except Exception:
+        pass
 
 
 def _class_path(cls):
@@ -434,15 +567,6 @@ def _close_figures():
             plt.close("all")
         except Exception:
             pass
-
-
-def _transformer():
-    try:
-        from IPython.core.inputtransformer2 import TransformerManager
-
-        return TransformerManager()
-    except Exception:
-        return None
 
 
 # ----------------------------------------------------------------------------- time limits
@@ -487,9 +611,13 @@ class Watch:
         self.seen = {}
         self.finished = {}
 
-    def start(self, ns, limit, leash, answers=(), call=""):
-        """Watch the code about to run; ``call``: the function called (a call), else a cell."""
+    def start(self, ns, limit, leash, answers=(), call="", roots=CELL_FILES):
+        """Watch the code about to run; ``call``: the function called (a call), else a cell.
+
+        ``roots``: how the file names of the notebook's own code start.
+        """
         self.ns = ns
+        self.roots = roots
         self.names = None  # code object -> the notebook's name for it (made when needed)
         self.limit = limit
         self.leash = leash
@@ -541,15 +669,21 @@ class Watch:
         if not self.running:
             return
         now = _monotonic()
-        if self.fired is not None:
-            raise CallTimedOut(self.fired["message"])
+        roots = self.roots
         stack = []  # the notebook's function frames, innermost first
+        mine = False  # the notebook's code (a function or a cell's own lines) is running
         f, k = frame, 0
         while f is not None and k < MAX_FRAMES:
             code = f.f_code
-            if code.co_filename.startswith("<cell") and not code.co_name.startswith("<"):
-                stack.append(f)
+            if code.co_filename.startswith(roots):
+                mine = True
+                if not code.co_name.startswith("<"):
+                    stack.append(f)
             f, k = f.f_back, k + 1
+        if self.fired is not None:
+            if mine:  # it swallowed the stop: again (IPython's own code is left alone)
+                raise CallTimedOut(self.fired["message"])
+            return
         live = set(stack)
         for fr in [fr for fr in self.seen if fr not in live]:
             name, first, last = self.seen.pop(fr)
@@ -589,15 +723,23 @@ class Runner:
     def __init__(self, chan, mypid):
         self.chan = chan
         self.mypid = mypid
-        self.ns = {"__name__": "__main__", "__builtins__": builtins}
-        self.shell = _ShellStub(self.ns)
-        self.ns["get_ipython"] = lambda: self.shell
-        self.tm = _transformer()
+        self.shell = SHELL
+        if SHELL is not None:
+            self.ns = SHELL.user_ns
+            SHELL.runner = self
+        else:  # IPython could not be loaded (the zygote said so): plain Python
+            self.ns = {"__name__": "__main__", "__builtins__": builtins}
+        self.cell_name = "<cell>"
+        self.notes = []
         self.output_limit = 10_000
         self.output_left = 100_000  # characters of output this submission may still send
         self.watch = Watch()
         self.limit = None  # seconds per call of an answer function (from the grader)
         self.leash = {}  # function name -> its short limit (seconds), from the grader
+        self._want = ()
+        # where the notebook's own code comes from: its cells, what IPython's %time and
+        # %timeit compile, and the files it writes (a helper module written by a cell)
+        self.roots = (*CELL_FILES, os.path.dirname(os.getcwd()) + os.sep)
 
     def _guard_fork(self):
         # A process the student forked must never answer for the child.
@@ -617,26 +759,30 @@ class Runner:
             sys.stdout, sys.stderr = old
             builtins.input = _no_input
 
+    def note_command(self, cmd, code):
+        """A ``!`` command (or ``%pip``) of the running cell exited with status ``code``."""
+        words = str(cmd).split()
+        first = os.path.basename(words[0]) if words else ""
+        if first.startswith("python") and words[1:3] == ["-m", "pip"]:
+            first = "pip"
+        shown = " ".join(words)[:80]
+        why = (
+            ": grading runs offline, so nothing can be downloaded or installed (the grader "
+            "has numpy, sympy, matplotlib and rikin)"
+            if first in NETWORK_WORDS
+            else ""
+        )
+        if len(self.notes) < 10:
+            self.notes.append(f'the shell command "{shown}" exited with status {code}{why}')
+
     def run_cells(self, cells, want=()):
+        self._want = want
         for index, source in cells:
             self.chan.send({"event": "cell_start", "cell": index})
-            name = f"<cell {index}>"
-            linecache.cache[name] = (len(source), None, source.splitlines(True), name)
-            self.shell.notes = []
-            code = self._compile(source, name)
-
-            def run(code=code):
-                if isinstance(code, BaseException):
-                    raise code
-                if self.limit is None and not self.leash:
-                    exec(code, self.ns)
-                    return
-                self.watch.start(self.ns, self.limit, self.leash, want)
-                try:
-                    exec(code, self.ns)
-                finally:
-                    self.watch.stop()
-
+            self.cell_name = f"<cell {index}>"
+            self.notes = []
+            _fresh_imports()
+            run = self._cell(source)
             t0 = _monotonic()
             _, exc, cap = self._captured(run, min(self.output_limit, self.output_left))
             with _CleanBuiltins():
@@ -647,31 +793,30 @@ class Runner:
         with _CleanBuiltins():
             self._done(want)
 
-    def _compile(self, source, name):
-        """The cell's code object: plain Python as is, IPython syntax (%, !) transformed."""
-        with _CleanBuiltins():
+    def _cell(self, source):
+        """A function that runs the cell and raises what it raised (IPython keeps it)."""
+        bad = _bad_source(source)
+        watch, want = self.watch, self._want
+
+        def run():
+            if bad is not None:
+                raise bad
+            watching = self.limit is not None or bool(self.leash)
+            if watching:
+                watch.start(self.ns, self.limit, self.leash, want, roots=self.roots)
             try:
-                return compile(source, name, "exec")
-            except SyntaxError as exc:
-                if self.tm is None:
-                    return exc
-                try:
-                    return compile(self.tm.transform_cell(source), name, "exec")
-                except SyntaxError as exc2:
-                    return exc2
-                except Exception:
-                    return exc
-            except UnicodeEncodeError as exc:  # a lone surrogate: no valid Python source
-                line = source.count("\n", 0, exc.start) + 1
-                bad = f"U+{ord(source[exc.start]):04X}" if exc.start < len(source) else "?"
-                err = SyntaxError(
-                    f"the cell contains a character that is not valid Unicode ({bad}, a lone "
-                    f"surrogate) at line {line}: retype that line"
-                )
-                err.lineno = None
-                return err
-            except (ValueError, MemoryError, RecursionError, OverflowError) as exc:
-                return exc  # e.g. a NUL byte, or a cell too deeply nested to compile
+                if self.shell is None:
+                    exec(compile(source, self.cell_name, "exec"), self.ns)
+                    return
+                result = self.shell.run_cell(source, store_history=True)
+            finally:
+                if watching:
+                    watch.stop()
+            exc = result.error_before_exec or result.error_in_exec
+            if exc is not None:
+                raise exc
+
+        return run
 
     def _after_cell(self, index, exc, cap, seconds, fired=None):
         name = f"<cell {index}>"
@@ -679,7 +824,7 @@ class Runner:
         err = None
         if exc is not None:
             try:
-                err = _short_error(exc, name)
+                err = _short_error(exc, name, self.roots)
             except Exception:
                 err = {"type": type(exc).__name__, "message": "", "traceback": ""}
             if isinstance(exc, SystemExit):
@@ -690,7 +835,7 @@ class Runner:
                 "cell": index,
                 "error": err,
                 "output": cap.text()[: self.output_limit + 200],
-                "notes": [str(n) for n in self.shell.notes[:10]],
+                "notes": [str(n) for n in self.notes[:10]],
                 "seconds": round(seconds, 4),
                 "timed_out": fired,
             }
@@ -703,6 +848,7 @@ class Runner:
         """
         ns = self.ns
         found = [w for w in want if isinstance(w, str) and callable(ns.get(w))]
+        hidden = getattr(self.shell, "user_ns_hidden", {})
         others = []
         for k, v in list(ns.items()):
             if len(others) >= 500:
@@ -713,6 +859,7 @@ class Runner:
                 and callable(v)
                 and not isinstance(v, type(sys))
                 and not k.startswith("__")
+                and not (k in hidden and hidden[k] is v)  # IPython's exit, open, get_ipython
                 and k != "get_ipython"
             ):
                 others.append(k[:200])
@@ -750,7 +897,7 @@ class Runner:
         def run():
             if limit is None:
                 return fn(*args, **kwargs)
-            watch.start(self.ns, limit, self.leash, call=name)
+            watch.start(self.ns, limit, self.leash, call=name, roots=self.roots)
             try:
                 return fn(*args, **kwargs)
             finally:
@@ -943,6 +1090,15 @@ def child_main(chan_fd, ctl_fd, limits, workdir):
         os.chdir(workdir)
         os.environ["HOME"] = workdir
         os.environ["TMPDIR"] = workdir
+        # as in a kernel: ``!python``, ``!pip`` are the kernel's own; pip fails at once
+        # offline instead of retrying
+        bindir = os.path.dirname(sys.executable)
+        os.environ["PATH"] = bindir + os.pathsep + os.environ.get("PATH", "/usr/bin:/bin")
+        os.environ.update({"PIP_RETRIES": "0", "PIP_DISABLE_PIP_VERSION_CHECK": "1"})
+        os.environ["PIP_NO_INPUT"] = "1"
+        _notebook_path()
+        if SHELL is not None and isinstance(SHELL.user_ns.get("_dh"), list):
+            SHELL.user_ns["_dh"][:] = [workdir]  # %cd's history starts here
         set_limits(limits)
         builtins.input = _no_input
         sys.stdin = io.StringIO("")
@@ -955,8 +1111,9 @@ def child_main(chan_fd, ctl_fd, limits, workdir):
 
 
 # ----------------------------------------------------------------------------- zygote
-def preload(modules):
-    """Import what every notebook needs once, before forking; returns failures."""
+def preload(modules, scratch):
+    """Import what every notebook needs once and make IPython's shell, before forking;
+    returns failures."""
     global np
     errors = []
     os.environ.setdefault("MPLBACKEND", "Agg")
@@ -973,7 +1130,7 @@ def preload(modules):
             import matplotlib.pyplot  # noqa: F401
         except Exception as exc:
             errors.append(f"matplotlib.pyplot: {exc}")
-    _transformer()
+    make_shell(scratch, errors)
     _warm_up(errors)
     return errors
 
@@ -981,9 +1138,10 @@ def preload(modules):
 def _warm_up(errors):
     """Exercise the lazy first-use paths once, so each forked child starts warm."""
     try:
-        tm = _transformer()
-        if tm is not None:
-            tm.transform_cell("%matplotlib inline\nx = 1\n")
+        if SHELL is not None:
+            SHELL.transform_cell("%matplotlib inline\nx = 1\n")
+            SHELL.transform_cell("x = 1\ny = [x]\n")
+            SHELL._parsed = None
         if np is not None:
             np.linalg.solve(np.eye(3), np.ones(3))
             np.testing.assert_allclose(np.ones(2), np.ones(2))
@@ -1308,7 +1466,12 @@ def main(argv):
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     ctl = socket.socket(fileno=int(config["ctl_fd"]))
     os.environ.update({k: str(v) for k, v in config.get("env", {}).items()})
-    errors = preload(config.get("preload", []))
+    scratch = config.get("scratch", "/scratch")
+    errors = preload(config.get("preload", []), scratch)
+    import gc
+
+    gc.collect()
+    gc.freeze()  # what the zygote made is shared, never collected again in a child
     try:  # nobody may ptrace or read this process's memory, not even a student child
         import ctypes
 
@@ -1324,7 +1487,6 @@ def main(argv):
             ctypes.CDLL(None).prctl(36, 1, 0, 0, 0)  # PR_SET_CHILD_SUBREAPER
         except Exception:
             pass
-    scratch = config.get("scratch", "/scratch")
     zygote = Zygote(ctl, scratch, in_pidns, by_uid)
     zygote.pristine = zygote._scratch_state()
     zygote.send(
