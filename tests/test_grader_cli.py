@@ -297,3 +297,35 @@ def test_gradescope_bundle_refuses_an_old_python_and_passes_the_late_rules(tmp_p
     assert "--late-per-day 5 --late-cap 20 --grace-minutes 0" in run
     r = subprocess.run(["bash", "-n", "-c", setup], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
+
+
+def test_files_that_are_not_notebooks_are_invalid_with_a_reason_never_a_grader_error(tmp_path):
+    """Issue 26: a 5,000-digit number in one student's JSON made the whole class exit 1
+    (grader-error); JSON that is not a notebook was graded 'ok'. Each is refused with its
+    reason (status invalid, counted in summary.json), and the run exits 0 as the README
+    says (1 is for grader errors and files the grader would not read)."""
+    require_bwrap()
+    cls = tmp_path / "class"
+    cls.mkdir()
+    (cls / "alice.ipynb").write_bytes(SOLUTION.read_bytes())
+    text = SOLUTION.read_text()
+    (cls / "bob.ipynb").write_text(text.replace('"nbformat": 4', '"x": ' + "1" * 5000
+                                                + ', "nbformat": 4', 1))
+    nb = json.loads(text)
+    nb["cells"][0]["source"] = 12
+    (cls / "carol.ipynb").write_text(json.dumps(nb))
+    nb = json.loads(text)
+    nb["metadata"] = ["kernelspec"]
+    (cls / "dave.ipynb").write_text(json.dumps(nb))
+    out = tmp_path / "out"
+    r = run_cli(str(ASSIGNMENT), str(cls), "--out", str(out), "--memory-mb", "512")
+    assert r.returncode == 0, r.stdout + r.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["invalid"] == 3 and summary["grader_errors"] == 0, summary
+    assert summary["submissions"] == 4 and summary["failed_to_run"] == 3
+    rows = {row.split(",")[0]: row for row in (out / "grades.csv").read_text().splitlines()}
+    assert rows["alice"].startswith("alice,ok,5,")
+    assert rows["bob"].startswith("bob,invalid,0,")
+    assert "JSON that Jupyter cannot open" in rows["bob"]
+    assert "not a notebook: the source of cell 1 is a number" in rows["carol"]
+    assert "not a notebook: its 'metadata' is a list" in rows["dave"]

@@ -387,6 +387,29 @@ CASES: list[Case] = [
     Case("empty_file", lambda nb: b"", 0, "invalid", ["empty"]),
     Case("not_a_notebook", lambda nb: b"[1, 2, 3]", 0, "invalid", ["not a notebook"]),
     Case("binary_garbage", lambda nb: bytes(range(256)) * 4, 0, "invalid", ["not UTF-8"]),
+    # issue 26: a 5,000-digit number put the whole class in grader-error (exit 1); JSON
+    # that is not a notebook got status ok and "did you rename it?"
+    Case(
+        "five_thousand_digits",
+        lambda nb: _dump({**nb, "metadata": {"n": 0}}).replace(b'"n": 0', b'"n": ' + b"9" * 5000),
+        0,
+        "invalid",
+        ["JSON that Jupyter cannot open"],
+    ),
+    Case(
+        "source_is_a_number",
+        lambda nb: _dump({**nb, "cells": [{**nb["cells"][0], "source": 5}, *nb["cells"][1:]]}),
+        0,
+        "invalid",
+        ["not a notebook: the source of cell 1 is a number"],
+    ),
+    Case(
+        "metadata_is_a_list",
+        lambda nb: _dump({**nb, "metadata": [nb["metadata"]]}),
+        0,
+        "invalid",
+        ["not a notebook: its 'metadata' is a list"],
+    ),
     Case("jupyterlab4", _lab4, 5, "ok"),
     Case("notebook7_minor4_no_ids", _nb7_old_minor, 5, "ok"),
     Case(

@@ -126,8 +126,9 @@ def encode(obj, depth=0, budget=None):
     """Plain JSON-able data for ``obj``; raises EncodeError (a reason code) otherwise.
 
     Reads what the visible checks read with ``numpy.asarray``: numbers of any kind
-    (Python, numpy of any width, sympy, Fraction, Decimal), lists, tuples, numpy
-    arrays and their subclasses, sympy matrices, and anything with ``__array__``.
+    (Python, numpy of any width, longdouble and clongdouble included, sympy, Fraction,
+    Decimal; integers of any size that a float holds), lists, tuples, numpy arrays and
+    their subclasses, sympy matrices, and anything with ``__array__``.
     """
     if budget is None:
         budget = [MAX_ELEMENTS]
@@ -140,9 +141,7 @@ def encode(obj, depth=0, budget=None):
     if obj is None or t is bool:
         return obj
     if t is int:
-        if obj.bit_length() > 256:
-            raise EncodeError("bigint")
-        return obj
+        return _enc_int(obj)
     if t is float:
         return _enc_float(obj)
     if t is str:
@@ -154,31 +153,17 @@ def encode(obj, depth=0, budget=None):
     if t in (list, tuple):
         return [encode(x, depth + 1, budget) for x in obj]
     if t is dict:
-        out = {}
-        for k, v in obj.items():
-            if type(k) in (int, float, bool) or (np is not None and isinstance(k, np.generic)):
-                k = str(k.item() if hasattr(k, "item") else k)
-            elif type(k) is not str:
-                raise EncodeError(f"dictkey:{_type_name(k)}")
-            out[k] = encode(v, depth + 1, budget)
-        if any(k.startswith("$") for k in out):
-            return {"$dict": [[k, v] for k, v in out.items()]}
-        return out
+        return _enc_dict(obj, depth, budget)
     if np is not None:
         if isinstance(obj, np.ndarray):
-            if obj.size > MAX_ELEMENTS:
-                raise EncodeError("elements")
-            if obj.dtype.kind not in "biufcUSO":
-                raise EncodeError(f"dtype:{str(obj.dtype)[:40]}")
-            budget[0] -= int(obj.size)
-            return encode(np.ndarray.tolist(np.asarray(obj)), depth, budget)
+            return _enc_array(obj, depth, budget)
         if isinstance(obj, np.generic):
-            return encode(obj.item(), depth, budget)
+            return _enc_scalar(obj, depth, budget)
     # bool/int/float subclasses (e.g. IntEnum), sympy numbers, Fraction, Decimal
     if isinstance(obj, bool):
         return bool(obj)
     if isinstance(obj, int):
-        return encode(int(obj), depth, budget)
+        return _enc_int(int(obj))
     if isinstance(obj, float):
         return _enc_float(float(obj))
     if isinstance(obj, (list, tuple)):
@@ -202,12 +187,82 @@ def encode(obj, depth=0, budget=None):
             arr = None
         if arr is not None and arr.dtype.kind in "biufcO":
             return encode(arr, depth, budget)
+    return _enc_number(obj)
+
+
+def _enc_int(x):
+    """An int on the wire: as it is within int64, else as the float numpy would make."""
+    if -(2**63) <= x < 2**63:
+        return x
+    try:
+        return float(x)
+    except OverflowError:
+        raise EncodeError("bigint") from None
+
+
+def _enc_number(obj):
+    """Anything else that Python turns into a float or a complex (Fraction, Decimal, mpf)."""
     if hasattr(obj, "__float__") and not hasattr(obj, "__len__"):
         try:
             return _enc_float(float(obj))
+        except OverflowError:
+            raise EncodeError("bigint") from None
+        except Exception:
+            pass
+    if hasattr(obj, "__complex__") and not hasattr(obj, "__len__"):
+        try:
+            z = complex(obj)
+            return {"$complex": [_enc_float(z.real), _enc_float(z.imag)]}
         except Exception:
             pass
     raise EncodeError(f"type:{_type_name(obj)}")
+
+
+def _enc_dict(obj, depth, budget):
+    out = {}
+    for k, v in obj.items():
+        if type(k) in (int, float, bool) or (np is not None and isinstance(k, np.generic)):
+            k = str(k.item() if hasattr(k, "item") else k)
+        elif type(k) is not str:
+            raise EncodeError(f"dictkey:{_type_name(k)}")
+        out[k] = encode(v, depth + 1, budget)
+    if any(k.startswith("$") for k in out):
+        return {"$dict": [[k, v] for k, v in out.items()]}
+    return out
+
+
+def _enc_array(obj, depth, budget):
+    """A numpy array (any subclass) as nested lists of Python numbers."""
+    if obj.size > MAX_ELEMENTS:
+        raise EncodeError("elements")
+    kind = obj.dtype.kind
+    if kind not in "biufcUSO":
+        raise EncodeError(f"dtype:{str(obj.dtype)[:40]}")
+    budget[0] -= int(obj.size)
+    arr = np.asarray(obj)
+    if kind == "f" and arr.dtype.itemsize > 8:  # longdouble: tolist() keeps longdoubles
+        arr = arr.astype(np.float64)
+    elif kind == "c" and arr.dtype.itemsize > 16:  # clongdouble
+        arr = arr.astype(np.complex128)
+    return encode(np.ndarray.tolist(arr), depth, budget)
+
+
+def _enc_scalar(obj, depth, budget):
+    """A numpy scalar: ``item()`` gives a Python number, except for longdouble and
+    clongdouble (an item of those is the same numpy type again)."""
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    if isinstance(obj, np.integer):
+        return _enc_int(int(obj))
+    if isinstance(obj, np.floating):
+        return _enc_float(float(obj))
+    if isinstance(obj, np.complexfloating):
+        z = complex(obj)
+        return {"$complex": [_enc_float(z.real), _enc_float(z.imag)]}
+    item = obj.item()
+    if isinstance(item, np.generic):
+        raise EncodeError(f"type:{_type_name(obj)}")
+    return encode(item, depth, budget)
 
 
 def decode(obj):
