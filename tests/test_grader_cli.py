@@ -329,3 +329,40 @@ def test_files_that_are_not_notebooks_are_invalid_with_a_reason_never_a_grader_e
     assert "JSON that Jupyter cannot open" in rows["bob"]
     assert "not a notebook: the source of cell 1 is a number" in rows["carol"]
     assert "not a notebook: its 'metadata' is a list" in rows["dave"]
+
+
+def test_terminal_escapes_from_a_student_never_reach_the_terminal_or_a_file(tmp_path):
+    """Issue 26 item 4: a file name and an exception message with terminal escapes; the
+    instructor's terminal (the CLI's output) and every file written stay free of them."""
+    require_bwrap()
+    cls = tmp_path / "class"
+    cls.mkdir()
+    nb = json.loads(SOLUTION.read_text())
+    nb["cells"].insert(1, {"cell_type": "code", "metadata": {}, "outputs": [],
+                           "execution_count": None,
+                           "source": "raise ValueError('\\x1b]0;owned\\x07\\x1b[31mred\\r')"})
+    (cls / "mal\x1b[31mlory\r.ipynb").write_text(json.dumps(nb))
+    (cls / "alice.ipynb").write_bytes(SOLUTION.read_bytes())
+    out = tmp_path / "out"
+    r = run_cli(str(ASSIGNMENT), str(cls), "--out", str(out), "--memory-mb", "512",
+                "--progress")
+    assert r.returncode == 0, r.stdout + r.stderr
+    for text in (r.stdout, r.stderr):
+        assert "\x1b" not in text and "\r" not in text and "\x07" not in text, text
+    seen = 0
+    for f in out.rglob("*"):
+        if f.is_file() and f.suffix in (".json", ".md", ".html", ".csv", ".log"):
+            text = f.read_text(encoding="utf-8")
+            if f.suffix == ".json":  # escaped as \\u001b there: look at the strings
+                text = "\n".join(_json_strings(json.loads(text)))
+            assert not any(c in text for c in "\x1b\r\x07"), f
+            seen += "red" in text
+    assert seen >= 4  # the message is there, without its escapes
+
+
+def _json_strings(value):
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, (list, dict)):
+        for v in value.items() if isinstance(value, dict) else value:
+            yield from _json_strings(v)

@@ -185,3 +185,37 @@ def test_no_text_from_a_child_can_break_the_outputs(graded):
     for f in (root / "out").rglob("*"):
         if f.is_file() and f.suffix in (".json", ".md", ".html", ".csv", ".log"):
             f.read_bytes().decode("utf-8")  # raises on a surrogate written with surrogateescape
+
+
+def _controls(text: str) -> list[str]:
+    """The C0/C1 control characters (but newline and tab) in ``text``."""
+    return sorted({c for c in text if (ord(c) < 32 and c not in "\n\t") or 127 <= ord(c) < 160})
+
+
+def _strings(value):
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, list):
+        for v in value:
+            yield from _strings(v)
+    elif isinstance(value, dict):
+        for k, v in value.items():
+            yield k
+            yield from _strings(v)
+
+
+def test_no_control_character_reaches_any_output(graded):
+    """Issue 26 item 4: what a student controls (messages, output, a shell command's
+    colours, file names) reaches no output with a control character in it: not the CSV,
+    the log, the report, the feedback, nor (JSON-escaped) the results."""
+    root, _, report = graded
+    res = report.by_student()["terminal_escapes"]
+    assert any("[31m" in c.output or "shell" in c.output for c in res.cells)  # it did print
+    for f in (root / "out").rglob("*"):
+        if not f.is_file() or f.suffix not in (".json", ".md", ".html", ".csv", ".log"):
+            continue
+        text = f.read_text(encoding="utf-8")
+        assert not _controls(text), (f.name, _controls(text))
+        if f.suffix == ".json":
+            bad = [s for s in _strings(json.loads(text)) if _controls(s)]
+            assert not bad, (f.name, bad[:3])

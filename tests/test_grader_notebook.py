@@ -139,3 +139,16 @@ def test_safe_ids_and_picking():
     for bad in ("+1", "-alice", "@bob", "=HYPERLINK(1)", "..x"):
         assert safe_id(bad)[0] not in "+-@=.", bad
     assert pick_notebook([], "a.ipynb") == (None, "")
+
+
+def test_printable_is_the_one_place_control_characters_are_removed():
+    from rikingrade import notebook
+    from rikingrade.safetext import printable
+
+    assert notebook.printable is printable  # one function (gradebook and views call it)
+    assert printable("\x1b[1;31mred\x1b[0m\tok\n") == "red\tok\n"
+    assert printable("a\x1b]0;title\x07b\x1b]8;;http://x\x1b\\c") == "abc"  # OSC: whole
+    assert printable("x\r\x07\x00\x7f\x85y\x9b") == "xy"  # C0, DEL, C1
+    assert printable("caf\udce9 \ud800") == "caf\\xe9 \\ud800"  # lone surrogates, as before
+    assert printable("plain text: l2 + l3 < 5") == "plain text: l2 + l3 < 5"
+    assert notebook.shown("a\x1b[2Jb.ipynb") == "ab.ipynb"

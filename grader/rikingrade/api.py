@@ -32,6 +32,7 @@ from .progress import Progress, summarize, summary_text
 from .report import GRADER_ERROR, INVALID, SubmissionResult, TestResult
 from .roster import load_roster
 from .runner import RunOptions, SubmissionRunner
+from .safetext import SafeFormatter
 from .sandbox import (
     Limits,
     Sandbox,
@@ -595,7 +596,7 @@ def _attach_log(path: Path) -> logging.Handler:
     # a student's text in a message (a lone surrogate in a cell) is escaped, not a logging
     # error that drops the line and prints a traceback on the instructor's terminal
     handler = logging.FileHandler(path, encoding="utf-8", errors="backslashreplace")
-    handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
+    handler.setFormatter(SafeFormatter("%(asctime)s %(levelname)s %(message)s"))
     handler.setLevel(logging.INFO)
     lg = logging.getLogger("rikingrade")
     lg.addHandler(handler)

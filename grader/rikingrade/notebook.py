@@ -19,6 +19,7 @@ import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .safetext import printable
 from .studentfiles import REFUSED, TOO_LARGE, ReadFailed, StudentFiles, default_files
 
 log = logging.getLogger("rikingrade")
@@ -159,17 +160,9 @@ class Submission:
 
 
 def shown(path: Path | str) -> str:
-    """A path as printable UTF-8 text, whatever bytes its name holds."""
-    return os.fsencode(path).decode("utf-8", "backslashreplace")
-
-
-def printable(text: str) -> str:
-    """``text`` writable as UTF-8: a byte that a file name could not decode (kept by Python
-    as a lone surrogate) is written ``\\xe9``, any other lone surrogate ``\\udcff``."""
-    try:
-        return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
-    except UnicodeEncodeError:
-        return text.encode("utf-8", "backslashreplace").decode("utf-8")
+    """A path as printable UTF-8 text, whatever bytes its name holds (no control
+    characters: see :func:`rikingrade.safetext.printable`)."""
+    return printable(os.fsencode(path).decode("utf-8", "backslashreplace"))
 
 
 def _open_student_file(path: Path):

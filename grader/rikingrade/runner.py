@@ -47,6 +47,7 @@ from .report import (
     SubmissionResult,
     TestResult,
 )
+from .safetext import printable
 from .sandbox import (
     Child,
     ChildDied,
@@ -690,8 +691,9 @@ class _Run:
 
 
 def _text(v: object, limit: int) -> str:
-    """A child's text as a string of at most ``limit`` characters (anything else: "")."""
-    return v[:limit] if isinstance(v, str) else ""
+    """A child's text as a string of at most ``limit`` characters, without control
+    characters (anything else: "")."""
+    return printable(v[:limit]) if isinstance(v, str) else ""
 
 
 def _outcome(msg: dict) -> Outcome:

@@ -35,12 +35,12 @@ from typing import Any
 from . import lms, lmsfiles
 from .classreport import write_report
 from .gradebook import Gradebook
-from .notebook import printable
 from .outputs import atomic_write, feedback_html, feedback_markdown, gradescope_json
 from .policy import Grade, Rules, apply
 from .policy import feedback_markdown as grade_markdown
 from .report import SubmissionResult
 from .roster import LMS_OF, RosterEntry
+from .safetext import printable
 
 EXCUSED = "excused"
 #: What ``extra_data.rikin`` of a results file holds (see :mod:`rikingrade.repair`).
@@ -277,7 +277,9 @@ def _one_line(text: str, limit: int = 600) -> str:
 
 def sane(res: SubmissionResult) -> SubmissionResult:
     """``res`` with every text writable as UTF-8 (a lone surrogate from a file name or a
-    student's message becomes ``\\udcff``), so one odd byte cannot stop the class's files."""
+    student's message becomes ``\\udcff``) and free of control characters (a terminal
+    escape in a student's message), so one odd byte cannot stop or garble the class's
+    files (see :func:`rikingrade.safetext.printable`)."""
 
     def clean(v: Any) -> Any:
         if isinstance(v, str):

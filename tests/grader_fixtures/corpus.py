@@ -726,6 +726,11 @@ FORGE_ANSWERS = (  # answers for calls never asked, while the real call sleeps
 )
 # Lone surrogates: valid JSON escapes that no file, log or terminal can take.
 SURROGATE_CELL = "print('caf\\udcff')\nraise ValueError('\\udcff bad \\ud800')"
+TERMINAL_ESCAPES = (
+    "print('\\x1b[2J\\x1b[31mcleared\\r\\x07')\n"
+    "!printf '\\033[1;31mshell\\033[0m\\n'\n"
+    "raise ValueError('\\x1b[31mred\\x1b[0m \\x1b]0;title\\x07 bell\\x07\\x9b')"
+)
 MANY_CALLABLES = (  # names sorting before every answer function
     "for _i in range(3000):\n    globals()[f'a{_i:04d}'] = lambda: 0"
 )
@@ -798,6 +803,15 @@ CASES += [
         5,
         "cell-errors",
         ["code cell 2 raised SyntaxError", "not valid Unicode (U+DCFF"],
+    ),
+    # issue 26: terminal escapes in a student's message and output reached grades.csv,
+    # grading.log, the report and the feedback raw (cat grades.csv recoloured the terminal)
+    Case(
+        "terminal_escapes",
+        lambda nb: _dump(_insert(nb, "import numpy", TERMINAL_ESCAPES)),
+        5,
+        "cell-errors",
+        ["code cell 2 raised ValueError: red bell"],
     ),
     Case(
         "many_callables_before_the_answers",
