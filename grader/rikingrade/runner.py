@@ -32,7 +32,7 @@ import traceback
 from dataclasses import dataclass
 
 from .assignment import Assignment
-from .calllimits import GRACE, CallLimits
+from .calllimits import CallLimits, backstop
 from .cellplan import calling_cells
 from .feedback import cell_problems, missing_cause
 from .notebook import FileRefused, Notebook, NotebookError, Submission
@@ -427,12 +427,13 @@ class _Run:
         """Run calls in order in the current child; returns (outcomes, timed out, crashed).
 
         All calls go in one message and the child answers each as soon as it returns,
-        so the wall-clock ``timeout`` applies per call: call k's clock starts when
-        call k - 1's answer arrives (or when the batch is sent). The child stops a call
-        at its limit (``timeout``, or the short limit of a function that already ran out:
-        see ``calllimits``) and says which functions were running; the grader's own
-        clock waits GRACE longer. A call that times out or kills the child ends the
-        batch: the child is dropped and the calls after it are not run.
+        so the ``timeout`` applies per call: call k's clock starts when call k - 1's
+        answer arrives (or when the batch is sent). The child stops a call at its limit
+        (``timeout``, or the short limit of a function that already ran out: see
+        ``calllimits``), counting time as on an idle machine, and says which functions
+        were running; the grader's own wall clock waits longer (``backstop``: the load
+        stretches the wall-clock time of a call). A call that times out or kills the
+        child ends the batch: the child is dropped and the calls after it are not run.
         """
         assert self.child is not None
         ids = []
@@ -453,7 +454,7 @@ class _Run:
         limits = self.limits
         leash = limits.leash(timeout)
         started = time.monotonic()
-        deadline = self.deadline(limits.limit_of(calls[0].function, timeout) + GRACE)
+        deadline = self.deadline(backstop(limits.limit_of(calls[0].function, timeout)))
         fired: dict = {}
         try:
             msg = {"op": "calls", "calls": items, "limit": timeout, "leash": leash}
@@ -466,7 +467,7 @@ class _Run:
                 if isinstance(msg.get("timed_out"), dict):  # the child stopped it
                     fired = msg["timed_out"]
                     raise ChildTimeout()
-                limits.returned(calls[k].function, time.monotonic() - started, timeout)
+                limits.returned(calls[k].function, _took(msg, started), timeout)
                 seen = msg.get("seen")
                 for name, sec in list(seen.items())[:50] if isinstance(seen, dict) else ():
                     limits.returned(name, sec, timeout)
@@ -474,7 +475,7 @@ class _Run:
                 started = time.monotonic()
                 if k + 1 < len(calls):
                     nxt = limits.limit_of(calls[k + 1].function, timeout)
-                    deadline = self.deadline(nxt + GRACE)
+                    deadline = self.deadline(backstop(nxt))
         except ChildTimeout:
             self.timed_out = True
             self._drop_child()
@@ -713,6 +714,16 @@ def _outcome(msg: dict) -> Outcome:
             error_bases=tuple(_text(b, 200) for b in bases[:20]) if isinstance(bases, list) else (),
         )
     return Outcome(value=msg.get("value"))
+
+
+def _took(msg: dict, started: float) -> float:
+    """How long a call took as its limit counts time (the child's ``busy_clock``: not
+    the time it waited for a processor), at most the wall-clock time it took."""
+    wall = time.monotonic() - started
+    sec = msg.get("seconds")
+    if isinstance(sec, (int, float)) and not isinstance(sec, bool) and math.isfinite(sec):
+        return min(max(float(sec), 0.0), wall)
+    return wall
 
 
 def _names(v: object) -> list[str]:

@@ -1,7 +1,7 @@
 """The only engine file a sandbox can see: a zygote that forks one process per submission.
 
 Run as a script inside the sandbox (never imported by the grader). It imports the heavy
-libraries once (numpy, sympy, matplotlib with Agg, IPython's cell transformer, rikin), then
+libraries once (numpy, sympy, matplotlib with Agg, IPython and its shell, rikin), then
 waits on its control socket. For each submission the grader sends ``fork`` together with a
 fresh socket; the zygote forks a child that sets its resource limits, moves into an empty
 working directory and serves JSON lines on that socket:
@@ -17,7 +17,7 @@ child -> grader
     {"event": "cell_end", "cell": i, "error": ..., "output": ..., "seconds": ...,
      "timed_out": null or <stop>}
     {"event": "exec_done", "functions": [...]}
-    {"id": int, "value": <wire>, "seen": {function: s}} or
+    {"id": int, "value": <wire>, "seconds": s, "seen": {function: s}} or
     {"id": int, "timed_out": <stop>}  (the child stopped the call at its limit) or
     {"id": int, "error_type": str, "error_message": str, "error_bases": ["mod.Name", ...]}
     {"id": int, "error_type": "UnreadableResult", "error_message": <reason code>,
@@ -26,8 +26,13 @@ child -> grader
 Time limits (``Watch``): each call gets ``limit`` seconds, a function named in ``leash``
 that many wherever it is called from, and in a cell each call of an answer function gets
 ``limit``; a stop is {"stack": [function, ...], "function": str, "limit": s}: the notebook's
-functions that were running, outermost first, and the one whose limit ran out. "seen" gives
-how long the functions a call called were seen running (for the grader's short limits).
+functions that were running, outermost first, and the one whose limit ran out. "seconds"
+is how long the call took and "seen" how long the functions it called were seen running
+(for the grader's short limits). Seconds are counted by ``busy_clock``: wall-clock time
+less the time the process waited for a processor, so a busy machine changes no limit.
+
+Cells run in IPython's own InteractiveShell (``GradingShell``), made in the zygote and
+inherited by every child, as a Jupyter kernel runs them.
 
 Nothing here decides a score: values go back as JSON (never pickle) and the grader compares.
 Wire format: JSON plus one-key marker objects: {"$float": "nan"|"inf"|"-inf"},
@@ -634,6 +639,31 @@ _ITIMER_REAL = signal.ITIMER_REAL
 _SIGALRM = signal.SIGALRM
 
 
+_os_open, _os_read, _os_close, _O_RDONLY = os.open, os.read, os.close, os.O_RDONLY
+_waited = [0.0]  # seconds this thread waited for a processor, as last read
+
+
+def busy_clock():
+    """Seconds, like ``time.monotonic``, minus the time this thread spent waiting for a
+    processor (Linux's /proc/thread-self/schedstat): wall-clock time as on an idle
+    machine. Running and sleeping count; being ready to run while the machine is busy
+    with other work (the grader's other workers, other users) does not. Where the file
+    cannot be read this is the wall clock (it never jumps: the last value read stays).
+    """
+    try:
+        fd = _os_open("/proc/thread-self/schedstat", _O_RDONLY)
+        try:
+            data = _os_read(fd, 128)
+        finally:
+            _os_close(fd)
+        waited = int(data.split()[1]) / 1e9
+        if waited >= _waited[0]:
+            _waited[0] = waited
+    except (OSError, ValueError, IndexError):
+        pass
+    return _monotonic() - _waited[0]
+
+
 class CallTimedOut(BaseException):
     """Raised in a student's function that ran past its time limit.
 
@@ -656,8 +686,10 @@ class Watch:
     It records which functions were on the stack then (outermost first: none of them
     returned in time) and, for each function seen running that then finished, how long it
     was seen (a lower bound of its time, from which the grader derives short limits). It
-    raises again at every tick until the call ends, so a notebook that swallows it only
-    reaches the grader's own wall-clock limit, which stays behind this one.
+    raises again at every tick while the notebook's code runs until the call ends, so a
+    notebook that swallows it only reaches the grader's own wall-clock limit, which stays
+    behind this one. Seconds are :func:`busy_clock`'s: time spent waiting for a processor
+    on a busy machine is not counted, so a call's fate does not depend on the load.
     """
 
     def __init__(self):
@@ -681,7 +713,7 @@ class Watch:
         self.fired = None
         self.seen = {}
         self.finished = {}
-        self.t0 = _monotonic()
+        self.t0 = busy_clock()
         try:
             self.previous = signal.signal(_SIGALRM, self._tick)
             signal.siginterrupt(_SIGALRM, False)  # C-level system calls resume (SA_RESTART)
@@ -723,7 +755,7 @@ class Watch:
     def _tick(self, signum, frame):
         if not self.running:
             return
-        now = _monotonic()
+        now = busy_clock()
         roots = self.roots
         stack = []  # the notebook's function frames, innermost first
         mine = False  # the notebook's code (a function or a cell's own lines) is running
@@ -958,7 +990,9 @@ class Runner:
             finally:
                 watch.stop()
 
+        t0 = busy_clock()
         value, exc, _ = self._captured(run)
+        took = round(max(0.0, busy_clock() - t0), 4)  # the call's time, as the limit counts it
         _close_figures()
         if watch.fired is not None:  # raised in its code, swallowed or not: it ran out
             with _CleanBuiltins():
@@ -977,6 +1011,7 @@ class Runner:
                 "error_type": type(exc).__name__,
                 "error_message": msg[:MAX_ERROR_CHARS],
                 "error_bases": _class_path(type(exc)),
+                "seconds": took,
             }
             if seen:  # how long the functions it called were seen running
                 reply["seen"] = seen
@@ -985,7 +1020,7 @@ class Runner:
         try:
             with _CleanBuiltins():
                 wire = encode(value)
-            reply = {"id": cid, "value": wire}
+            reply = {"id": cid, "value": wire, "seconds": took}
             if seen:
                 reply["seen"] = seen
             self.chan.send(reply)
