@@ -296,10 +296,10 @@ class _Run:
             if attempts > len(self.nb.cells) + 3:
                 raise ExecFailed("the notebook's process could not be started")
             self._check_budget()
-            child = self.r.sandbox.spawn(opt.limits)
             cells = [
                 [n, src] for n, src in self.nb.cells if n not in self.skip and n not in self.not_run
             ]
+            child = self.r.sandbox.spawn(opt.limits, warm=[src for _, src in cells])
             order = [n for n, _ in cells]
             pos = 0  # index in order of the next cell that may start
             current: int | None = None

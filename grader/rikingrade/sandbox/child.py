@@ -96,7 +96,6 @@ _getpid = os.getpid
 _exit = os._exit
 _monotonic = __import__("time").monotonic
 _sleep = __import__("time").sleep
-importlib_invalidate = __import__("importlib").invalidate_caches
 
 np = None  # numpy, once preloaded
 
@@ -362,12 +361,29 @@ def _shell_class():
     Python of several lines is parsed once instead of tokenized by the transformers, which
     leave such a cell as it is.
     """
+    import ast
     import contextlib
 
+    from IPython.core.compilerop import CachingCompiler
     from IPython.core.interactiveshell import InteractiveShell
+    from traitlets import Type
+
+    class WarmCompiler(CachingCompiler):
+        """IPython's compiler, which returns a statement's code compiled in the zygote
+        (``GradingShell.warm``) when it meets that statement again, under the cell's name."""
+
+        def __call__(self, source, filename, symbol, **kwargs):
+            body = getattr(source, "body", None)
+            if type(body) is list and len(body) == 1 and not kwargs:
+                done = getattr(body[0], "_graded_code", None)
+                if done is not None and done[0] == symbol and done[1] == self.flags:
+                    return _renamed(done[2], filename)
+            return CachingCompiler.__call__(self, source, filename, symbol, **kwargs)
 
     class GradingShell(InteractiveShell):
         runner = None  # the Runner whose cell is running (its name, its notes)
+        compiler_class = Type(WarmCompiler)
+        _warm = {}  # cell text -> (text, AST with compiled statements), made in the zygote
 
         def enable_gui(self, gui=None):
             pass
@@ -396,13 +412,23 @@ def _shell_class():
         def _tee(self, channel):  # IPython 9 keeps every output in memory for %history
             yield
 
-        def transform_cell(self, raw_cell):
+        def _lines(self, raw_cell):
+            """The cell as IPython runs it if it may be plain Python of several lines, not
+            indented (the transformers leave such a cell as it is; a single line may be an
+            automagic and goes through IPython), else None."""
             cell = raw_cell if raw_cell.endswith("\n") else raw_cell + "\n"
             lines = _leading_empty_lines(cell.splitlines(True))
-            # several lines of plain Python, not indented: the transformers leave them as
-            # they are (a single line may be an automagic, and goes through IPython)
             if len(lines) > 1 and not lines[0][:1].isspace() and not self.input_transformers_post:
-                text = "".join(lines)
+                return "".join(lines)
+            return None
+
+        def transform_cell(self, raw_cell):
+            text = self._lines(raw_cell)
+            if text is not None:
+                warm = self._warm.get(text) if not self.ast_transformers else None
+                if warm is not None:  # parsed and compiled in the zygote
+                    self._parsed = warm
+                    return warm[0]
                 try:
                     tree = self.compile.ast_parse(text)
                 except Exception:
@@ -411,6 +437,36 @@ def _shell_class():
                     self._parsed = (text, tree)
                     return text
             return InteractiveShell.transform_cell(self, raw_cell)
+
+        def warm(self, sources):
+            """Parse and compile, once in the zygote, cells that most notebooks share (the
+            exercise's setup and checks): a child that runs one of them uses the code made
+            here, as IPython would have compiled it (one code object per statement, the
+            last expression in "single" mode). Returns how many cells were added."""
+            compiler = WarmCompiler()
+            flag = getattr(ast, "PyCF_ALLOW_TOP_LEVEL_AWAIT", 0) if self.autoawait else 0
+            added = 0
+            for raw in sources[:MAX_WARM]:
+                text = self._lines(raw) if isinstance(raw, str) else None
+                if text is None or text in self._warm or len(self._warm) >= MAX_WARM:
+                    continue
+                try:
+                    tree = compiler.ast_parse(text)
+                    nodes = tree.body
+                    if any(isinstance(n, ast.ImportFrom) and n.module == "__future__"
+                           for n in nodes):
+                        continue  # it would change how later cells compile
+                    with compiler.extra_flags(flag):
+                        for k, node in enumerate(nodes):
+                            single = k == len(nodes) - 1 and isinstance(node, ast.Expr)
+                            mode = "single" if single else "exec"
+                            mod = ast.Interactive([node]) if single else ast.Module([node], [])
+                            node._graded_code = (mode, compiler.flags, compiler(mod, "<c>", mode))
+                except Exception:  # noqa: BLE001 - not plain Python after all: not kept
+                    continue
+                self._warm[text] = (text, tree)
+                added += 1
+            return added
 
         def should_run_async(self, raw_cell, **kwargs):
             cell = kwargs.get("transformed_cell") or raw_cell
@@ -439,6 +495,20 @@ def _shell_class():
     return GradingShell
 
 
+#: Cells the zygote compiles ahead for its children (see GradingShell.warm).
+MAX_WARM = 64
+_CodeType = type(_leading_empty_lines.__code__)
+
+
+def _renamed(code, filename):
+    """``code`` and the code objects in it, with ``filename`` as their file name."""
+    consts = code.co_consts
+    if any(type(c) is _CodeType for c in consts):
+        consts = tuple(_renamed(c, filename) if type(c) is _CodeType else c for c in consts)
+        return code.replace(co_filename=filename, co_consts=consts)
+    return code.replace(co_filename=filename)
+
+
 def make_shell(scratch, errors):
     """The shell every child inherits, made before forking (IPython's profile folder is
     made in ``scratch`` and removed again: nothing of the shell stays writable there)."""
@@ -462,11 +532,12 @@ def make_shell(scratch, errors):
             return parse(source, filename, symbol)
 
         shell._parsed = None
+        shell._warm = {}
         shell.compile.ast_parse = ast_parse
         shell.compile.get_code_name = lambda raw, transformed, number: (
             shell.runner.cell_name if shell.runner is not None else f"<cell {number}>"
         )
-        shell.run_cell("pass", store_history=False, silent=True)  # the first-run imports
+        shell.run_cell("pass\npass\n", store_history=False)  # the first run's imports
         SHELL = shell
     except Exception as exc:  # noqa: BLE001 - cells then run as plain Python
         errors.append(f"IPython shell: {type(exc).__name__}: {exc}")
@@ -602,14 +673,17 @@ def _bad_source(source):
         return err
 
 
-def _fresh_imports():
-    """Forget what the import system cached about folders, so a module a cell has just
-    written (``%%writefile helper.py``, ``open(...)``) is found by the next import even
-    when the folder changed within its timestamp's resolution."""
-    try:
-        importlib_invalidate()
-    except Exception:
-        pass
+def _fresh_imports(roots):
+    """Forget what the import system cached about the folders a notebook can write to
+    (``roots``), so a module a cell has just written (``%%writefile helper.py``,
+    ``open(...)``) is found by the next import even when the folder changed within its
+    timestamp's resolution. The library folders' caches stay: relisting them costs ms."""
+    for path, finder in list(sys.path_importer_cache.items()):
+        if isinstance(path, str) and path.startswith(roots) and finder is not None:
+            try:
+                finder.invalidate_caches()
+            except Exception:
+                pass
 
 
 def _class_path(cls):
@@ -639,8 +713,26 @@ _ITIMER_REAL = signal.ITIMER_REAL
 _SIGALRM = signal.SIGALRM
 
 
-_os_open, _os_read, _os_close, _O_RDONLY = os.open, os.read, os.close, os.O_RDONLY
-_waited = [0.0]  # seconds this thread waited for a processor, as last read
+_os_open, _os_pread, _os_close, _O_RDONLY = os.open, os.pread, os.close, os.O_RDONLY
+_schedstat = [0, -1]  # [pid, fd] of this process's /proc/thread-self/schedstat
+_waited = [0.0, 0.0]  # [seconds waited for a processor, monotonic time], as last read
+
+
+def _read_waited():
+    """Seconds this thread has waited for a processor (Linux schedstat), or None."""
+    pid = _getpid()
+    for attempt in (0, 1):
+        if _schedstat[0] != pid or _schedstat[1] < 0 or attempt:
+            try:  # opened once per process: a forked child has a thread of its own
+                fd = _os_open("/proc/thread-self/schedstat", _O_RDONLY)
+            except OSError:
+                return None
+            _schedstat[:] = [pid, fd]
+        try:
+            return int(_os_pread(_schedstat[1], 128, 0).split()[1]) / 1e9
+        except (OSError, ValueError, IndexError):
+            _schedstat[1] = -1  # closed or replaced by the notebook: open it again
+    return None
 
 
 def busy_clock():
@@ -648,20 +740,18 @@ def busy_clock():
     processor (Linux's /proc/thread-self/schedstat): wall-clock time as on an idle
     machine. Running and sleeping count; being ready to run while the machine is busy
     with other work (the grader's other workers, other users) does not. Where the file
-    cannot be read this is the wall clock (it never jumps: the last value read stays).
+    cannot be read this is the wall clock; it never runs backwards or jumps (a wait
+    longer than the time since the last reading is not believed).
     """
-    try:
-        fd = _os_open("/proc/thread-self/schedstat", _O_RDONLY)
-        try:
-            data = _os_read(fd, 128)
-        finally:
-            _os_close(fd)
-        waited = int(data.split()[1]) / 1e9
-        if waited >= _waited[0]:
-            _waited[0] = waited
-    except (OSError, ValueError, IndexError):
-        pass
-    return _monotonic() - _waited[0]
+    now = _monotonic()
+    waited = _read_waited()
+    last, then = _waited
+    if waited is not None and last <= waited <= last + (now - then) + 0.01:
+        _waited[0] = waited
+    elif waited is not None and waited < last:  # another process's count: start afresh
+        _waited[0] = waited
+    _waited[1] = now
+    return now - _waited[0]
 
 
 class CallTimedOut(BaseException):
@@ -868,7 +958,7 @@ class Runner:
             self.chan.send({"event": "cell_start", "cell": index})
             self.cell_name = f"<cell {index}>"
             self.notes = []
-            _fresh_imports()
+            _fresh_imports(self.roots[-1:])
             run = self._cell(source)
             t0 = _monotonic()
             _, exc, cap = self._captured(run, min(self.output_limit, self.output_left))
@@ -1534,6 +1624,11 @@ class Zygote:
                 self.kill_all()
                 self.wipe_scratch()
                 self.send({"ok": True})
+            elif op == "warm":  # cells most notebooks share: compiled once, here
+                cells = msg.get("cells")
+                added = SHELL.warm(cells) if SHELL is not None and isinstance(cells, list) else 0
+                __import__("gc").freeze()
+                self.send({"ok": True, "added": added})
             elif op == "kill_except":
                 self.send({"ok": True, "kept": self.kill_except(int(msg.get("keep", -1)))})
             elif op == "wait":
