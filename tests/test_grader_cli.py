@@ -300,10 +300,10 @@ def test_gradescope_bundle_refuses_an_old_python_and_passes_the_late_rules(tmp_p
 
 
 def test_files_that_are_not_notebooks_are_invalid_with_a_reason_never_a_grader_error(tmp_path):
-    """Issue 26: a 5,000-digit number in one student's JSON made the whole class exit 1
-    (grader-error); JSON that is not a notebook was graded 'ok'. Each is refused with its
-    reason (status invalid, counted in summary.json), and the run exits 0 as the README
-    says (1 is for grader errors and files the grader would not read)."""
+    """Issue 26: a 5,000-digit number in one student's JSON put the class in grader-error;
+    JSON that is not a notebook was graded 'ok'. Each is refused with its reason (status
+    invalid, counted as refused in summary.json), and the run exits 1 as for any file that
+    is not a notebook (the instructor's guide), with no grader error."""
     require_bwrap()
     cls = tmp_path / "class"
     cls.mkdir()
@@ -319,9 +319,11 @@ def test_files_that_are_not_notebooks_are_invalid_with_a_reason_never_a_grader_e
     (cls / "dave.ipynb").write_text(json.dumps(nb))
     out = tmp_path / "out"
     r = run_cli(str(ASSIGNMENT), str(cls), "--out", str(out), "--memory-mb", "512")
-    assert r.returncode == 0, r.stdout + r.stderr
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert "REFUSED 3" in r.stdout and "Traceback" not in r.stdout + r.stderr
     summary = json.loads((out / "summary.json").read_text())
     assert summary["invalid"] == 3 and summary["grader_errors"] == 0, summary
+    assert summary["refused"] == 3, summary
     assert summary["submissions"] == 4 and summary["failed_to_run"] == 3
     rows = {row.split(",")[0]: row for row in (out / "grades.csv").read_text().splitlines()}
     assert rows["alice"].startswith("alice,ok,5,")

@@ -150,7 +150,9 @@ class SubmissionRunner:
         except NotebookError as exc:
             result.status = INVALID
             result.reason = str(exc)
-            result.refused = sub.refused if isinstance(exc, FileRefused) else ""
+            # not read, or not a notebook: refused with the reason, counted as refused (the
+            # summary, the exit status) like any other file handed in that is not a notebook
+            result.refused = sub.refused if isinstance(exc, FileRefused) else str(exc)
             result.problems = [f"the notebook could not be read: {exc}"]
             result.tests = [
                 TestResult(t.name, float(t.weight), 0.0, "not run: the notebook could not be read")
