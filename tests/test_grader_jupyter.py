@@ -284,3 +284,57 @@ def test_a_fresh_kernel_and_the_grader_give_the_same_points(graded, tmp_path, ar
     assert got == pytest.approx(kernel, abs=1e-9)
     assert sum(kernel.values()) == pytest.approx(10.0)  # and the notebook is right there
     assert np.isfinite(list(got.values())).all()
+
+
+# ------------------------------------------------------------------ compiled in the zygote
+WARM_SCRIPT = r"""
+import importlib.util, json, os, socket, sys
+spec = importlib.util.spec_from_file_location("child", sys.argv[1])
+child = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(child)
+child.preload(["numpy", "IPython"], sys.argv[2])
+shared = ["import numpy as np\n\n\ndef f(x):\n    y = 1.0\n    return y / x\n",
+          "def g():\n    while True:\n        pass\n",
+          "from __future__ import annotations\nz = 1\n"]
+added = child.SHELL.warm(shared)
+os.makedirs(sys.argv[3])
+os.chdir(sys.argv[3])
+ours, theirs = socket.socketpair()
+runner = child.Runner(child.Channel(theirs.fileno()), os.getpid())
+runner.limit = 0.3
+# the shared cells sit at other positions than in the notebook the zygote compiled
+runner.run_cells([[1, "x = 1\nx"], [2, "q = 2\n"], [3, shared[0]], [4, shared[1]],
+                  [5, "f(0)\n"], [6, "g()\n"], [7, "y = f(4.0)\ny\n"]], ["g"])
+theirs.close()
+events = [json.loads(line) for line in ours.makefile().read().splitlines()]
+print(json.dumps({"added": added, "events": events,
+                  "files": [runner.ns["f"].__code__.co_filename,
+                            runner.ns["g"].__code__.co_filename]}))
+"""
+
+
+def test_cells_compiled_in_the_zygote_run_as_the_notebooks_own(tmp_path):
+    """The zygote compiles the first notebook's cells once (``warm``); a later notebook
+    with the same cell at another place runs that code under its own cell's name: its
+    tracebacks and time limits name its cells and functions, and what it prints is the same.
+    A cell with a ``__future__`` import is not compiled ahead (it changes later cells)."""
+    import subprocess
+    import sys
+
+    child = ROOT / "grader" / "rikingrade" / "sandbox" / "child.py"
+    r = subprocess.run([sys.executable, "-c", WARM_SCRIPT, str(child), str(tmp_path / "scr"),
+                        str(tmp_path / "scr" / "work-1")], capture_output=True, text=True,
+                       timeout=300)
+    assert r.returncode == 0, r.stderr
+    got = json.loads(r.stdout.splitlines()[-1])
+    assert got["added"] == 2  # not the __future__ cell
+    assert got["files"] == ["<cell 3>", "<cell 4>"]
+    ends = {e["cell"]: e for e in got["events"] if e.get("event") == "cell_end"}
+    assert ends[1]["output"] == "Out[1]: 1\n"  # the displayhook, as IPython shows it
+    err = ends[5]["error"]
+    assert err["type"] == "ZeroDivisionError"
+    assert "cell 5, line 1" in err["traceback"] and "cell 3, line 6, in f" in err["traceback"]
+    assert "return y / x" in err["traceback"]  # the line, from the cell's own source
+    stop = ends[6]["timed_out"]
+    assert stop["function"] == "g" and stop["stack"] == ["g"]
+    assert ends[7]["error"] is None and ends[7]["output"] == "Out[7]: 0.25\n"

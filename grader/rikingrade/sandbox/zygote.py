@@ -487,7 +487,7 @@ class Sandbox:
         most of a notebook's code) then cost a child nothing to compile; a cell a notebook
         changed is compiled by its child as before. Sent once per zygote, in one control
         message (cells that do not fit are left out); a zygote that does not answer is
-        restarted, as after any control message.
+        replaced by a fresh one, which is not asked again.
         """
         self.warmed = self.starts
         sent: list[str] = []
@@ -502,8 +502,11 @@ class Sandbox:
         try:
             self._ctl({"op": "warm", "cells": sent}, timeout=CONTROL_TIMEOUT + 3)
         except (OSError, ValueError, ChildDied, ProtocolError) as exc:
+            # a notebook's cells must never stop grading: a fresh zygote, without them
             log.info("zygote did not answer warm (%s); restarting the sandbox", exc)
             self.close()
+            self.start()
+            self.warmed = self.starts
 
     def _limits(self, limits: Limits) -> dict[str, Any]:
         """A child's limits: the whole sandbox's memory in its cgroup, or a process count
