@@ -270,13 +270,15 @@ def _for_arm(arm: str) -> list[Fair]:
                         why="2 of the 6 special targets are 1e-3 of the arm's size from the "
                             "axis: front and back are distinct there, it returns front only"))
     # ---------------------------------------------------------------- 8: feedback
-    out.append(Fair(arm, "8", "import_scipy",
-                    "the IK cell starts with 'from scipy.optimize import fsolve' (no scipy when "
-                    "graded)",
-                    edits=((f"def ik_{arm}(p", f"from scipy.optimize import fsolve\n\n\n"
+    out.append(Fair(arm, "8", "missing_helper",
+                    "the IK cell starts with 'from my_ik_helpers import wrap_angle', a module "
+                    "of the student's own that was not handed in",
+                    edits=((f"def ik_{arm}(p", f"from my_ik_helpers import wrap_angle\n\n\n"
                                                 f"def ik_{arm}(p"),),
                     lost=_lost(arm, *ALL_IK), before=4.0,
-                    why="the cell fails, ik is undefined, the 6-DOF IK calls it (NameError)"))
+                    why="the cell fails (no such module beside the notebook, whatever the "
+                        "grader has installed), ik is undefined, the 6-DOF IK calls it "
+                        "(NameError)"))
     # ---------------------------------------------------------------- 15.4, 15.5, 15.10
     out.append(Fair(arm, "15.4", "many_rows",
                     "the 6-DOF IK returns every solution 100 times",
