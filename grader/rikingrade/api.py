@@ -26,7 +26,8 @@ from .assignment import Assignment, load_assignment
 from .gradebook import Gradebook, GradebookDamaged
 from .intake import match_roster, stored_roster, time_notes
 from .lmsfiles import MISSING_BLANK, MISSING_ZERO
-from .notebook import Submission, discover, shown
+from .notebook import OUTPUT_MARK, Submission, SubmissionsError, discover, shown
+from .outputs import atomic_write
 from .policy import PolicyError, Rules, parse_time
 from .progress import Progress, summarize, summary_text
 from .report import GRADER_ERROR, INVALID, SubmissionResult, TestResult
@@ -228,6 +229,7 @@ def grade(
         if isinstance(submissions, (str, Path)):
             submissions = [submissions]
         gb_path = Path(gradebook).resolve() if gradebook else out / "gradebook.sqlite"
+        _mark_output(out, submissions)
         ros = load_roster(roster) if roster is not None else None
         entries = ros.entries if ros is not None else stored_roster(gb_path, a.exercise)
         subs, notes = discover(list(submissions), a.notebook, reader, entries)
@@ -590,6 +592,26 @@ def _hidden_paths(a: Assignment, out: Path, subs: list[Submission]) -> list[Path
         )
     hidden += [s.path.parent for s in subs]
     return hidden
+
+
+def _mark_output(out: Path, submissions: Sequence[str | Path]) -> None:
+    """Mark ``out`` as the grader's output folder (discovery skips a folder so marked, so
+    ``--out`` may sit inside the class folder); ``out`` cannot be a class folder itself.
+
+    Raises
+    ------
+    SubmissionsError
+        A folder of submissions is the output folder.
+    """
+    for s in submissions:
+        if Path(s).is_dir() and Path(s).resolve() == out:
+            raise SubmissionsError(
+                f"{shown(out)} is both the output folder and a folder of submissions: give "
+                "--out a folder of its own (beside the class folder or inside it)"
+            )
+    mark = out / OUTPUT_MARK
+    if not mark.is_file():
+        atomic_write(mark, "rikin-grade's output folder: not read as submissions.\n")
 
 
 def _attach_log(path: Path) -> logging.Handler:

@@ -26,6 +26,9 @@ log = logging.getLogger("rikingrade")
 
 MAX_NOTEBOOK_BYTES = 100 * 1024 * 1024
 SKIP_DIRS = {".ipynb_checkpoints", "__pycache__", "__MACOSX", ".git"}
+#: The file the grader puts in its output folder: a folder holding it is the grader's own
+#: output (``--out`` inside the class folder, this run's or an earlier one), never a student.
+OUTPUT_MARK = ".rikin-grade-output"
 
 
 class NotebookError(ValueError):
@@ -431,6 +434,9 @@ def _scan(
             continue
         if e.is_dir(follow_symlinks=False):
             if e.name in SKIP_DIRS:
+                continue
+            if os.path.isfile(os.path.join(e.path, OUTPUT_MARK)):
+                notes.append(f"{shown(path)}: the grader's own output folder, skipped")
                 continue
             if e.name.startswith("."):
                 notes.append(
