@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 from grader_fixtures import corpus
 from grader_fixtures.helpers import ASSIGNMENT, FAST, require_bwrap
-from rikingrade import grade
+from rikingrade import grade, repair
 from rikingrade.assignment import load_assignment
 
 import rikin
@@ -219,3 +219,25 @@ def test_no_control_character_reaches_any_output(graded):
         if f.suffix == ".json":
             bad = [s for s in _strings(json.loads(text)) if _controls(s)]
             assert not bad, (f.name, bad[:3])
+    # the gradebook's record in each results file, decoded as repair reads it, too
+    recs = repair.records(root / "out")
+    assert len(recs) == len(list((root / "out" / "results").glob("*.json"))) > 0
+    bad = [s for r in recs for s in _strings(r) if _controls(s)]
+    assert not bad, bad[:3]
+
+
+def test_the_gradebook_record_holds_the_grade_and_no_readable_student_text(graded):
+    """``extra_data.rikin`` (what ``rikin-grade repair`` rebuilds a grade from) carries the
+    whole result, but as data: the student's texts of the hostile cases (a ``<script>``
+    in a message, a printed "All tests passed") appear in it only when decoded."""
+    root, _, report = graded
+    recs = {r["student"]["id"]: r for r in repair.records(root / "out")}
+    for name in report.by_student():
+        rec = recs[name]
+        stored = json.loads((root / "out" / "results" / f"{name}.json").read_text())
+        assert set(stored["extra_data"]["rikin"]) == {"version", "encoding", "data"}
+        assert rec["result"]["score"] == stored["score"]  # no late rules in this class
+        assert rec["submission"]["sha256"] == stored["extra_data"]["sha256"]
+    printed = [c.output for c in report.by_student()["fake_all_passed_output"].cells]
+    assert any("All tests passed" in o for o in printed)  # the student did print it
+    assert "All tests passed" in json.dumps(recs["fake_all_passed_output"]["result"])
