@@ -40,6 +40,14 @@ MAX_FUNCTIONS = 200
 MAX_STRETCH = 20.0
 
 
+def _load_per_cpu() -> float:
+    """The 1-minute load average per processor (0 where the system does not say)."""
+    try:
+        return os.getloadavg()[0] / (os.cpu_count() or 1)
+    except OSError:
+        return 0.0
+
+
 def backstop(limit: float) -> float:
     """Wall-clock seconds the grader waits for a call that the child limits to ``limit``.
 
@@ -48,11 +56,15 @@ def backstop(limit: float) -> float:
     longer on the wall clock, about the load per processor times as long. The grader's
     clock, which only catches what the child cannot interrupt, allows twice that.
     """
-    try:
-        per_cpu = os.getloadavg()[0] / (os.cpu_count() or 1)
-    except OSError:
-        per_cpu = 0.0
-    return limit * min(MAX_STRETCH, max(1.0, 2.0 * per_cpu)) + GRACE
+    return limit * min(MAX_STRETCH, max(1.0, 2.0 * _load_per_cpu())) + GRACE
+
+
+def cell_wall(limit: float) -> float:
+    """Wall-clock seconds a code cell limited to ``limit`` seconds gets: as on an idle
+    machine, so ``limit`` times the load per processor when there are more runnable
+    processes than processors (at most :data:`MAX_STRETCH` times). Only the grader's
+    clock stops a cell, so a busy machine must not shorten what a cell may do."""
+    return limit * min(MAX_STRETCH, max(1.0, _load_per_cpu()))
 
 
 @dataclass

@@ -6,7 +6,8 @@ The steps, in order:
 2. fork a child and run the code cells in file order, as "Run All" would, except the
    cells that only call the answer functions (the visible checks: see ``cellplan``): a
    cell that raises is recorded and the next cells still run; a cell that hangs past
-   ``cell_timeout`` or kills its process is recorded and skipped in a fresh child;
+   ``cell_timeout`` (as on an idle machine: stretched by the load, ``calllimits.cell_wall``)
+   or kills its process is recorded and skipped in a fresh child;
 3. for each hidden test, send its calls one at a time with that test's wall-clock
    timeout; a call that times out or kills the child costs that test only: the rest of
    its calls are not run and the next test gets a fresh child (cells re-run); a function
@@ -32,7 +33,7 @@ import traceback
 from dataclasses import dataclass
 
 from .assignment import Assignment
-from .calllimits import CallLimits, backstop
+from .calllimits import CallLimits, backstop, cell_wall
 from .cellplan import calling_cells
 from .feedback import cell_problems, missing_cause
 from .notebook import FileRefused, Notebook, NotebookError, Submission
@@ -307,7 +308,7 @@ class _Run:
             current: int | None = None
             last: int | None = None  # the last cell that started (blamed if none is running)
             try:
-                deadline = self.deadline(opt.cell_timeout)
+                deadline = self.deadline(cell_wall(opt.cell_timeout))
                 child.send(
                     {
                         "op": "exec",
@@ -328,7 +329,7 @@ class _Run:
                         if current is None and pos < len(order) and n == order[pos]:
                             current = last = n
                             pos += 1
-                            deadline = self.deadline(opt.cell_timeout)
+                            deadline = self.deadline(cell_wall(opt.cell_timeout))
                     elif ev == "cell_end":
                         if n is not None and n == current:
                             sec = msg.get("seconds")
@@ -339,7 +340,7 @@ class _Run:
                                 self._record(n, msg)
                                 self._cell_ran_out(n, msg)
                             current = None
-                            deadline = self.deadline(opt.cell_timeout)
+                            deadline = self.deadline(cell_wall(opt.cell_timeout))
                     elif ev == "exec_done" and current is None and pos == len(order):
                         funcs = msg.get("functions")
                         self.functions = (
