@@ -64,14 +64,21 @@ def code_cell(src: str) -> dict:
 def make_class(
     solution: dict, functions: list[str], n: int, wrong_every: int = 8, hostile_every: int = 33
 ) -> list[tuple[str, str, dict]]:
-    """(student id, kind, notebook) for ``n`` students: mostly correct, some wrong, a few hostile."""  # noqa: E501
+    """(student id, kind, notebook) for ``n`` students: mostly correct, some wrong, a few
+    hostile (none if ``hostile_every`` is 0). Each student's cells that define the answer
+    functions differ (a comment line of their own), as in a real class; the exercise's
+    setup and check cells are the same in every notebook."""
     out = []
     hostile_kinds = list(HOSTILE)
     h = w = 0
     for i in range(n):
         nb = copy.deepcopy(solution)
+        for c in nb["cells"]:
+            src = "".join(c["source"])
+            if c["cell_type"] == "code" and any(f"def {f}(" in src for f in functions):
+                c["source"] = f"# student {i:04d}'s answer\n" + src
         nb["cells"].append(code_cell(f"# student {i:04d}: my answers are above"))
-        if i % hostile_every == hostile_every - 1:
+        if hostile_every and i % hostile_every == hostile_every - 1:
             kind = hostile_kinds[h % len(hostile_kinds)]
             h += 1
             nb["cells"].append(code_cell(HOSTILE[kind].format(f=functions[h % len(functions)])))
@@ -84,6 +91,16 @@ def make_class(
         else:
             out.append((f"s{i:04d}_ok", "correct", nb))
     return out
+
+
+def _cpu() -> float:
+    """CPU seconds of this process and of the children it has waited for (the sandboxes:
+    every process in one is a descendant its bubblewrap waits for)."""
+    import resource
+
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
 
 
 def find_nbgrader(explicit: str | None) -> str | None:
@@ -102,12 +119,14 @@ def bench_rikin(assignment: str, folder: Path, workers: int) -> dict:
 
     out = folder.parent / "rikin_out"
     t0 = time.perf_counter()
+    cpu0 = _cpu()
     report = grade(
         assignment, [folder], out, workers=workers, regrade=True, quiet=True, progress=False
     )
     dt = time.perf_counter() - t0
     return {
         "seconds": dt,
+        "cpu_seconds": _cpu() - cpu0,
         "n": len(report.results),
         "per_min": len(report.results) / dt * 60,
         "results": {r.student: (r.score, r.max_score, r.status) for r in report.results},
@@ -211,6 +230,13 @@ def main(argv: list[str] | None = None) -> int:
         help="correct/wrong submissions given to nbgrader (default 40; 0 skips it)",
     )
     p.add_argument("--nbgrader-timeout", type=int, default=30, help="nbgrader's cell timeout, s")
+    p.add_argument(
+        "--hostile-every",
+        type=int,
+        default=33,
+        help="one hostile submission in this many (default 33; 0: none, only correct and "
+        "wrong ones, to compare graders on a loaded machine where a hang's cost varies)",
+    )
     p.add_argument("--json", action="store_true", help="print the figures as JSON too")
     p.add_argument("--keep", action="store_true", help="keep the generated folder")
     args = p.parse_args(argv)
@@ -226,7 +252,7 @@ def main(argv: list[str] | None = None) -> int:
     else:
         solution_path = ROOT / "solutions" / a.notebook
     solution = json.loads(solution_path.read_text())
-    class_ = make_class(solution, list(a.functions), args.n)
+    class_ = make_class(solution, list(a.functions), args.n, hostile_every=args.hostile_every)
     work = Path(tempfile.mkdtemp(prefix="bench-grade-"))
     try:
         folder = work / "class"
@@ -245,7 +271,8 @@ def main(argv: list[str] | None = None) -> int:
         print(
             f"rikin-grade: {ours['n']} notebooks in {ours['seconds']:.1f} s = {ours['per_min']:.0f} "  # noqa: E501
             f"notebooks/min ({args.workers} workers, sandbox start included; "
-            f"1-minute load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs)"
+            f"1-minute load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs); "
+            f"{ours['cpu_seconds']:.1f} s of CPU"
         )
         print(
             f"  correct notebooks with full marks: {len(full) - len(missed)}/{len(full)}; "
@@ -256,6 +283,7 @@ def main(argv: list[str] | None = None) -> int:
             "workers": args.workers,
             "seconds": round(ours["seconds"], 3),
             "notebooks_per_min": round(ours["per_min"], 1),
+            "cpu_seconds": round(ours["cpu_seconds"], 2),
             "missed_full_marks": missed,
             "false_passes": false_pass,
         }

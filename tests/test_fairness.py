@@ -55,7 +55,7 @@ def _apply(f: F.Fair):
 def test_every_class_has_variants_on_every_arm():
     have = {(f.arm, f.cls) for f in F.FAIR}
     for arm in F.ARMS:
-        for cls in ("1", "2", "3", "4", "5", "6", "8", "15.4", "15.5", "15.10"):
+        for cls in ("1", "2", "3", "4", "5", "6", "8", "15.4", "15.5", "15.10", "26.5"):
             assert (arm, cls) in have, (arm, cls)
     assert len({f.id for f in F.FAIR}) == len(F.FAIR)
 
@@ -163,3 +163,46 @@ def test_an_unreadable_value_is_never_a_raise_and_a_huge_number_is_the_students(
                       [[huge] * 4] * 4):
             s = test.check(calls, [Outcome(value=value)] * len(calls), False)   # no exception
             assert s.fraction == 0.0, (name, s.feedback)
+
+
+# ------------------------------------------------------------------ 26.5: near singular
+def _near_kinds(arm: str, calls) -> set[str]:
+    """Which singular configurations these calls' targets are NEAR (1e-4 to 1e-2 from it,
+    in rad or times the arm's size), by the reference's own solutions."""
+    ref, kinds = ARMS[arm], set()
+    for c in calls:
+        kw = c.kwargs
+        L = {k: kw[k] for k in ref.lengths}
+        if "T" in kw:
+            q5 = ref.ik_6dof(kw["T"], kw["tool"], **L).q[:, 4]
+            s5 = np.abs(np.sin(q5))
+            if np.all((1e-4 < s5) & (s5 < 1e-2)):
+                kinds.add("wrist q5 near 0" if np.cos(q5[0]) > 0 else "wrist q5 near pi")
+            continue
+        q2 = ref.ik(kw["p"], **L).q[:, 1]
+        if arm == "scara" and len(q2) == 2:
+            off = np.abs(np.sin(q2))
+            if np.all((1e-4 < off) & (off < 1e-2)):
+                kinds.add("near stretched" if np.cos(q2[0]) > 0 else "near folded")
+        if arm == "spherical":
+            rho = np.hypot(*kw["p"][:2]) / ref.scale(L)
+            if 1e-4 < rho < 1e-2:
+                kinds.add("near the axis")
+    return kinds
+
+
+@pytest.mark.parametrize("arm", F.ARMS)
+def test_hidden_targets_are_near_every_singular_configuration_at_every_seed(arm):
+    # issue 26: at the default seed no hidden target was near one (q5 of 1e-3, the wrist
+    # centre 1e-3 of the arm's size from the axis): a band of 0.05 taken as singular kept
+    # full marks
+    want = {"wrist q5 near 0", "wrist q5 near pi"} | {
+        "scara": {"near stretched", "near folded"}, "spherical": {"near the axis"}}.get(arm, set())
+    for seed in (*range(12), 20240901):
+        rng = np.random.default_rng(seed)
+        seen = set()
+        for test in module(arm).TESTS:
+            calls = test.make_calls(rng)
+            if "singular" in test.tags:
+                seen |= _near_kinds(arm, calls)
+        assert seen == want, (seed, seen)

@@ -297,3 +297,74 @@ def test_gradescope_bundle_refuses_an_old_python_and_passes_the_late_rules(tmp_p
     assert "--late-per-day 5 --late-cap 20 --grace-minutes 0" in run
     r = subprocess.run(["bash", "-n", "-c", setup], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
+
+
+def test_files_that_are_not_notebooks_are_invalid_with_a_reason_never_a_grader_error(tmp_path):
+    """Issue 26: a 5,000-digit number in one student's JSON put the class in grader-error;
+    JSON that is not a notebook was graded 'ok'. Each is refused with its reason (status
+    invalid, counted as refused in summary.json), and the run exits 1 as for any file that
+    is not a notebook (the instructor's guide), with no grader error."""
+    require_bwrap()
+    cls = tmp_path / "class"
+    cls.mkdir()
+    (cls / "alice.ipynb").write_bytes(SOLUTION.read_bytes())
+    text = SOLUTION.read_text()
+    (cls / "bob.ipynb").write_text(text.replace('"nbformat": 4', '"x": ' + "1" * 5000
+                                                + ', "nbformat": 4', 1))
+    nb = json.loads(text)
+    nb["cells"][0]["source"] = 12
+    (cls / "carol.ipynb").write_text(json.dumps(nb))
+    nb = json.loads(text)
+    nb["metadata"] = ["kernelspec"]
+    (cls / "dave.ipynb").write_text(json.dumps(nb))
+    out = tmp_path / "out"
+    r = run_cli(str(ASSIGNMENT), str(cls), "--out", str(out), "--memory-mb", "512")
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert "REFUSED 3" in r.stdout and "Traceback" not in r.stdout + r.stderr
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["invalid"] == 3 and summary["grader_errors"] == 0, summary
+    assert summary["refused"] == 3, summary
+    assert summary["submissions"] == 4 and summary["failed_to_run"] == 3
+    rows = {row.split(",")[0]: row for row in (out / "grades.csv").read_text().splitlines()}
+    assert rows["alice"].startswith("alice,ok,5,")
+    assert rows["bob"].startswith("bob,invalid,0,")
+    assert "JSON that Jupyter cannot open" in rows["bob"]
+    assert "not a notebook: the source of cell 1 is a number" in rows["carol"]
+    assert "not a notebook: its 'metadata' is a list" in rows["dave"]
+
+
+def test_terminal_escapes_from_a_student_never_reach_the_terminal_or_a_file(tmp_path):
+    """Issue 26 item 4: a file name and an exception message with terminal escapes; the
+    instructor's terminal (the CLI's output) and every file written stay free of them."""
+    require_bwrap()
+    cls = tmp_path / "class"
+    cls.mkdir()
+    nb = json.loads(SOLUTION.read_text())
+    nb["cells"].insert(1, {"cell_type": "code", "metadata": {}, "outputs": [],
+                           "execution_count": None,
+                           "source": "raise ValueError('\\x1b]0;owned\\x07\\x1b[31mred\\r')"})
+    (cls / "mal\x1b[31mlory\r.ipynb").write_text(json.dumps(nb))
+    (cls / "alice.ipynb").write_bytes(SOLUTION.read_bytes())
+    out = tmp_path / "out"
+    r = run_cli(str(ASSIGNMENT), str(cls), "--out", str(out), "--memory-mb", "512",
+                "--progress")
+    assert r.returncode == 0, r.stdout + r.stderr
+    for text in (r.stdout, r.stderr):
+        assert "\x1b" not in text and "\r" not in text and "\x07" not in text, text
+    seen = 0
+    for f in out.rglob("*"):
+        if f.is_file() and f.suffix in (".json", ".md", ".html", ".csv", ".log"):
+            text = f.read_text(encoding="utf-8")
+            if f.suffix == ".json":  # escaped as \\u001b there: look at the strings
+                text = "\n".join(_json_strings(json.loads(text)))
+            assert not any(c in text for c in "\x1b\r\x07"), f
+            seen += "red" in text
+    assert seen >= 4  # the message is there, without its escapes
+
+
+def _json_strings(value):
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, (list, dict)):
+        for v in value.items() if isinstance(value, dict) else value:
+            yield from _json_strings(v)

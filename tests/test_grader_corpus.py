@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 from grader_fixtures import corpus
 from grader_fixtures.helpers import ASSIGNMENT, FAST, require_bwrap
-from rikingrade import grade
+from rikingrade import grade, repair
 from rikingrade.assignment import load_assignment
 
 import rikin
@@ -185,3 +185,59 @@ def test_no_text_from_a_child_can_break_the_outputs(graded):
     for f in (root / "out").rglob("*"):
         if f.is_file() and f.suffix in (".json", ".md", ".html", ".csv", ".log"):
             f.read_bytes().decode("utf-8")  # raises on a surrogate written with surrogateescape
+
+
+def _controls(text: str) -> list[str]:
+    """The C0/C1 control characters (but newline and tab) in ``text``."""
+    return sorted({c for c in text if (ord(c) < 32 and c not in "\n\t") or 127 <= ord(c) < 160})
+
+
+def _strings(value):
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, list):
+        for v in value:
+            yield from _strings(v)
+    elif isinstance(value, dict):
+        for k, v in value.items():
+            yield k
+            yield from _strings(v)
+
+
+def test_no_control_character_reaches_any_output(graded):
+    """Issue 26 item 4: what a student controls (messages, output, a shell command's
+    colours, file names) reaches no output with a control character in it: not the CSV,
+    the log, the report, the feedback, nor (JSON-escaped) the results."""
+    root, _, report = graded
+    res = report.by_student()["terminal_escapes"]
+    assert any("[31m" in c.output or "shell" in c.output for c in res.cells)  # it did print
+    for f in (root / "out").rglob("*"):
+        if not f.is_file() or f.suffix not in (".json", ".md", ".html", ".csv", ".log"):
+            continue
+        text = f.read_text(encoding="utf-8")
+        assert not _controls(text), (f.name, _controls(text))
+        if f.suffix == ".json":
+            bad = [s for s in _strings(json.loads(text)) if _controls(s)]
+            assert not bad, (f.name, bad[:3])
+    # the gradebook's record in each results file, decoded as repair reads it, too
+    recs = repair.records(root / "out")
+    assert len(recs) == len(list((root / "out" / "results").glob("*.json"))) > 0
+    bad = [s for r in recs for s in _strings(r) if _controls(s)]
+    assert not bad, bad[:3]
+
+
+def test_the_gradebook_record_holds_the_grade_and_no_readable_student_text(graded):
+    """``extra_data.rikin`` (what ``rikin-grade repair`` rebuilds a grade from) carries the
+    whole result, but as data: the student's texts of the hostile cases (a ``<script>``
+    in a message, a printed "All tests passed") appear in it only when decoded."""
+    root, _, report = graded
+    recs = {r["student"]["id"]: r for r in repair.records(root / "out")}
+    for name in report.by_student():
+        rec = recs[name]
+        stored = json.loads((root / "out" / "results" / f"{name}.json").read_text())
+        assert set(stored["extra_data"]["rikin"]) == {"version", "encoding", "data"}
+        assert rec["result"]["score"] == stored["score"]  # no late rules in this class
+        assert rec["submission"]["sha256"] == stored["extra_data"]["sha256"]
+    printed = [c.output for c in report.by_student()["fake_all_passed_output"].cells]
+    assert any("All tests passed" in o for o in printed)  # the student did print it
+    assert "All tests passed" in json.dumps(recs["fake_all_passed_output"]["result"])

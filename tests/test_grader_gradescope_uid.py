@@ -320,7 +320,12 @@ def batch(gs):
 
 def test_hostile_corpus_in_the_uid_sandbox(batch):
     r, out = batch
-    assert r.returncode == 0, r.stdout + r.stderr
+    # the corpus holds files that are not notebooks (empty, cut short, not JSON): refused,
+    # so the run exits 1 as the instructor's guide says; never a grader error
+    summary = json.loads((out / "summary.json").read_text())
+    refused = sum(c.status == "invalid" for c in corpus.CASES)
+    assert (summary["refused"], summary["grader_errors"]) == (refused, 0), summary
+    assert r.returncode == 1, r.stdout + r.stderr
     assert "sandbox: uid" in (out / "grading.log").read_text()
     got = {}
     for case in corpus.CASES:
@@ -334,7 +339,9 @@ def test_hostile_corpus_in_the_uid_sandbox(batch):
         for c in corpus.CASES
         if c.name not in UID_MODE_AT_MOST
     }
-    assert {n: got[n] for n in want} == pytest.approx(want, abs=1e-9)
+    off = [n for n in want if abs(got[n] - want[n]) > 1e-9]
+    why = {n: (out / "feedback" / f"{n}.md").read_text()[:3000] for n in off}
+    assert {n: got[n] for n in want} == pytest.approx(want, abs=1e-9), why
     rows = {
         line.split(",")[0]: line.split(",")[1]
         for line in (out / "grades.csv").read_text().splitlines()[1:]

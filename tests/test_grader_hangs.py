@@ -5,20 +5,21 @@ with the default limits (2 s per call). Six hidden tests reach ``ik_scara``, thr
 through ``ik_scara_6dof``; before, each of them ran a call to the full limit (12.4 s for
 the notebook). What is counted here does not depend on the machine's speed: how many
 calls ran to the full limit, and how many were stopped at a short one; one wall-clock
-bound per notebook checks the total against the per-call limit plus a constant.
+bound per notebook checks the total against the per-call limit plus a constant, stretched
+as the grader stretches its own clock on a busy machine (``calllimits.backstop``: the
+child counts a call's time as on an idle machine).
 """
 
 from __future__ import annotations
 
 import json
 import re
-import time
 from pathlib import Path
 
 import pytest
 from grader_fixtures.helpers import FAST, require_bwrap
 from rikingrade import grade
-from rikingrade.calllimits import FACTOR, FLOOR, CallLimits
+from rikingrade.calllimits import FACTOR, FLOOR, CallLimits, backstop
 from rikingrade.hidden._common import TIMEOUT
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -94,7 +95,7 @@ def test_a_hung_function_costs_the_call_limit_once_wherever_it_is_called_from(tm
         assert [t.name for t in r.tests if t.timed_out] == IK_TESTS, name
         assert r.score == pytest.approx(4.0), name  # DH 1, FK 1.5, FK 6-DOF 1.5
         assert _stops(r) == (1, 5), (name, [t.feedback for t in r.tests])
-        assert r.elapsed < TIMEOUT + CONSTANT, (name, r.elapsed)
+        assert r.elapsed < backstop(TIMEOUT + CONSTANT), (name, r.elapsed)
     # the student is told why the later tests stopped early, once, at the top
     (line,) = [p for p in res["hang_ik"].problems if "short limit" in p]
     assert line.startswith(f"ik_scara did not return within {TIMEOUT:g} s in test ik;")
@@ -127,7 +128,7 @@ def test_a_hung_function_called_by_a_cell_costs_the_call_limit_not_the_cell_limi
     )
     assert [t.name for t in res.tests if t.timed_out] == IK_TESTS
     assert _stops(res) == (0, 6)  # the cell's call was the one at the full limit
-    assert res.elapsed < TIMEOUT + CONSTANT, res.elapsed
+    assert res.elapsed < backstop(TIMEOUT + CONSTANT), res.elapsed
 
 
 def test_a_notebook_that_swallows_the_stop_meets_the_graders_clock(tmp_path):
@@ -189,12 +190,13 @@ def test_the_child_stops_a_call_at_its_limit_and_names_what_was_running():
     watch = child.Watch()
 
     def run(name, limit, leash=None):
+        # the child's clock: time waiting for a processor (the machine busy) not counted
         watch.start(ns, limit, leash or {}, call=name)
-        t0 = time.monotonic()
+        t0 = child.busy_clock()
         try:
-            return ns[name](), time.monotonic() - t0
+            return ns[name](), child.busy_clock() - t0
         except child.CallTimedOut:
-            return None, time.monotonic() - t0
+            return None, child.busy_clock() - t0
         finally:
             watch.stop()
 

@@ -39,8 +39,7 @@ def test_lenient_reading(tmp_path):
     cells = [
         {"cell_type": "code", "source": ["a = 1\n", "b = 2"], "id": "x"},
         {"cell_type": "markdown", "source": "text", "id": "x"},
-        {"cell_type": "code", "source": None},
-        "not a cell",
+        {"cell_type": "code", "metadata": {"colab": {"id": "q"}}, "outputs": []},
         {"cell_type": "raw", "source": "raw"},
     ]
     p = tmp_path / "n.ipynb"
@@ -48,6 +47,41 @@ def test_lenient_reading(tmp_path):
     nb = read_notebook(p)
     assert nb.cells == [(1, "a = 1\nb = 2"), (2, "")]
     assert any("duplicated" in w for w in nb.warnings)
+
+
+def _nb(**top) -> dict:
+    cells = [{"cell_type": "code", "source": "x = 1", "metadata": {}, "outputs": []}]
+    return {"nbformat": 4, "nbformat_minor": 5, "metadata": {}, "cells": cells, **top}
+
+
+def _cell(**fields) -> dict:
+    return _nb(cells=[{"cell_type": "code", "source": "x = 1", "metadata": {}, **fields}])
+
+
+@pytest.mark.parametrize(
+    "data, message",
+    [
+        # issue 26: an uncaught ValueError put the whole class in grader-error (exit 1)
+        (b'{"cells": [], "x": ' + b"7" * 5000 + b"}", "JSON that Jupyter cannot open"),
+        # issue 26: these got status ok and "did you rename it?"
+        (json.dumps(_cell(source=5)).encode(), "not a notebook: the source of cell 1 is a number"),
+        (json.dumps(_nb(metadata=[1, 2])).encode(), "not a notebook: its 'metadata' is a list"),
+        (json.dumps(_cell(source=None)).encode(), "the source of cell 1 is null"),
+        (json.dumps(_cell(source=["a", 3])).encode(), "the source of cell 1 is a list"),
+        (json.dumps(_nb(cells=["x = 1"])).encode(), "cell 1 is text, not an object"),
+        (json.dumps(_nb(cells=[{"source": "x = 1"}])).encode(), "cell 1 has cell_type null"),
+        (json.dumps(_cell(metadata=[])).encode(), "the metadata of cell 1 is a list"),
+        (json.dumps(_cell(outputs={})).encode(), "the outputs of cell 1 are not a list"),
+        (json.dumps(_nb(nbformat="4")).encode(), "its 'nbformat' is text"),
+    ],
+    ids=["5000-digits", "source-5", "metadata-list", "source-null", "source-list-mixed",
+         "cell-a-string", "no-cell-type", "cell-metadata-list", "outputs-dict", "nbformat-text"],
+)
+def test_json_that_is_not_a_notebook_is_refused_with_the_reason(tmp_path, data, message):
+    p = tmp_path / "x.ipynb"
+    p.write_bytes(data)
+    with pytest.raises(NotebookError, match=re.escape(message)):
+        read_notebook(p)
 
 
 def test_discover_student_folders_and_loose_files(tmp_path):
@@ -105,3 +139,16 @@ def test_safe_ids_and_picking():
     for bad in ("+1", "-alice", "@bob", "=HYPERLINK(1)", "..x"):
         assert safe_id(bad)[0] not in "+-@=.", bad
     assert pick_notebook([], "a.ipynb") == (None, "")
+
+
+def test_printable_is_the_one_place_control_characters_are_removed():
+    from rikingrade import notebook
+    from rikingrade.safetext import printable
+
+    assert notebook.printable is printable  # one function (gradebook and views call it)
+    assert printable("\x1b[1;31mred\x1b[0m\tok\n") == "red\tok\n"
+    assert printable("a\x1b]0;title\x07b\x1b]8;;http://x\x1b\\c") == "abc"  # OSC: whole
+    assert printable("x\r\x07\x00\x7f\x85y\x9b") == "xy"  # C0, DEL, C1
+    assert printable("caf\udce9") == "caf\\xe9" and printable("\ud800") == "\\ud800"  # as before
+    assert printable("plain text: l2 + l3 < 5") == "plain text: l2 + l3 < 5"
+    assert notebook.shown("a\x1b[2Jb.ipynb") == "ab.ipynb"

@@ -210,13 +210,13 @@ def test_fairness_variants_score_their_reasoned_points_in_the_sandbox(tmp_path):
     assert r.score < a.max_score
     fb = {n: (tmp_path / "out" / "feedback" / f"{n}.md").read_text() for n in res}
     # the real cause once, at the top; no checker helper names; Markdown, not HTML escapes
-    scipy = fb["import_scipy"]
-    top, tests = scipy.split("## Tests")
-    assert "ModuleNotFoundError: No module named 'scipy'" in top
-    assert top.count("No module named 'scipy'") == 1, top
+    helper = fb["missing_helper"]
+    top, tests = helper.split("## Tests")
+    assert "ModuleNotFoundError: No module named 'my_ik_helpers'" in top
+    assert top.count("No module named 'my_ik_helpers'") == 1, top
     assert top.count("name 'ik_scara' is not defined (it starts") <= 1  # repeats are folded
     assert "ik_scara is not defined because code cell" in top, top
-    assert "ModuleNotFoundError" not in tests and "did you rename" not in scipy
+    assert "ModuleNotFoundError" not in tests and "did you rename" not in helper
     for text in fb.values():
         assert "&lt;" not in text and "&gt;" not in text and "UnsupportedResult" not in text
         assert "defines CheckFailed" not in text and "_arm_from_rows" not in text

@@ -13,6 +13,7 @@ import pytest
 import rikingrade
 from grader_fixtures.helpers import ASSIGNMENT, FAST, SOLUTION, require_bwrap
 from rikingrade import check_sandbox, grade
+from rikingrade.notebook import SubmissionsError
 from rikingrade.sandbox import SandboxUnavailable
 
 COURSE = Path(rikingrade.__file__).resolve().parent.parent.parent
@@ -139,8 +140,31 @@ def test_the_timeout_is_per_call_not_per_test(tmp_path):
     report = grade(ASSIGNMENT, [tmp_path], tmp_path / "out", workers=1, timeout=0.6, **FAST)
     res = report.results[0]
     fk = next(t for t in res.tests if t.name.startswith("fk") and "batch" not in t.name)
-    assert (fk.fraction, fk.timed_out) == (1.0, False)
+    assert (fk.fraction, fk.timed_out) == (1.0, False), (fk.feedback, res.problems)
     assert res.score == 5
+
+
+def test_the_graders_own_output_folder_is_not_a_submission(tmp_path):
+    """``--out`` inside the class folder (this run's, and an earlier run's under another
+    name) is skipped with a note: never a student refused as "no notebook"; the class
+    folder itself cannot be the output folder."""
+    require_bwrap()
+    cls = tmp_path / "class"
+    cls.mkdir()
+    shutil.copy(SOLUTION, cls / "zoe.ipynb")  # sorts after "out": results[0] is zoe
+    first = grade(ASSIGNMENT, [cls], cls / "out", workers=1, **FAST)
+    assert [r.student for r in first.results] == ["zoe"], first.notes
+    second = grade(ASSIGNMENT, [cls], cls / "regraded", workers=1, **FAST)
+    assert [r.student for r in second.results] == ["zoe"], second.notes
+    assert second.results[0].score == first.results[0].score == 5  # the fixture's full marks
+    assert second.summary["refused"] == 0
+    skipped = [n for n in second.notes if "the grader's own output folder, skipped" in n]
+    # the first run's folder, and this run's own (marked before the class is read)
+    assert [n.split(":")[0] for n in skipped] == [str(cls / "out"), str(cls / "regraded")]
+    summary = json.loads((cls / "regraded" / "summary.json").read_text())
+    assert summary["refused"] == 0
+    with pytest.raises(SubmissionsError, match="both the output folder"):
+        grade(ASSIGNMENT, [cls], cls, workers=1, **FAST)
 
 
 def test_a_call_that_hangs_keeps_the_answers_before_it(tmp_path):

@@ -130,3 +130,56 @@ def test_grader_refuses_what_is_not_plain_json():
         encode_input(object())
     with pytest.raises(WireError, match="dtype"):
         encode_input(np.array(["a"]))
+
+
+# ------------------------------------------------------------------ issue 26, item 2
+_FLOATS = [np.float16, np.float32, np.float64, np.longdouble]
+_COMPLEX = [np.complex64, np.complex128, np.clongdouble]
+
+
+@pytest.mark.parametrize("dtype", _FLOATS + _COMPLEX, ids=lambda d: np.dtype(d).name)
+def test_every_float_and_complex_width_is_read_as_numpy_asarray_reads_it(dtype):
+    # numpy's item() of a longdouble is a longdouble again: the encoder never reached a
+    # float and refused FK/IK answers as "nested too deeply" (10 -> 2.5 on every exercise)
+    from rikingrade.hidden._common import as_array
+
+    T = np.array([[0.5, -0.25, 0.0, 1.5], [0.25, 0.5, 0.0, -2.0], [0, 0, 1, 0.75], [0, 0, 0, 1]])
+    for value in (T.astype(dtype), T.astype(dtype)[0, 0], list(T.astype(dtype)),
+                  np.array(list(T.astype(dtype).ravel()), dtype=object)):
+        got = as_array(roundtrip_result(value))
+        want = np.asarray(value).astype(np.complex128).real.astype(np.float64)
+        assert got is not None, (dtype, value)
+        np.testing.assert_array_equal(got, want)
+
+
+def test_complex_with_zero_imaginary_part_and_big_integers_are_numbers():
+    from rikingrade.hidden._common import as_array
+
+    assert as_array(roundtrip_result(np.array([1.5 + 0j, -2 + 0j]))).tolist() == [1.5, -2.0]
+    assert as_array(roundtrip_result(np.clongdouble(3 + 0j))).tolist() == 3.0
+    for n in (2**63, 10**20, -(10**300)):   # beyond int64 (numpy: an object array), a float
+        assert roundtrip_result(n) == float(n)
+        assert as_array(roundtrip_result([[n, 1]])).tolist() == [[float(n), 1.0]]
+    assert roundtrip_result(np.uint64(2**64 - 1)) == float(2**64 - 1)
+    # beyond a float: refused, and the reason names it (not "nested too deeply")
+    for value in (10**400, [[10**400, 0]], np.array([10**400], dtype=object)):
+        with pytest.raises(child.EncodeError) as info:
+            child.encode(value)
+        assert "too large for a float" in unreadable_text(str(info.value))
+
+
+def test_a_refusal_names_the_real_reason():
+    class Same(np.ndarray):
+        pass
+
+    assert roundtrip_result(np.zeros(2).view(Same)) == [0.0, 0.0]
+    cases = [
+        (np.array([np.datetime64("2026-01-01")]), "dtype is not numbers"),
+        ({1.5}, "returned a set"),
+        (sympy.Symbol("q") * 2, "free symbols"),
+    ]
+    for value, words in cases:
+        with pytest.raises(child.EncodeError) as info:
+            child.encode(value)
+        text = unreadable_text(str(info.value))
+        assert words in text and "nested too deeply" not in text, text

@@ -40,24 +40,24 @@ SEEDS = (0, 1)
 #: ik_6dof_singular 0.5, ik_6dof_unreachable 0.5).
 TOTALS = {
     "cartesian-sign_error": 3.5,        # loses dh 1, fk 1.5, fk_6dof 1.5, ik_6dof 2, singular 0.5
-    "cartesian-missing_branch": 9.0,    # half of ik_6dof
+    "cartesian-missing_branch": 8.875,  # half of ik_6dof, a quarter of singular (near it)
     "cartesian-degrees": 7.5,           # ik_6dof 2, ik_6dof_singular 0.5
     "cartesian-flange": 8.5,            # fk_6dof 1.5
     "cartesian-unreachable": 8.5,       # ik_unreachable 1, ik_6dof_unreachable 0.5
     "cylindrical-sign_error": 5.5,      # ik 2, ik_6dof 2, ik_6dof_singular 0.5
-    "cylindrical-missing_branch": 9.0,
+    "cylindrical-missing_branch": 8.875,
     "cylindrical-degrees": 5.5,
     "cylindrical-flange": 8.5,
     "cylindrical-unreachable": 8.5,
     "spherical-sign_error": 5.5,        # ik 1.5, ik_on_axis 0.5, ik_6dof 2, singular 0.5
-    "spherical-swapped_elbow": 6.0,     # ik 1.5, ik_6dof 2, singular 0.5 (the axis survives)
-    "spherical-missing_branch": 8.0,    # half of ik 1.5, ik_6dof 2, singular 0.5
+    "spherical-swapped_elbow": 6 - 1 / 6,  # ik 1.5, ik_6dof 2, singular 0.5, near the axis
+    "spherical-missing_branch": 8 - 1 / 12,  # half of ik, ik_6dof, singular; near the axis
     "spherical-degrees": 5.5,
     "spherical-flange": 8.5,
     "spherical-unreachable": 8.5,
-    "scara-sign_error": 8.0,            # ik_6dof 2
-    "scara-swapped_elbow": 6.0,         # ik 1.5, ik_6dof 2, singular 0.5 (full reach survives)
-    "scara-missing_branch": 8.0,
+    "scara-sign_error": 7.75,           # ik_6dof 2, near-singular half of singular 0.5
+    "scara-swapped_elbow": 6 - 1 / 6,   # ik 1.5, ik_6dof 2, singular 0.5, near full reach
+    "scara-missing_branch": 8 - 1 / 12,
     "scara-degrees": 5.5,               # ik 1.5, ik_full_reach 0.5, ik_6dof 2, singular 0.5
     "scara-flange": 8.5,
     "scara-unreachable": 8.5,

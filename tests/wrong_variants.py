@@ -63,8 +63,10 @@ VARIANTS: list[Variant] = [
             "IK are wrong on every case; ik_cartesian does not use the table; the reach checks "
             "still raise"),
     Variant("cartesian", "missing_branch", "the wrist flip (q4 + pi, -q5, q6 + pi) is missing",
-            ((WRIST_BOTH, WRIST_ONE),), {"ik_6dof": 0.5},
-            "1 of 2 solutions on every regular pose; the singular branch returns one row anyway"),
+            ((WRIST_BOTH, WRIST_ONE),), {"ik_6dof": 0.5, "ik_6dof_singular": 0.25},
+            "1 of 2 solutions on every regular pose; the singular branch returns one row anyway, "
+            "but the two poses near the singularity (q5 1e-3 from 0 and pi) are regular: 1 of 2 "
+            "there, so 1/2 on 2 of the 4 singular-test poses"),
     Variant("cartesian", "degrees", "the 6-DOF IK returns its (wrist) angles in degrees",
             (("Q[:, revolute] = rikin.wrap_angle(Q[:, revolute])",
               "Q[:, revolute] = np.degrees(rikin.wrap_angle(Q[:, revolute]))"),),
@@ -86,8 +88,9 @@ VARIANTS: list[Variant] = [
             "q1 is mirrored on every target with y != 0 (random), and the 6-DOF IK inherits it; "
             "q2/q3 and the reach checks are unchanged"),
     Variant("cylindrical", "missing_branch", "the wrist flip is missing",
-            ((WRIST_BOTH, WRIST_ONE),), {"ik_6dof": 0.5},
-            "1 of 2 solutions on every regular pose; the singular branch is separate"),
+            ((WRIST_BOTH, WRIST_ONE),), {"ik_6dof": 0.5, "ik_6dof_singular": 0.25},
+            "1 of 2 solutions on every regular pose; the singular branch is separate, the two "
+            "poses near it are regular (1 of 2 there: 1/2 on 2 of 4)"),
     Variant("cylindrical", "degrees", "q1 returned in degrees",
             (("return np.array([[q1, max(q2, 0.0), max(q3, 0.0)]])",
               "return np.array([[np.degrees(q1), max(q2, 0.0), max(q3, 0.0)]])"),),
@@ -108,14 +111,16 @@ VARIANTS: list[Variant] = [
     Variant("spherical", "swapped_elbow", "front and back elevations swapped between the branches",
             (("front = [q1, q2, q3]", "front = [q1, np.pi - q2, q3]"),
              ("back = [q1 + np.pi, np.pi - q2, q3]", "back = [q1 + np.pi, q2, q3]")),
-            {"ik": 1, "ik_6dof": 1, "ik_6dof_singular": 1},
+            {"ik": 1, "ik_on_axis": 1 / 3, "ik_6dof": 1, "ik_6dof_singular": 1},
             "each row pairs q1 of one branch with q2 of the other: both wrong; on the vertical "
-            "axis q2 = +-pi/2 and pi - q2 is the same angle, so ik_on_axis keeps full marks"),
+            "axis q2 = +-pi/2 and pi - q2 is the same angle, so the 4 targets on it keep their "
+            "marks, but near it (2 of 6 targets) q2 != pi - q2: both rows wrong"),
     Variant("spherical", "missing_branch", "the back solution is missing",
             (("Q = np.array([front, back])", "Q = np.array([front])"),),
-            {"ik": 0.5, "ik_6dof": 0.5, "ik_6dof_singular": 0.5},
+            {"ik": 0.5, "ik_on_axis": 1 / 6, "ik_6dof": 0.5, "ik_6dof_singular": 0.5},
             "1 of 2 positioning solutions, so 2 of 4 (regular) and 1 of 2 families (singular) for "
-            "the 6-DOF arm; on the axis one family is all there is"),
+            "the 6-DOF arm; on the axis one family is all there is, near it (2 of 6 targets) "
+            "there are two: 1/2 there"),
     Variant("spherical", "degrees", "q1, q2 returned in degrees",
             (("Q[:, :2] = rikin.wrap_angle(Q[:, :2])",
               "Q[:, :2] = np.degrees(rikin.wrap_angle(Q[:, :2]))"),),
@@ -129,21 +134,22 @@ VARIANTS: list[Variant] = [
     # ------------------------------------------------------------ SCARA
     Variant("scara", "sign_error", "q6 = atan2(m32, m31) instead of atan2(m32, -m31)",
             (("q6 = np.arctan2(M[2, 1], -M[2, 0])", "q6 = np.arctan2(M[2, 1], M[2, 0])"),),
-            {"ik_6dof": 1},
+            {"ik_6dof": 1, "ik_6dof_singular": 0.5},
             "q6 becomes pi - q6 on both wrist branches of every regular pose; the singular "
-            "branch uses its own formula"),
+            "branch uses its own formula, but the 2 of 4 poses near the singularity are regular"),
     Variant("scara", "swapped_elbow", "q1 computed with the other elbow's q2",
             (("q1 = np.arctan2(y, x) - np.arctan2(l3 * s2, l2 + l3 * c2)",
               "q1 = np.arctan2(y, x) + np.arctan2(l3 * s2, l2 + l3 * c2)"),),
-            {"ik": 1, "ik_6dof": 1, "ik_6dof_singular": 1},
+            {"ik": 1, "ik_full_reach": 1 / 3, "ik_6dof": 1, "ik_6dof_singular": 1},
             "both elbow rows are wrong on every regular target; at full reach s2 = 0 so the "
-            "correction vanishes and ik_full_reach keeps full marks"),
+            "correction vanishes (4 targets right), but near full reach and near folded (2 of "
+            "6) s2 != 0: both rows wrong"),
     Variant("scara", "missing_branch", "the elbow-left solution is missing",
             (("sines = [np.sqrt(1.0 - c2**2), -np.sqrt(1.0 - c2**2)]",
               "sines = [np.sqrt(1.0 - c2**2)]"),),
-            {"ik": 0.5, "ik_6dof": 0.5, "ik_6dof_singular": 0.5},
+            {"ik": 0.5, "ik_full_reach": 1 / 6, "ik_6dof": 0.5, "ik_6dof_singular": 0.5},
             "1 of 2 positioning solutions (2 of 4, 1 of 2 families for the 6-DOF arm); at full "
-            "reach there is only one solution, which it finds"),
+            "reach there is only one solution, which it finds; near it (2 of 6 targets) 1 of 2"),
     Variant("scara", "degrees", "q1, q2 returned in degrees",
             (("Q[:, :2] = rikin.wrap_angle(Q[:, :2])",
               "Q[:, :2] = np.degrees(rikin.wrap_angle(Q[:, :2]))"),),

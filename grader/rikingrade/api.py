@@ -26,12 +26,14 @@ from .assignment import Assignment, load_assignment
 from .gradebook import Gradebook, GradebookDamaged
 from .intake import match_roster, stored_roster, time_notes
 from .lmsfiles import MISSING_BLANK, MISSING_ZERO
-from .notebook import Submission, discover, shown
+from .notebook import OUTPUT_MARK, Submission, SubmissionsError, discover, shown
+from .outputs import atomic_write
 from .policy import PolicyError, Rules, parse_time
 from .progress import Progress, summarize, summary_text
 from .report import GRADER_ERROR, INVALID, SubmissionResult, TestResult
 from .roster import load_roster
 from .runner import RunOptions, SubmissionRunner
+from .safetext import SafeFormatter
 from .sandbox import (
     Limits,
     Sandbox,
@@ -227,6 +229,7 @@ def grade(
         if isinstance(submissions, (str, Path)):
             submissions = [submissions]
         gb_path = Path(gradebook).resolve() if gradebook else out / "gradebook.sqlite"
+        _mark_output(out, submissions)
         ros = load_roster(roster) if roster is not None else None
         entries = ros.entries if ros is not None else stored_roster(gb_path, a.exercise)
         subs, notes = discover(list(submissions), a.notebook, reader, entries)
@@ -591,11 +594,31 @@ def _hidden_paths(a: Assignment, out: Path, subs: list[Submission]) -> list[Path
     return hidden
 
 
+def _mark_output(out: Path, submissions: Sequence[str | Path]) -> None:
+    """Mark ``out`` as the grader's output folder (discovery skips a folder so marked, so
+    ``--out`` may sit inside the class folder); ``out`` cannot be a class folder itself.
+
+    Raises
+    ------
+    SubmissionsError
+        A folder of submissions is the output folder.
+    """
+    for s in submissions:
+        if Path(s).is_dir() and Path(s).resolve() == out:
+            raise SubmissionsError(
+                f"{shown(out)} is both the output folder and a folder of submissions: give "
+                "--out a folder of its own (beside the class folder or inside it)"
+            )
+    mark = out / OUTPUT_MARK
+    if not mark.is_file():
+        atomic_write(mark, "rikin-grade's output folder: not read as submissions.\n")
+
+
 def _attach_log(path: Path) -> logging.Handler:
     # a student's text in a message (a lone surrogate in a cell) is escaped, not a logging
     # error that drops the line and prints a traceback on the instructor's terminal
     handler = logging.FileHandler(path, encoding="utf-8", errors="backslashreplace")
-    handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(message)s"))
+    handler.setFormatter(SafeFormatter("%(asctime)s %(levelname)s %(message)s"))
     handler.setLevel(logging.INFO)
     lg = logging.getLogger("rikingrade")
     lg.addHandler(handler)

@@ -5,8 +5,11 @@ Every call of a student's function gets the test's limit (2 s in the arm exercis
 the answer functions call each other (``ik_scara_6dof`` calls ``ik_scara``) and their
 helpers. The child enforces the limits itself (``sandbox/child.py``, ``Watch``): it looks at
 its stack every 20 ms, stops the call when it runs out and says which of the notebook's
-functions were running (none of them returned in time). The grader's own clock stays
-:data:`GRACE` behind, for code that cannot be interrupted.
+functions were running (none of them returned in time). It counts time as on an idle
+machine: wall-clock time less the time the process waited for a processor while the
+machine was busy (``busy_clock``), so a correct answer keeps its points however loaded the
+grader's machine is. The grader's own clock, for code that cannot be interrupted, waits
+longer (:func:`backstop`): the limit stretched by the machine's load, plus :data:`GRACE`.
 
 An endless loop would otherwise cost the full limit again in every test that reaches it.
 So once a function has run out of time, each later call of it (direct, or from another
@@ -22,6 +25,7 @@ short limit says so, and why.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass, field
 
 #: A function that ran out of time gets this many times its longest successful call.
@@ -32,6 +36,35 @@ FLOOR = 1 / 8
 GRACE = 0.5
 #: Functions the grader keeps figures for, per notebook.
 MAX_FUNCTIONS = 200
+#: The grader's clock allows a call at most this many times its limit (a busy machine).
+MAX_STRETCH = 20.0
+
+
+def _load_per_cpu() -> float:
+    """The 1-minute load average per processor (0 where the system does not say)."""
+    try:
+        return os.getloadavg()[0] / (os.cpu_count() or 1)
+    except OSError:
+        return 0.0
+
+
+def backstop(limit: float) -> float:
+    """Wall-clock seconds the grader waits for a call that the child limits to ``limit``.
+
+    The child stops a call after ``limit`` seconds of its own time (not counting waits for
+    a processor); on a machine with more runnable processes than processors that takes
+    longer on the wall clock, about the load per processor times as long. The grader's
+    clock, which only catches what the child cannot interrupt, allows twice that.
+    """
+    return limit * min(MAX_STRETCH, max(1.0, 2.0 * _load_per_cpu())) + GRACE
+
+
+def cell_wall(limit: float) -> float:
+    """Wall-clock seconds a code cell limited to ``limit`` seconds gets: as on an idle
+    machine, so ``limit`` times the load per processor when there are more runnable
+    processes than processors (at most :data:`MAX_STRETCH` times). Only the grader's
+    clock stops a cell, so a busy machine must not shorten what a cell may do."""
+    return limit * min(MAX_STRETCH, max(1.0, _load_per_cpu()))
 
 
 @dataclass

@@ -19,12 +19,16 @@ import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .safetext import printable
 from .studentfiles import REFUSED, TOO_LARGE, ReadFailed, StudentFiles, default_files
 
 log = logging.getLogger("rikingrade")
 
 MAX_NOTEBOOK_BYTES = 100 * 1024 * 1024
 SKIP_DIRS = {".ipynb_checkpoints", "__pycache__", "__MACOSX", ".git"}
+#: The file the grader puts in its output folder: a folder holding it is the grader's own
+#: output (``--out`` inside the class folder, this run's or an earlier one), never a student.
+OUTPUT_MARK = ".rikin-grade-output"
 
 
 class NotebookError(ValueError):
@@ -159,17 +163,9 @@ class Submission:
 
 
 def shown(path: Path | str) -> str:
-    """A path as printable UTF-8 text, whatever bytes its name holds."""
-    return os.fsencode(path).decode("utf-8", "backslashreplace")
-
-
-def printable(text: str) -> str:
-    """``text`` writable as UTF-8: a byte that a file name could not decode (kept by Python
-    as a lone surrogate) is written ``\\xe9``, any other lone surrogate ``\\udcff``."""
-    try:
-        return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
-    except UnicodeEncodeError:
-        return text.encode("utf-8", "backslashreplace").decode("utf-8")
+    """A path as printable UTF-8 text, whatever bytes its name holds (no control
+    characters: see :func:`rikingrade.safetext.printable`)."""
+    return printable(os.fsencode(path).decode("utf-8", "backslashreplace"))
 
 
 def _open_student_file(path: Path):
@@ -212,7 +208,16 @@ def read_notebook(path: Path) -> Notebook:
 
 
 def parse_notebook(raw: bytes) -> Notebook:
-    """The code cells of a notebook file's bytes (see :func:`read_notebook`)."""
+    """The code cells of a notebook file's bytes (see :func:`read_notebook`).
+
+    Raises
+    ------
+    NotebookError
+        Empty, not UTF-8, JSON that Jupyter cannot open (invalid, a number too long for
+        Python's reader, nested too deeply), or JSON that is not a notebook (no cells, a
+        cell or field of the wrong kind: a ``source`` that is a number, ``metadata`` a
+        list, ...).
+    """
     if not raw:
         raise NotebookError("the file is empty (0 bytes): it was probably not saved")
     try:
@@ -221,16 +226,7 @@ def parse_notebook(raw: bytes) -> Notebook:
         raise NotebookError(
             f"the file is not a notebook: it is not UTF-8 text (byte {exc.start})"
         ) from None
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise NotebookError(
-            f"the file is not valid notebook JSON (line {exc.lineno}, column {exc.colno}: "
-            f"{exc.msg}); it may be truncated or edited by hand. Open it in Jupyter and "
-            "save it again"
-        ) from None
-    except RecursionError:
-        raise NotebookError("the file is not a notebook: JSON nested too deeply") from None
+    data = _json(text)
     if not isinstance(data, dict):
         raise NotebookError("the file is JSON but not a notebook (no top-level object)")
     warnings: list[str] = []
@@ -249,12 +245,16 @@ def parse_notebook(raw: bytes) -> Notebook:
         warnings.append("old notebook format (nbformat 3): read anyway")
     else:
         raise NotebookError("the file is JSON but not a notebook (it has no 'cells')")
+    why = _not_a_notebook(data, raw_cells, src_key)
+    if why:
+        raise NotebookError(
+            f"not a notebook: {why}; Jupyter cannot open it either (was it edited by hand "
+            "or made by another program? Save it again from Jupyter)"
+        )
     cells: list[tuple[int, str]] = []
     ids: dict[str, int] = {}
     dup = 0
     for c in raw_cells:
-        if not isinstance(c, dict):
-            continue
         cid = c.get("id")
         if isinstance(cid, str):
             ids[cid] = ids.get(cid, 0) + 1
@@ -266,6 +266,73 @@ def parse_notebook(raw: bytes) -> Notebook:
     if dup:
         warnings.append(f"{dup} duplicated cell id(s) (ignored)")
     return Notebook(cells=cells, nbformat=version, warnings=warnings)
+
+
+def _json(text: str) -> object:
+    """The file's JSON, or NotebookError saying why Jupyter could not open it either."""
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise NotebookError(
+            f"the file is not valid notebook JSON (line {exc.lineno}, column {exc.colno}: "
+            f"{exc.msg}); it may be truncated or edited by hand. Open it in Jupyter and "
+            "save it again"
+        ) from None
+    except RecursionError:
+        raise NotebookError("the file is not a notebook: JSON nested too deeply") from None
+    except (ValueError, MemoryError) as exc:  # e.g. a number of more than 4,300 digits
+        digits = "a number with more digits than Python reads" if "digits" in str(exc) else ""
+        raise NotebookError(
+            "JSON that Jupyter cannot open: "
+            + (digits or f"{type(exc).__name__} while reading it")
+            + "; it was not saved by Jupyter (edited by hand or by another program?)"
+        ) from None
+
+
+_CELL_TYPES = {"code", "markdown", "raw", "heading"}  # heading: nbformat 3
+_KIND = {
+    bool: "true/false",
+    int: "a number",
+    float: "a number",
+    str: "text",
+    list: "a list",
+    dict: "an object",
+    type(None): "null",
+}
+
+
+def _kind(v: object) -> str:
+    return _KIND.get(type(v), type(v).__name__)
+
+
+def _not_a_notebook(data: dict, raw_cells: list, src_key: str) -> str:
+    """What makes ``data`` something Jupyter cannot open as a notebook, or ''.
+
+    Only the kinds of the fields Jupyter reads are checked (a notebook from any Jupyter,
+    JupyterLab, Colab or nbformat 3 passes; missing ids, extra metadata and duplicates do).
+    """
+    for key, ok in (("metadata", dict), ("nbformat", int), ("nbformat_minor", int)):
+        v = data.get(key, ok())
+        if not isinstance(v, ok) or isinstance(v, bool):
+            return f"its {key!r} is {_kind(v)}, not {_kind(ok())}"
+    for i, c in enumerate(raw_cells, 1):
+        if not isinstance(c, dict):
+            return f"cell {i} is {_kind(c)}, not an object"
+        kind = c.get("cell_type")
+        if kind not in _CELL_TYPES:
+            what = repr(kind)[:40] if isinstance(kind, str) else _kind(kind)
+            return f"cell {i} has cell_type {what} (a cell is code, markdown or raw)"
+        src = c.get(src_key, c.get("source", ""))
+        if not (
+            isinstance(src, str) or (isinstance(src, list) and all(isinstance(x, str) for x in src))
+        ):
+            return f"the source of cell {i} is {_kind(src)}, not text"
+        if not isinstance(c.get("metadata", {}), dict):
+            return f"the metadata of cell {i} is {_kind(c['metadata'])}, not an object"
+        outputs = c.get("outputs", [])
+        if not isinstance(outputs, list) or not all(isinstance(o, dict) for o in outputs):
+            return f"the outputs of cell {i} are not a list of objects"
+    return ""
 
 
 # ----------------------------------------------------------------------------- discovery
@@ -367,6 +434,9 @@ def _scan(
             continue
         if e.is_dir(follow_symlinks=False):
             if e.name in SKIP_DIRS:
+                continue
+            if os.path.isfile(os.path.join(e.path, OUTPUT_MARK)):
+                notes.append(f"{shown(path)}: the grader's own output folder, skipped")
                 continue
             if e.name.startswith("."):
                 notes.append(

@@ -1,7 +1,8 @@
 """A gradebook that explains and repairs itself.
 
 Every grade that counts is also in the output folder: ``results/<student>.json`` carries,
-under ``extra_data.rikin``, the student, the file, the result, the seed and settings key,
+under ``extra_data.rikin`` (encoded, see :func:`rikingrade.views.encode_record`), the
+student, the file, the result, the seed and settings key,
 and the late rules, extension and override that made the final grade (written after each
 commit and by every export). So a gradebook that SQLite finds damaged, an empty one, or one
 that lacks grades the folder holds (``gradebook.sqlite`` copied without its ``-wal`` after
@@ -24,7 +25,7 @@ from typing import Any
 from . import __version__
 from .gradebook import Gradebook, GradebookDamaged, backup, lock
 from .report import SubmissionResult
-from .views import export
+from .views import RECORD_VERSION, decode_record, export
 
 
 def command(assignment: str, out: Path, gradebook: str | Path | None) -> str:
@@ -48,18 +49,18 @@ def advice(exc: GradebookDamaged, assignment: str, out: Path, gradebook=None) ->
 
 
 def records(out: Path) -> list[dict[str, Any]]:
-    """The grade records of the output folder's ``results/`` (files without one are
-    skipped: written by an older grader)."""
+    """The grade records of the output folder's ``results/``, decoded (files without one
+    are skipped: written by an older grader, or damaged)."""
     found = []
     folder = Path(out) / "results"
     if not folder.is_dir():
         return []
     for p in sorted(folder.glob("*.json")):
         try:
-            rec = json.loads(p.read_text(encoding="utf-8"))["extra_data"]["rikin"]
+            rec = decode_record(json.loads(p.read_text(encoding="utf-8"))["extra_data"]["rikin"])
         except (OSError, ValueError, KeyError, TypeError):
             continue
-        if isinstance(rec, dict) and rec.get("version") == 1:
+        if rec is not None and rec.get("version") == RECORD_VERSION:
             rec["_file"] = str(p)
             found.append(rec)
     return found

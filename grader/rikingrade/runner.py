@@ -6,7 +6,8 @@ The steps, in order:
 2. fork a child and run the code cells in file order, as "Run All" would, except the
    cells that only call the answer functions (the visible checks: see ``cellplan``): a
    cell that raises is recorded and the next cells still run; a cell that hangs past
-   ``cell_timeout`` or kills its process is recorded and skipped in a fresh child;
+   ``cell_timeout`` (as on an idle machine: stretched by the load, ``calllimits.cell_wall``)
+   or kills its process is recorded and skipped in a fresh child;
 3. for each hidden test, send its calls one at a time with that test's wall-clock
    timeout; a call that times out or kills the child costs that test only: the rest of
    its calls are not run and the next test gets a fresh child (cells re-run); a function
@@ -32,7 +33,7 @@ import traceback
 from dataclasses import dataclass
 
 from .assignment import Assignment
-from .calllimits import GRACE, CallLimits
+from .calllimits import CallLimits, backstop, cell_wall
 from .cellplan import calling_cells
 from .feedback import cell_problems, missing_cause
 from .notebook import FileRefused, Notebook, NotebookError, Submission
@@ -47,6 +48,7 @@ from .report import (
     SubmissionResult,
     TestResult,
 )
+from .safetext import printable
 from .sandbox import (
     Child,
     ChildDied,
@@ -149,7 +151,9 @@ class SubmissionRunner:
         except NotebookError as exc:
             result.status = INVALID
             result.reason = str(exc)
-            result.refused = sub.refused if isinstance(exc, FileRefused) else ""
+            # not read, or not a notebook: refused with the reason, counted as refused (the
+            # summary, the exit status) like any other file handed in that is not a notebook
+            result.refused = sub.refused if isinstance(exc, FileRefused) else str(exc)
             result.problems = [f"the notebook could not be read: {exc}"]
             result.tests = [
                 TestResult(t.name, float(t.weight), 0.0, "not run: the notebook could not be read")
@@ -295,16 +299,16 @@ class _Run:
             if attempts > len(self.nb.cells) + 3:
                 raise ExecFailed("the notebook's process could not be started")
             self._check_budget()
-            child = self.r.sandbox.spawn(opt.limits)
             cells = [
                 [n, src] for n, src in self.nb.cells if n not in self.skip and n not in self.not_run
             ]
+            child = self.r.sandbox.spawn(opt.limits, warm=[src for _, src in cells])
             order = [n for n, _ in cells]
             pos = 0  # index in order of the next cell that may start
             current: int | None = None
             last: int | None = None  # the last cell that started (blamed if none is running)
             try:
-                deadline = self.deadline(opt.cell_timeout)
+                deadline = self.deadline(cell_wall(opt.cell_timeout))
                 child.send(
                     {
                         "op": "exec",
@@ -325,7 +329,7 @@ class _Run:
                         if current is None and pos < len(order) and n == order[pos]:
                             current = last = n
                             pos += 1
-                            deadline = self.deadline(opt.cell_timeout)
+                            deadline = self.deadline(cell_wall(opt.cell_timeout))
                     elif ev == "cell_end":
                         if n is not None and n == current:
                             sec = msg.get("seconds")
@@ -336,7 +340,7 @@ class _Run:
                                 self._record(n, msg)
                                 self._cell_ran_out(n, msg)
                             current = None
-                            deadline = self.deadline(opt.cell_timeout)
+                            deadline = self.deadline(cell_wall(opt.cell_timeout))
                     elif ev == "exec_done" and current is None and pos == len(order):
                         funcs = msg.get("functions")
                         self.functions = (
@@ -426,12 +430,13 @@ class _Run:
         """Run calls in order in the current child; returns (outcomes, timed out, crashed).
 
         All calls go in one message and the child answers each as soon as it returns,
-        so the wall-clock ``timeout`` applies per call: call k's clock starts when
-        call k - 1's answer arrives (or when the batch is sent). The child stops a call
-        at its limit (``timeout``, or the short limit of a function that already ran out:
-        see ``calllimits``) and says which functions were running; the grader's own
-        clock waits GRACE longer. A call that times out or kills the child ends the
-        batch: the child is dropped and the calls after it are not run.
+        so the ``timeout`` applies per call: call k's clock starts when call k - 1's
+        answer arrives (or when the batch is sent). The child stops a call at its limit
+        (``timeout``, or the short limit of a function that already ran out: see
+        ``calllimits``), counting time as on an idle machine, and says which functions
+        were running; the grader's own wall clock waits longer (``backstop``: the load
+        stretches the wall-clock time of a call). A call that times out or kills the
+        child ends the batch: the child is dropped and the calls after it are not run.
         """
         assert self.child is not None
         ids = []
@@ -452,7 +457,7 @@ class _Run:
         limits = self.limits
         leash = limits.leash(timeout)
         started = time.monotonic()
-        deadline = self.deadline(limits.limit_of(calls[0].function, timeout) + GRACE)
+        deadline = self.deadline(backstop(limits.limit_of(calls[0].function, timeout)))
         fired: dict = {}
         try:
             msg = {"op": "calls", "calls": items, "limit": timeout, "leash": leash}
@@ -465,7 +470,7 @@ class _Run:
                 if isinstance(msg.get("timed_out"), dict):  # the child stopped it
                     fired = msg["timed_out"]
                     raise ChildTimeout()
-                limits.returned(calls[k].function, time.monotonic() - started, timeout)
+                limits.returned(calls[k].function, _took(msg, started), timeout)
                 seen = msg.get("seen")
                 for name, sec in list(seen.items())[:50] if isinstance(seen, dict) else ():
                     limits.returned(name, sec, timeout)
@@ -473,7 +478,7 @@ class _Run:
                 started = time.monotonic()
                 if k + 1 < len(calls):
                     nxt = limits.limit_of(calls[k + 1].function, timeout)
-                    deadline = self.deadline(nxt + GRACE)
+                    deadline = self.deadline(backstop(nxt))
         except ChildTimeout:
             self.timed_out = True
             self._drop_child()
@@ -690,8 +695,9 @@ class _Run:
 
 
 def _text(v: object, limit: int) -> str:
-    """A child's text as a string of at most ``limit`` characters (anything else: "")."""
-    return v[:limit] if isinstance(v, str) else ""
+    """A child's text as a string of at most ``limit`` characters, without control
+    characters (anything else: "")."""
+    return printable(v[:limit]) if isinstance(v, str) else ""
 
 
 def _outcome(msg: dict) -> Outcome:
@@ -711,6 +717,16 @@ def _outcome(msg: dict) -> Outcome:
             error_bases=tuple(_text(b, 200) for b in bases[:20]) if isinstance(bases, list) else (),
         )
     return Outcome(value=msg.get("value"))
+
+
+def _took(msg: dict, started: float) -> float:
+    """How long a call took as its limit counts time (the child's ``busy_clock``: not
+    the time it waited for a processor), at most the wall-clock time it took."""
+    wall = time.monotonic() - started
+    sec = msg.get("seconds")
+    if isinstance(sec, (int, float)) and not isinstance(sec, bool) and math.isfinite(sec):
+        return min(max(float(sec), 0.0), wall)
+    return wall
 
 
 def _names(v: object) -> list[str]:

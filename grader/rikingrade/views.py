@@ -16,7 +16,9 @@ In the output folder, for the assignment graded (``<a>`` its exercise name)::
     report/<a>-run<N>.html/.png/.json    the class report as it was after run N
     results/<id>.json     Gradescope-format results per student; ``extra_data.rikin`` holds
                           what the gradebook knows of that grade (``rikin-grade repair``
-                          rebuilds a gradebook from these files)
+                          rebuilds a gradebook from these files), control characters
+                          removed, as compressed base64 data: no student text in it reads
+                          as text
     feedback/<id>.md/.html               what the student sees: the final score first
 
 ``rikin-grade export`` rewrites them from the gradebook alone (e.g. after a kill).
@@ -24,27 +26,31 @@ In the output folder, for the assignment graded (``<a>`` its exercise name)::
 
 from __future__ import annotations
 
+import base64
+import binascii
 import csv
 import html
 import io
 import json
 import time
+import zlib
 from pathlib import Path
 from typing import Any
 
 from . import lms, lmsfiles
 from .classreport import write_report
 from .gradebook import Gradebook
-from .notebook import printable
 from .outputs import atomic_write, feedback_html, feedback_markdown, gradescope_json
 from .policy import Grade, Rules, apply
 from .policy import feedback_markdown as grade_markdown
 from .report import SubmissionResult
 from .roster import LMS_OF, RosterEntry
+from .safetext import printable
 
 EXCUSED = "excused"
 #: What ``extra_data.rikin`` of a results file holds (see :mod:`rikingrade.repair`).
-RECORD_VERSION = 1
+RECORD_VERSION = 2
+RECORD_ENCODING = "json+zlib+base64"
 LMS_NAMES = ("canvas", "moodle", "blackboard", "brightspace")
 
 
@@ -277,18 +283,48 @@ def _one_line(text: str, limit: int = 600) -> str:
 
 def sane(res: SubmissionResult) -> SubmissionResult:
     """``res`` with every text writable as UTF-8 (a lone surrogate from a file name or a
-    student's message becomes ``\\udcff``), so one odd byte cannot stop the class's files."""
+    student's message becomes ``\\udcff``) and free of control characters (a terminal
+    escape in a student's message), so one odd byte cannot stop or garble the class's
+    files (see :func:`rikingrade.safetext.printable`)."""
 
-    def clean(v: Any) -> Any:
-        if isinstance(v, str):
-            return printable(v)
-        if isinstance(v, list):
-            return [clean(x) for x in v]
-        if isinstance(v, dict):
-            return {k: clean(x) for k, x in v.items()}
-        return v
+    return SubmissionResult.from_dict(_printable_all(res.to_dict()))
 
-    return SubmissionResult.from_dict(clean(res.to_dict()))
+
+def _printable_all(v: Any) -> Any:
+    """``v`` (JSON-like data) with :func:`printable` applied to every string in it."""
+    if isinstance(v, str):
+        return printable(v)
+    if isinstance(v, list):
+        return [_printable_all(x) for x in v]
+    if isinstance(v, dict):
+        return {k: _printable_all(x) for k, x in v.items()}
+    return v
+
+
+def encode_record(record: dict[str, Any]) -> dict[str, Any]:
+    """The gradebook's record of a grade as ``extra_data.rikin`` stores it.
+
+    Its strings pass :func:`printable` as every other output does, and the whole is
+    compressed JSON in base64: the results file is read by people and by LMS tools, and a
+    student's text (a ``<script>`` in a message, a printed "All tests passed") must not read
+    as the grader's there. :func:`decode_record` reads it back.
+    """
+    raw = json.dumps(_printable_all(record), sort_keys=True).encode("utf-8")
+    data = base64.b64encode(zlib.compress(raw, 6)).decode("ascii")
+    return {"version": RECORD_VERSION, "encoding": RECORD_ENCODING, "data": data}
+
+
+def decode_record(stored: Any) -> dict[str, Any] | None:
+    """The record :func:`encode_record` stored, or None (not one, another version, damaged)."""
+    if not isinstance(stored, dict) or stored.get("version") != RECORD_VERSION:
+        return None
+    if stored.get("encoding") != RECORD_ENCODING or not isinstance(stored.get("data"), str):
+        return None
+    try:
+        rec = json.loads(zlib.decompress(base64.b64decode(stored["data"], validate=True)))
+    except (binascii.Error, zlib.error, ValueError):
+        return None
+    return rec if isinstance(rec, dict) else None
 
 
 def _final_line(g: Grade | None, res: SubmissionResult) -> str:
@@ -307,7 +343,7 @@ def _final_line(g: Grade | None, res: SubmissionResult) -> str:
 
 def _record(row: dict[str, Any], gb_id: str, assignment: str, tests) -> dict[str, Any]:
     """What the gradebook knows of this grade, to rebuild it (test details left out: the
-    record is as safe to show as the feedback)."""
+    record holds no more than the feedback shows; :func:`encode_record` stores it)."""
     res = row["result"].to_dict()
     for t in res["tests"]:
         t["detail"] = ""
@@ -377,7 +413,7 @@ def write_student(
     res = sane(res)
     gs, md, page = student_pages(res, g, exercise, who)
     if record is not None:
-        gs.setdefault("extra_data", {})["rikin"] = record
+        gs.setdefault("extra_data", {})["rikin"] = encode_record(record)
     atomic_write(out / "results" / f"{res.student}.json", json.dumps(gs, indent=2))
     atomic_write(out / "feedback" / f"{res.student}.md", md)
     atomic_write(out / "feedback" / f"{res.student}.html", page)

@@ -154,7 +154,7 @@ def unreadable_text(code: str) -> str:
     fixed = {
         "elements": "a result with more than a million numbers",
         "depth": "a result nested too deeply",
-        "bigint": "an integer too large to be a number of this exercise",
+        "bigint": "a number too large for a float (beyond 1.8e308)",
         "string": "a very long string",
         "symbols": (
             "a sympy expression with free symbols (substitute the values and return numbers)"

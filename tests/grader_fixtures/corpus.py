@@ -150,7 +150,9 @@ def _colab(nb: dict) -> bytes:
         }
     nb["cells"].insert(
         0,
-        _code("!pip install rikin\nfrom google.colab import drive\ndrive.mount('/content/drive')"),
+        # Colab's usual first cell; a shell command that cannot work offline fails as
+        # it would, and the cell goes on (pip itself: tests/test_grader_ipython.py)
+        _code("!nvidia-smi\nfrom google.colab import drive\ndrive.mount('/content/drive')"),
     )
     nb["cells"][0].pop("id", None)
     return _dump(nb)
@@ -385,6 +387,29 @@ CASES: list[Case] = [
     Case("empty_file", lambda nb: b"", 0, "invalid", ["empty"]),
     Case("not_a_notebook", lambda nb: b"[1, 2, 3]", 0, "invalid", ["not a notebook"]),
     Case("binary_garbage", lambda nb: bytes(range(256)) * 4, 0, "invalid", ["not UTF-8"]),
+    # issue 26: a 5,000-digit number put the whole class in grader-error (exit 1); JSON
+    # that is not a notebook got status ok and "did you rename it?"
+    Case(
+        "five_thousand_digits",
+        lambda nb: _dump({**nb, "metadata": {"n": 0}}).replace(b'"n": 0', b'"n": ' + b"9" * 5000),
+        0,
+        "invalid",
+        ["JSON that Jupyter cannot open"],
+    ),
+    Case(
+        "source_is_a_number",
+        lambda nb: _dump({**nb, "cells": [{**nb["cells"][0], "source": 5}, *nb["cells"][1:]]}),
+        0,
+        "invalid",
+        ["not a notebook: the source of cell 1 is a number"],
+    ),
+    Case(
+        "metadata_is_a_list",
+        lambda nb: _dump({**nb, "metadata": [nb["metadata"]]}),
+        0,
+        "invalid",
+        ["not a notebook: its 'metadata' is a list"],
+    ),
     Case("jupyterlab4", _lab4, 5, "ok"),
     Case("notebook7_minor4_no_ids", _nb7_old_minor, 5, "ok"),
     Case(
@@ -392,7 +417,10 @@ CASES: list[Case] = [
         _colab,
         5,
         "cell-errors",
-        ["code cell 1 raised ModuleNotFoundError", "shell command ignored"],
+        [
+            "code cell 1 raised ModuleNotFoundError",
+            'the shell command "nvidia-smi" exited with status 127',
+        ],
     ),
     Case("duplicate_ids", _duplicate_ids, 5, "ok", ["duplicated cell id"]),
     Case("missing_ids", _missing_ids, 5, "ok"),
@@ -577,7 +605,8 @@ CASES: list[Case] = [
                 _insert(
                     nb,
                     "import numpy",
-                    "%matplotlib inline\n%load_ext autoreload\n!pip install rikin",
+                    "%matplotlib inline\n%load_ext autoreload\n%autoreload 2\n%precision 3\n"
+                    "!echo $HOME > home.txt",
                 ),
                 "def add(",
                 "%%time\ndef add(a, b):\n    return a + b",
@@ -585,7 +614,6 @@ CASES: list[Case] = [
         ),
         5,
         "ok",
-        ["%load_ext ignored"],
     ),
     Case(
         "unsupported_return",
@@ -698,6 +726,11 @@ FORGE_ANSWERS = (  # answers for calls never asked, while the real call sleeps
 )
 # Lone surrogates: valid JSON escapes that no file, log or terminal can take.
 SURROGATE_CELL = "print('caf\\udcff')\nraise ValueError('\\udcff bad \\ud800')"
+TERMINAL_ESCAPES = (
+    "print('\\x1b[2J\\x1b[31mcleared\\r\\x07')\n"
+    "!printf '\\033[1;31mshell\\033[0m\\n'\n"
+    "raise ValueError('\\x1b[31mred\\x1b[0m \\x1b]0;title\\x07 bell\\x07\\x9b')"
+)
 MANY_CALLABLES = (  # names sorting before every answer function
     "for _i in range(3000):\n    globals()[f'a{_i:04d}'] = lambda: 0"
 )
@@ -770,6 +803,15 @@ CASES += [
         5,
         "cell-errors",
         ["code cell 2 raised SyntaxError", "not valid Unicode (U+DCFF"],
+    ),
+    # issue 26: terminal escapes in a student's message and output reached grades.csv,
+    # grading.log, the report and the feedback raw (cat grades.csv recoloured the terminal)
+    Case(
+        "terminal_escapes",
+        lambda nb: _dump(_insert(nb, "import numpy", TERMINAL_ESCAPES)),
+        5,
+        "cell-errors",
+        ["code cell 2 raised ValueError: red bell"],
     ),
     Case(
         "many_callables_before_the_answers",

@@ -47,7 +47,14 @@ import numpy as np
 
 import rikin
 
-from ..reference._common import REACH_TOL, ExerciseArm, Solutions, wrap
+from ..reference._common import (
+    NEAR_SINGULAR,
+    REACH_TOL,
+    ExerciseArm,
+    FloatArray,
+    Solutions,
+    wrap,
+)
 from ..spec import Call, HiddenTest, Outcome, Score, _plain
 
 #: A student's joint value within this of the reference's matches (rad; for
@@ -862,14 +869,22 @@ def ik_test(
     fname = spec.ik_name
     what = "6-DOF arm, by decoupling" if six else "positioning arm"
     if special == "wrist":
-        title = f"IK at the wrist singularity, any member of the family ({fname})"
+        title = f"IK at and near the wrist singularity, any member of the family ({fname})"
     elif special == "positioning":
         rng0 = np.random.default_rng(0)
         L0 = arm.sample_lengths(rng0)
         kinds = list(dict.fromkeys(arm.sample_special_q(rng0, L0, i)[0] for i in range(2)))
-        title = f"IK {' and '.join(kinds)} ({fname})"
+        them = "them" if len(kinds) > 1 else "it"
+        title = f"IK {' and '.join(kinds)}, and near {them} ({fname})"
     else:
         title = f"IK of the {what}, all solutions ({fname})"
+
+    def target(q: FloatArray, L: dict[str, float], tool: float | None) -> Call:
+        if six:
+            kw = spec.case_kwargs(L, tool, T=arm.fk_6dof(q, tool, **L))
+        else:
+            kw = spec.case_kwargs(L, None, p=arm.fk(q, **L)[:3, 3])
+        return spec.call(fname, kw)
 
     def make_calls(rng: np.random.Generator) -> list[Call]:
         calls = []
@@ -885,11 +900,9 @@ def ik_test(
                 q = arm.sample_q_6dof(rng, L) if six else arm.sample_q(rng, L)
                 if i == 0:  # the statement allows a prismatic joint exactly at zero
                     q[: len(arm.revolute)][~arm.revolute] = 0.0
-            if six:
-                kw = spec.case_kwargs(L, tool, T=arm.fk_6dof(q, tool, **L))
-            else:
-                kw = spec.case_kwargs(L, None, p=arm.fk(q, **L)[:3, 3])
-            calls.append(spec.call(fname, kw))
+            calls.append(target(q, L, tool))
+        if special:
+            calls += [target(*near) for near in _near_singular(arm, six, special, rng)]
         return calls
 
     def check(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
@@ -913,6 +926,41 @@ def ik_test(
 
     tags = ("ik",) + (("singular",) if special else ())
     return HiddenTest(name, weight, title, make_calls, _guarded(check), timeout=TIMEOUT, tags=tags)
+
+
+def _near_singular(
+    arm: ExerciseArm, six: bool, special: str, rng: np.random.Generator
+) -> list[tuple[FloatArray, dict[str, float], float | None]]:
+    """(q, lengths, tool) of targets NEAR each singular configuration a special test is
+    about (``NEAR_SINGULAR`` from it): the wrist's q5 near 0 and near pi; the positioning
+    arm's special configurations (SCARA: near stretched and near folded; spherical: near
+    the vertical axis). An answer that takes a band around the singularity for it loses
+    them. Drawn from a generator spawned from ``rng``, which leaves ``rng``'s own draws
+    (the other tests' inputs) as they were."""
+    side = _spawned(rng)
+    out = []
+    for i in range(2):
+        L = arm.sample_lengths(side)
+        tool = arm.sample_tool(side) if six else None
+        if special == "wrist":
+            q5 = side.choice([-1.0, 1.0]) * (NEAR_SINGULAR, np.pi - NEAR_SINGULAR)[i]
+            q = arm.sample_wrist_singular_q(side, L, q5)
+        else:
+            near = arm.sample_near_special_q(side, L, i)
+            if near is None:  # pragma: no cover - every special test's arm has them
+                continue
+            q = near
+        out.append((q, L, tool))
+    return out
+
+
+def _spawned(rng: np.random.Generator) -> np.random.Generator:
+    """A generator derived from ``rng`` without drawing from it (numpy >= 1.25 spawns)."""
+    try:
+        return rng.spawn(1)[0]
+    except AttributeError:  # pragma: no cover - numpy 1.24
+        seq = rng.bit_generator._seed_seq  # type: ignore[attr-defined]
+        return np.random.default_rng(seq.spawn(1)[0])
 
 
 def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> HiddenTest:

@@ -48,6 +48,11 @@ SINGULAR_TOL = 1e-9
 STRETCH_TOL = 1e-13
 #: How far from orthonormal a target's rotation may be.
 ROTATION_TOL = 1e-6
+#: How near a singular configuration the hidden tests' "near" targets are: this many
+#: radians from a singular joint value (q5 = 0 or pi, the elbow stretched or folded), or
+#: this fraction of the arm's size from a singular position (the spherical arm's axis).
+#: There the IK is ill-conditioned but regular: every branch is a distinct solution.
+NEAR_SINGULAR = 1e-3
 
 #: The wrist rows 4-6 (standard DH), shared by every exercise arm.
 WRIST_LINKS: tuple[Link, ...] = (
@@ -304,6 +309,13 @@ class ExerciseArm:
         ``i`` counts the special cases of one test, so an arm with several kinds of
         special configuration (SCARA: stretched and folded) samples each of them.
         """
+        return None
+
+    def sample_near_special_q(
+        self, rng: np.random.Generator, L: dict[str, float], i: int = 0
+    ) -> FloatArray | None:
+        """A regular configuration NEAR the ``i``-th kind of :meth:`sample_special_q`
+        (:data:`NEAR_SINGULAR` from it), or None for an arm without special ones."""
         return None
 
     def unreachable_points(

@@ -25,7 +25,7 @@ import numpy as np
 
 from rikin import Link, UnreachableError
 
-from ._common import REACH_TOL, SINGULAR_TOL, STRETCH_TOL, ExerciseArm
+from ._common import NEAR_SINGULAR, REACH_TOL, SINGULAR_TOL, STRETCH_TOL, ExerciseArm
 
 __all__ = ["ARM", "Scara", "ELBOW_RIGHT", "ELBOW_LEFT"]
 
@@ -104,6 +104,13 @@ class Scara(ExerciseArm):
             return "fully folded (q2 = pi)", q
         q[1] = 0.0
         return "at full reach (elbow straight, q2 = 0)", q
+
+    def sample_near_special_q(self, rng, L, i=0):
+        """The elbow NEAR_SINGULAR rad from straight (i even) or folded (i odd)."""
+        q = self.sample_q(rng, L)
+        side = rng.choice([-1.0, 1.0])
+        q[1] = side * (np.pi - NEAR_SINGULAR if i % 2 else NEAR_SINGULAR)
+        return q
 
     def unreachable_points(self, rng, L, near=False):
         l2, l3 = L["l2"], L["l3"]

@@ -27,7 +27,7 @@ import numpy as np
 
 from rikin import Link, UnreachableError
 
-from ._common import REACH_TOL, SINGULAR_TOL, ExerciseArm
+from ._common import NEAR_SINGULAR, REACH_TOL, SINGULAR_TOL, ExerciseArm
 
 __all__ = ["ARM", "Spherical", "FRONT", "BACK"]
 
@@ -88,6 +88,15 @@ class Spherical(ExerciseArm):
         q = self.sample_q(rng, L)
         q[1] = np.pi / 2 * rng.choice([-1.0, 1.0])
         return "on the vertical line through the shoulder (q1 free)", q
+
+    def sample_near_special_q(self, rng, L, i=0):
+        """The boom tilted so that frame 3's origin is NEAR_SINGULAR times the arm's size
+        from the vertical line through the shoulder."""
+        q = self.sample_q(rng, L)
+        reach = L["l2"] + q[2]  # distance of the point from the shoulder
+        tilt = np.arcsin(min(1.0, NEAR_SINGULAR * self.scale(L) / reach))
+        q[1] = rng.choice([-1.0, 1.0]) * (np.pi / 2 - tilt)
+        return q
 
     def unreachable_points(self, rng, L, near=False):
         out = []

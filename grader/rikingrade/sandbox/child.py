@@ -1,7 +1,7 @@
 """The only engine file a sandbox can see: a zygote that forks one process per submission.
 
 Run as a script inside the sandbox (never imported by the grader). It imports the heavy
-libraries once (numpy, sympy, matplotlib with Agg, IPython's cell transformer, rikin), then
+libraries once (numpy, sympy, matplotlib with Agg, IPython and its shell, rikin), then
 waits on its control socket. For each submission the grader sends ``fork`` together with a
 fresh socket; the zygote forks a child that sets its resource limits, moves into an empty
 working directory and serves JSON lines on that socket:
@@ -17,7 +17,7 @@ child -> grader
     {"event": "cell_end", "cell": i, "error": ..., "output": ..., "seconds": ...,
      "timed_out": null or <stop>}
     {"event": "exec_done", "functions": [...]}
-    {"id": int, "value": <wire>, "seen": {function: s}} or
+    {"id": int, "value": <wire>, "seconds": s, "seen": {function: s}} or
     {"id": int, "timed_out": <stop>}  (the child stopped the call at its limit) or
     {"id": int, "error_type": str, "error_message": str, "error_bases": ["mod.Name", ...]}
     {"id": int, "error_type": "UnreadableResult", "error_message": <reason code>,
@@ -26,8 +26,13 @@ child -> grader
 Time limits (``Watch``): each call gets ``limit`` seconds, a function named in ``leash``
 that many wherever it is called from, and in a cell each call of an answer function gets
 ``limit``; a stop is {"stack": [function, ...], "function": str, "limit": s}: the notebook's
-functions that were running, outermost first, and the one whose limit ran out. "seen" gives
-how long the functions a call called were seen running (for the grader's short limits).
+functions that were running, outermost first, and the one whose limit ran out. "seconds"
+is how long the call took and "seen" how long the functions it called were seen running
+(for the grader's short limits). Seconds are counted by ``busy_clock``: wall-clock time
+less the time the process waited for a processor, so a busy machine changes no limit.
+
+Cells run in IPython's own InteractiveShell (``GradingShell``), made in the zygote and
+inherited by every child, as a Jupyter kernel runs them.
 
 Nothing here decides a score: values go back as JSON (never pickle) and the grader compares.
 Wire format: JSON plus one-key marker objects: {"$float": "nan"|"inf"|"-inf"},
@@ -41,7 +46,6 @@ self-contained: it is bind-mounted alone into the sandbox.
 import builtins
 import io
 import json
-import linecache
 import math
 import os
 import resource
@@ -126,8 +130,9 @@ def encode(obj, depth=0, budget=None):
     """Plain JSON-able data for ``obj``; raises EncodeError (a reason code) otherwise.
 
     Reads what the visible checks read with ``numpy.asarray``: numbers of any kind
-    (Python, numpy of any width, sympy, Fraction, Decimal), lists, tuples, numpy
-    arrays and their subclasses, sympy matrices, and anything with ``__array__``.
+    (Python, numpy of any width, longdouble and clongdouble included, sympy, Fraction,
+    Decimal; integers of any size that a float holds), lists, tuples, numpy arrays and
+    their subclasses, sympy matrices, and anything with ``__array__``.
     """
     if budget is None:
         budget = [MAX_ELEMENTS]
@@ -140,9 +145,7 @@ def encode(obj, depth=0, budget=None):
     if obj is None or t is bool:
         return obj
     if t is int:
-        if obj.bit_length() > 256:
-            raise EncodeError("bigint")
-        return obj
+        return _enc_int(obj)
     if t is float:
         return _enc_float(obj)
     if t is str:
@@ -154,31 +157,17 @@ def encode(obj, depth=0, budget=None):
     if t in (list, tuple):
         return [encode(x, depth + 1, budget) for x in obj]
     if t is dict:
-        out = {}
-        for k, v in obj.items():
-            if type(k) in (int, float, bool) or (np is not None and isinstance(k, np.generic)):
-                k = str(k.item() if hasattr(k, "item") else k)
-            elif type(k) is not str:
-                raise EncodeError(f"dictkey:{_type_name(k)}")
-            out[k] = encode(v, depth + 1, budget)
-        if any(k.startswith("$") for k in out):
-            return {"$dict": [[k, v] for k, v in out.items()]}
-        return out
+        return _enc_dict(obj, depth, budget)
     if np is not None:
         if isinstance(obj, np.ndarray):
-            if obj.size > MAX_ELEMENTS:
-                raise EncodeError("elements")
-            if obj.dtype.kind not in "biufcUSO":
-                raise EncodeError(f"dtype:{str(obj.dtype)[:40]}")
-            budget[0] -= int(obj.size)
-            return encode(np.ndarray.tolist(np.asarray(obj)), depth, budget)
+            return _enc_array(obj, depth, budget)
         if isinstance(obj, np.generic):
-            return encode(obj.item(), depth, budget)
+            return _enc_scalar(obj, depth, budget)
     # bool/int/float subclasses (e.g. IntEnum), sympy numbers, Fraction, Decimal
     if isinstance(obj, bool):
         return bool(obj)
     if isinstance(obj, int):
-        return encode(int(obj), depth, budget)
+        return _enc_int(int(obj))
     if isinstance(obj, float):
         return _enc_float(float(obj))
     if isinstance(obj, (list, tuple)):
@@ -202,12 +191,82 @@ def encode(obj, depth=0, budget=None):
             arr = None
         if arr is not None and arr.dtype.kind in "biufcO":
             return encode(arr, depth, budget)
+    return _enc_number(obj)
+
+
+def _enc_int(x):
+    """An int on the wire: as it is within int64, else as the float numpy would make."""
+    if -(2**63) <= x < 2**63:
+        return x
+    try:
+        return float(x)
+    except OverflowError:
+        raise EncodeError("bigint") from None
+
+
+def _enc_number(obj):
+    """Anything else that Python turns into a float or a complex (Fraction, Decimal, mpf)."""
     if hasattr(obj, "__float__") and not hasattr(obj, "__len__"):
         try:
             return _enc_float(float(obj))
+        except OverflowError:
+            raise EncodeError("bigint") from None
+        except Exception:
+            pass
+    if hasattr(obj, "__complex__") and not hasattr(obj, "__len__"):
+        try:
+            z = complex(obj)
+            return {"$complex": [_enc_float(z.real), _enc_float(z.imag)]}
         except Exception:
             pass
     raise EncodeError(f"type:{_type_name(obj)}")
+
+
+def _enc_dict(obj, depth, budget):
+    out = {}
+    for k, v in obj.items():
+        if type(k) in (int, float, bool) or (np is not None and isinstance(k, np.generic)):
+            k = str(k.item() if hasattr(k, "item") else k)
+        elif type(k) is not str:
+            raise EncodeError(f"dictkey:{_type_name(k)}")
+        out[k] = encode(v, depth + 1, budget)
+    if any(k.startswith("$") for k in out):
+        return {"$dict": [[k, v] for k, v in out.items()]}
+    return out
+
+
+def _enc_array(obj, depth, budget):
+    """A numpy array (any subclass) as nested lists of Python numbers."""
+    if obj.size > MAX_ELEMENTS:
+        raise EncodeError("elements")
+    kind = obj.dtype.kind
+    if kind not in "biufcUSO":
+        raise EncodeError(f"dtype:{str(obj.dtype)[:40]}")
+    budget[0] -= int(obj.size)
+    arr = np.asarray(obj)
+    if kind == "f" and arr.dtype.itemsize > 8:  # longdouble: tolist() keeps longdoubles
+        arr = arr.astype(np.float64)
+    elif kind == "c" and arr.dtype.itemsize > 16:  # clongdouble
+        arr = arr.astype(np.complex128)
+    return encode(np.ndarray.tolist(arr), depth, budget)
+
+
+def _enc_scalar(obj, depth, budget):
+    """A numpy scalar: ``item()`` gives a Python number, except for longdouble and
+    clongdouble (an item of those is the same numpy type again)."""
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    if isinstance(obj, np.integer):
+        return _enc_int(int(obj))
+    if isinstance(obj, np.floating):
+        return _enc_float(float(obj))
+    if isinstance(obj, np.complexfloating):
+        z = complex(obj)
+        return {"$complex": [_enc_float(z.real), _enc_float(z.imag)]}
+    item = obj.item()
+    if isinstance(item, np.generic):
+        raise EncodeError(f"type:{_type_name(obj)}")
+    return encode(item, depth, budget)
 
 
 def decode(obj):
@@ -279,51 +338,224 @@ def _no_input(*args, **kwargs):
     )
 
 
-class _ShellStub:
-    """Enough of ``get_ipython()`` for magics that IPython's transformer emits."""
+# ----------------------------------------------------------------------------- IPython
+SHELL = None  # IPython's InteractiveShell, made once in the zygote (None: IPython missing)
+#: Shell commands that need the network (``!pip install``, ``%pip``, ``!wget`` ...).
+NETWORK_WORDS = ("pip", "conda", "mamba", "wget", "curl", "git", "apt", "apt-get", "uv")
 
-    EXEC_CELL_MAGICS = ("time", "timeit", "capture", "prun")
-    EXEC_LINE_MAGICS = ("time", "timeit", "prun")
 
-    def __init__(self, ns):
-        self.ns = ns
-        self.user_ns = ns
-        self.notes = []
+def _leading_empty_lines(lines):
+    for i, line in enumerate(lines):
+        if line and not line.isspace():
+            return lines[i:]
+    return lines
 
-    def run_line_magic(self, name, line, *args, **kwargs):
-        if name in self.EXEC_LINE_MAGICS:
-            src = line.strip()
-            if name == "timeit":  # drop timeit options such as -n1 -r1
-                while src.startswith("-"):
-                    src = src.split(None, 1)[1] if " " in src else ""
-            try:
-                return eval(compile(src, "<magic>", "eval"), self.ns)
-            except SyntaxError:
-                exec(compile(src, "<magic>", "exec"), self.ns)
-                return None
-        self.notes.append(f"%{name} ignored")
-        return None
 
-    def run_cell_magic(self, name, line, cell):
-        if name in self.EXEC_CELL_MAGICS:
-            exec(compile(cell, "<magic>", "exec"), self.ns)
-        else:
-            self.notes.append(f"%%{name} cell ignored")
-        return None
+def _shell_class():
+    """``GradingShell``: IPython's own InteractiveShell, as a Jupyter kernel's, minus a screen.
 
-    def system(self, cmd, *args, **kwargs):
-        self.notes.append("shell command ignored")
-        return None
+    Cells run through ``run_cell`` (input transformers, line and cell magics, ``!``
+    commands, top-level ``await``, the displayhook); what differs only concerns drawing
+    and speed: the matplotlib magic keeps the Agg backend (no figure is shown), a
+    traceback is not printed (the grader reports the exception), and a cell that is plain
+    Python of several lines is parsed once instead of tokenized by the transformers, which
+    leave such a cell as it is.
+    """
+    import ast
+    import contextlib
 
-    def getoutput(self, cmd, *args, **kwargs):
-        self.notes.append("shell command ignored")
-        return []
+    from IPython.core.compilerop import CachingCompiler
+    from IPython.core.interactiveshell import InteractiveShell
+    from traitlets import Type
 
-    def run_cell(self, *args, **kwargs):
-        raise RuntimeError("get_ipython().run_cell is not available while grading")
+    class WarmCompiler(CachingCompiler):
+        """IPython's compiler, which returns a statement's code compiled in the zygote
+        (``GradingShell.warm``) when it meets that statement again, under the cell's name."""
 
-    def __getattr__(self, name):
-        raise AttributeError(f"get_ipython().{name} is not available while grading")
+        def __call__(self, source, filename, symbol, **kwargs):
+            body = getattr(source, "body", None)
+            if type(body) is list and len(body) == 1 and not kwargs:
+                done = getattr(body[0], "_graded_code", None)
+                if done is not None and done[0] == symbol and done[1] == self.flags:
+                    return _renamed(done[2], filename)
+            return CachingCompiler.__call__(self, source, filename, symbol, **kwargs)
+
+    class GradingShell(InteractiveShell):
+        runner = None  # the Runner whose cell is running (its name, its notes)
+        compiler_class = Type(WarmCompiler)
+        _warm = {}  # cell text -> (text, AST with compiled statements), made in the zygote
+
+        def enable_gui(self, gui=None):
+            pass
+
+        def enable_matplotlib(self, gui=None):
+            mpl = sys.modules.get("matplotlib")
+            backend = mpl.get_backend() if mpl is not None else "agg"
+            return (gui or "inline", backend)
+
+        def ask_exit(self):  # ``exit`` / ``quit`` in a cell: the kernel would stop
+            raise SystemExit(None)
+
+        def showtraceback(self, *args, **kwargs):
+            pass
+
+        def showsyntaxerror(self, *args, **kwargs):
+            pass
+
+        def showindentationerror(self, *args, **kwargs):
+            pass
+
+        def _format_exception_for_storage(self, exception, *args, **kwargs):
+            return {"ename": type(exception).__name__, "evalue": "", "traceback": []}
+
+        @contextlib.contextmanager
+        def _tee(self, channel):  # IPython 9 keeps every output in memory for %history
+            yield
+
+        def _lines(self, raw_cell):
+            """The cell as IPython runs it if it may be plain Python of several lines, not
+            indented (the transformers leave such a cell as it is; a single line may be an
+            automagic and goes through IPython), else None."""
+            cell = raw_cell if raw_cell.endswith("\n") else raw_cell + "\n"
+            lines = _leading_empty_lines(cell.splitlines(True))
+            if len(lines) > 1 and not lines[0][:1].isspace() and not self.input_transformers_post:
+                return "".join(lines)
+            return None
+
+        def transform_cell(self, raw_cell):
+            text = self._lines(raw_cell)
+            if text is not None:
+                warm = self._warm.get(text) if not self.ast_transformers else None
+                if warm is not None:  # parsed and compiled in the zygote
+                    self._parsed = warm
+                    return warm[0]
+                try:
+                    tree = self.compile.ast_parse(text)
+                except Exception:
+                    pass
+                else:
+                    self._parsed = (text, tree)
+                    return text
+            return InteractiveShell.transform_cell(self, raw_cell)
+
+        def warm(self, sources):
+            """Parse and compile, once in the zygote, cells that most notebooks share (the
+            exercise's setup and checks): a child that runs one of them uses the code made
+            here, as IPython would have compiled it (one code object per statement, the
+            last expression in "single" mode). Returns how many cells were added."""
+            compiler = WarmCompiler()
+            flag = getattr(ast, "PyCF_ALLOW_TOP_LEVEL_AWAIT", 0) if self.autoawait else 0
+            added = 0
+            for raw in sources[:MAX_WARM]:
+                text = self._lines(raw) if isinstance(raw, str) else None
+                if text is None or text in self._warm or len(self._warm) >= MAX_WARM:
+                    continue
+                try:
+                    tree = compiler.ast_parse(text)
+                    nodes = tree.body
+                    if any(isinstance(n, ast.ImportFrom) and n.module == "__future__"
+                           for n in nodes):
+                        continue  # it would change how later cells compile
+                    with compiler.extra_flags(flag):
+                        for k, node in enumerate(nodes):
+                            single = k == len(nodes) - 1 and isinstance(node, ast.Expr)
+                            mode = "single" if single else "exec"
+                            mod = ast.Interactive([node]) if single else ast.Module([node], [])
+                            node._graded_code = (mode, compiler.flags, compiler(mod, "<c>", mode))
+                except Exception:  # noqa: BLE001 - not plain Python after all: not kept
+                    continue
+                self._warm[text] = (text, tree)
+                added += 1
+            return added
+
+        def should_run_async(self, raw_cell, **kwargs):
+            cell = kwargs.get("transformed_cell") or raw_cell
+            if "await" not in cell and "async" not in cell:
+                return False  # no top-level await without those words
+            return InteractiveShell.should_run_async(self, raw_cell, **kwargs)
+
+        def system_piped(self, cmd):
+            """A ``!`` line or ``%pip``: run as IPython runs it, noting a failure."""
+            if cmd.rstrip().endswith("&"):
+                raise OSError("Background processes not supported.")
+            from IPython.utils.process import system
+
+            expanded = self.var_expand(cmd, depth=1)
+            code = system(expanded)
+            self.user_ns["_exit_code"] = code
+            if code and self.runner is not None:
+                self.runner.note_command(expanded, code)
+            if getattr(self, "system_raise_on_error", False) and code != 0:
+                from subprocess import CalledProcessError
+
+                raise CalledProcessError(code, cmd)
+
+        system = system_piped
+
+    return GradingShell
+
+
+#: Cells the zygote compiles ahead for its children (see GradingShell.warm).
+MAX_WARM = 64
+_CodeType = type(_leading_empty_lines.__code__)
+
+
+def _renamed(code, filename):
+    """``code`` and the code objects in it, with ``filename`` as their file name."""
+    consts = code.co_consts
+    if any(type(c) is _CodeType for c in consts):
+        consts = tuple(_renamed(c, filename) if type(c) is _CodeType else c for c in consts)
+        return code.replace(co_filename=filename, co_consts=consts)
+    return code.replace(co_filename=filename)
+
+
+def make_shell(scratch, errors):
+    """The shell every child inherits, made before forking (IPython's profile folder is
+    made in ``scratch`` and removed again: nothing of the shell stays writable there)."""
+    global SHELL
+    ipdir = os.path.join(scratch, ".ipython-zygote")
+    os.environ["IPYTHONDIR"] = ipdir
+    try:
+        from traitlets.config import Config
+
+        cfg = Config()
+        cfg.HistoryManager.enabled = False  # no SQLite history file
+        cfg.InteractiveShell.autocall = 0
+        shell = _shell_class().instance(config=cfg)
+        shell.display_formatter.active_types = ["text/plain"]  # no figure is rendered
+        parse = shell.compile.ast_parse
+
+        def ast_parse(source, filename="<unknown>", symbol="exec"):
+            done, shell._parsed = shell._parsed, None
+            if done is not None and done[0] is source and symbol == "exec":
+                return done[1]
+            return parse(source, filename, symbol)
+
+        shell._parsed = None
+        shell._warm = {}
+        shell.compile.ast_parse = ast_parse
+        shell.compile.get_code_name = lambda raw, transformed, number: (
+            shell.runner.cell_name if shell.runner is not None else f"<cell {number}>"
+        )
+        shell.run_cell("pass\npass\n", store_history=False)  # the first run's imports
+        SHELL = shell
+    except Exception as exc:  # noqa: BLE001 - cells then run as plain Python
+        errors.append(f"IPython shell: {type(exc).__name__}: {exc}")
+    finally:
+        _remove(ipdir)
+        os.environ.pop("IPYTHONDIR", None)
+
+
+def _notebook_path():
+    """``sys.path`` as a Jupyter kernel has it: '' (the working folder) before the first
+    site-packages, and not the folder of this script."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    sys.path[:] = [p for p in sys.path if p and os.path.abspath(p) != here]
+    for i, p in enumerate(sys.path):
+        if os.path.basename(p) in ("site-packages", "dist-packages"):
+            sys.path.insert(i, "")
+            return
+    sys.path.insert(0, "")
 
 
 # ----------------------------------------------------------------------------- child process
@@ -398,12 +630,18 @@ class Channel:
         return _loads(line)
 
 
-def _short_error(exc, cell_name):
+#: File names of the code a notebook's cells compile (its cells; IPython's %time, %timeit).
+CELL_FILES = ("<cell", "<timed exec>", "<timed eval>", "<magic-timeit>")
+
+
+def _short_error(exc, cell_name, roots=CELL_FILES):
     tb = traceback.TracebackException.from_exception(exc, limit=-8)
-    frames = [f for f in tb.stack if f.filename.startswith("<cell") or f.filename == "<magic>"]
+    frames = [f for f in tb.stack if f.filename.startswith(roots)]
     lines = []
     for f in frames[-4:]:
         where = f.filename.strip("<>")
+        if not f.filename.startswith("<"):
+            where = os.path.basename(f.filename)  # a module a cell wrote: its file name
         lines.append(
             f"  {where}, line {f.lineno}" + (f", in {f.name}" if f.name != "<module>" else "")
         )
@@ -417,6 +655,35 @@ def _short_error(exc, cell_name):
         "message": msg[:MAX_ERROR_CHARS],
         "traceback": "\n".join(lines)[:MAX_ERROR_CHARS],
     }
+
+
+def _bad_source(source):
+    """A SyntaxError for a cell that is not valid Unicode (a lone surrogate), else None."""
+    try:
+        source.encode("utf-8")
+        return None
+    except UnicodeEncodeError as exc:
+        line = source.count("\n", 0, exc.start) + 1
+        bad = f"U+{ord(source[exc.start]):04X}" if exc.start < len(source) else "?"
+        err = SyntaxError(
+            f"the cell contains a character that is not valid Unicode ({bad}, a lone "
+            f"surrogate) at line {line}: retype that line"
+        )
+        err.lineno = None
+        return err
+
+
+def _fresh_imports(roots):
+    """Forget what the import system cached about the folders a notebook can write to
+    (``roots``), so a module a cell has just written (``%%writefile helper.py``,
+    ``open(...)``) is found by the next import even when the folder changed within its
+    timestamp's resolution. The library folders' caches stay: relisting them costs ms."""
+    for path, finder in list(sys.path_importer_cache.items()):
+        if isinstance(path, str) and path.startswith(roots) and finder is not None:
+            try:
+                finder.invalidate_caches()
+            except Exception:
+                pass
 
 
 def _class_path(cls):
@@ -436,15 +703,6 @@ def _close_figures():
             pass
 
 
-def _transformer():
-    try:
-        from IPython.core.inputtransformer2 import TransformerManager
-
-        return TransformerManager()
-    except Exception:
-        return None
-
-
 # ----------------------------------------------------------------------------- time limits
 TICK = 0.02  # seconds between two looks at what a student's call is running
 MAX_FRAMES = 2000  # frames looked at per look (a deeper recursion is cut)
@@ -453,6 +711,47 @@ _FunctionType = type(lambda: None)
 _setitimer = signal.setitimer
 _ITIMER_REAL = signal.ITIMER_REAL
 _SIGALRM = signal.SIGALRM
+
+
+_os_open, _os_pread, _os_close, _O_RDONLY = os.open, os.pread, os.close, os.O_RDONLY
+_schedstat = [0, -1]  # [pid, fd] of this process's /proc/thread-self/schedstat
+_waited = [0.0, 0.0]  # [seconds waited for a processor, monotonic time], as last read
+
+
+def _read_waited():
+    """Seconds this thread has waited for a processor (Linux schedstat), or None."""
+    pid = _getpid()
+    for attempt in (0, 1):
+        if _schedstat[0] != pid or _schedstat[1] < 0 or attempt:
+            try:  # opened once per process: a forked child has a thread of its own
+                fd = _os_open("/proc/thread-self/schedstat", _O_RDONLY)
+            except OSError:
+                return None
+            _schedstat[:] = [pid, fd]
+        try:
+            return int(_os_pread(_schedstat[1], 128, 0).split()[1]) / 1e9
+        except (OSError, ValueError, IndexError):
+            _schedstat[1] = -1  # closed or replaced by the notebook: open it again
+    return None
+
+
+def busy_clock():
+    """Seconds, like ``time.monotonic``, minus the time this thread spent waiting for a
+    processor (Linux's /proc/thread-self/schedstat): wall-clock time as on an idle
+    machine. Running and sleeping count; being ready to run while the machine is busy
+    with other work (the grader's other workers, other users) does not. Where the file
+    cannot be read this is the wall clock; it never runs backwards or jumps (a wait
+    longer than the time since the last reading is not believed).
+    """
+    now = _monotonic()
+    waited = _read_waited()
+    last, then = _waited
+    if waited is not None and last <= waited <= last + (now - then) + 0.01:
+        _waited[0] = waited
+    elif waited is not None and waited < last:  # another process's count: start afresh
+        _waited[0] = waited
+    _waited[1] = now
+    return now - _waited[0]
 
 
 class CallTimedOut(BaseException):
@@ -477,8 +776,10 @@ class Watch:
     It records which functions were on the stack then (outermost first: none of them
     returned in time) and, for each function seen running that then finished, how long it
     was seen (a lower bound of its time, from which the grader derives short limits). It
-    raises again at every tick until the call ends, so a notebook that swallows it only
-    reaches the grader's own wall-clock limit, which stays behind this one.
+    raises again at every tick while the notebook's code runs until the call ends, so a
+    notebook that swallows it only reaches the grader's own wall-clock limit, which stays
+    behind this one. Seconds are :func:`busy_clock`'s: time spent waiting for a processor
+    on a busy machine is not counted, so a call's fate does not depend on the load.
     """
 
     def __init__(self):
@@ -487,9 +788,13 @@ class Watch:
         self.seen = {}
         self.finished = {}
 
-    def start(self, ns, limit, leash, answers=(), call=""):
-        """Watch the code about to run; ``call``: the function called (a call), else a cell."""
+    def start(self, ns, limit, leash, answers=(), call="", roots=CELL_FILES):
+        """Watch the code about to run; ``call``: the function called (a call), else a cell.
+
+        ``roots``: how the file names of the notebook's own code start.
+        """
         self.ns = ns
+        self.roots = roots
         self.names = None  # code object -> the notebook's name for it (made when needed)
         self.limit = limit
         self.leash = leash
@@ -498,7 +803,7 @@ class Watch:
         self.fired = None
         self.seen = {}
         self.finished = {}
-        self.t0 = _monotonic()
+        self.t0 = busy_clock()
         try:
             self.previous = signal.signal(_SIGALRM, self._tick)
             signal.siginterrupt(_SIGALRM, False)  # C-level system calls resume (SA_RESTART)
@@ -540,16 +845,22 @@ class Watch:
     def _tick(self, signum, frame):
         if not self.running:
             return
-        now = _monotonic()
-        if self.fired is not None:
-            raise CallTimedOut(self.fired["message"])
+        now = busy_clock()
+        roots = self.roots
         stack = []  # the notebook's function frames, innermost first
+        mine = False  # the notebook's code (a function or a cell's own lines) is running
         f, k = frame, 0
         while f is not None and k < MAX_FRAMES:
             code = f.f_code
-            if code.co_filename.startswith("<cell") and not code.co_name.startswith("<"):
-                stack.append(f)
+            if code.co_filename.startswith(roots):
+                mine = True
+                if not code.co_name.startswith("<"):
+                    stack.append(f)
             f, k = f.f_back, k + 1
+        if self.fired is not None:
+            if mine:  # it swallowed the stop: again (IPython's own code is left alone)
+                raise CallTimedOut(self.fired["message"])
+            return
         live = set(stack)
         for fr in [fr for fr in self.seen if fr not in live]:
             name, first, last = self.seen.pop(fr)
@@ -589,15 +900,23 @@ class Runner:
     def __init__(self, chan, mypid):
         self.chan = chan
         self.mypid = mypid
-        self.ns = {"__name__": "__main__", "__builtins__": builtins}
-        self.shell = _ShellStub(self.ns)
-        self.ns["get_ipython"] = lambda: self.shell
-        self.tm = _transformer()
+        self.shell = SHELL
+        if SHELL is not None:
+            self.ns = SHELL.user_ns
+            SHELL.runner = self
+        else:  # IPython could not be loaded (the zygote said so): plain Python
+            self.ns = {"__name__": "__main__", "__builtins__": builtins}
+        self.cell_name = "<cell>"
+        self.notes = []
         self.output_limit = 10_000
         self.output_left = 100_000  # characters of output this submission may still send
         self.watch = Watch()
         self.limit = None  # seconds per call of an answer function (from the grader)
         self.leash = {}  # function name -> its short limit (seconds), from the grader
+        self._want = ()
+        # where the notebook's own code comes from: its cells, what IPython's %time and
+        # %timeit compile, and the files it writes (a helper module written by a cell)
+        self.roots = (*CELL_FILES, os.path.dirname(os.getcwd()) + os.sep)
 
     def _guard_fork(self):
         # A process the student forked must never answer for the child.
@@ -617,26 +936,30 @@ class Runner:
             sys.stdout, sys.stderr = old
             builtins.input = _no_input
 
+    def note_command(self, cmd, code):
+        """A ``!`` command (or ``%pip``) of the running cell exited with status ``code``."""
+        words = str(cmd).split()
+        first = os.path.basename(words[0]) if words else ""
+        if first.startswith("python") and words[1:3] == ["-m", "pip"]:
+            first = "pip"
+        shown = " ".join(words)[:80]
+        why = (
+            ": grading runs offline, so nothing can be downloaded or installed (the grader "
+            "has numpy, sympy, matplotlib and rikin)"
+            if first in NETWORK_WORDS
+            else ""
+        )
+        if len(self.notes) < 10:
+            self.notes.append(f'the shell command "{shown}" exited with status {code}{why}')
+
     def run_cells(self, cells, want=()):
+        self._want = want
         for index, source in cells:
             self.chan.send({"event": "cell_start", "cell": index})
-            name = f"<cell {index}>"
-            linecache.cache[name] = (len(source), None, source.splitlines(True), name)
-            self.shell.notes = []
-            code = self._compile(source, name)
-
-            def run(code=code):
-                if isinstance(code, BaseException):
-                    raise code
-                if self.limit is None and not self.leash:
-                    exec(code, self.ns)
-                    return
-                self.watch.start(self.ns, self.limit, self.leash, want)
-                try:
-                    exec(code, self.ns)
-                finally:
-                    self.watch.stop()
-
+            self.cell_name = f"<cell {index}>"
+            self.notes = []
+            _fresh_imports(self.roots[-1:])
+            run = self._cell(source)
             t0 = _monotonic()
             _, exc, cap = self._captured(run, min(self.output_limit, self.output_left))
             with _CleanBuiltins():
@@ -647,31 +970,30 @@ class Runner:
         with _CleanBuiltins():
             self._done(want)
 
-    def _compile(self, source, name):
-        """The cell's code object: plain Python as is, IPython syntax (%, !) transformed."""
-        with _CleanBuiltins():
+    def _cell(self, source):
+        """A function that runs the cell and raises what it raised (IPython keeps it)."""
+        bad = _bad_source(source)
+        watch, want = self.watch, self._want
+
+        def run():
+            if bad is not None:
+                raise bad
+            watching = self.limit is not None or bool(self.leash)
+            if watching:
+                watch.start(self.ns, self.limit, self.leash, want, roots=self.roots)
             try:
-                return compile(source, name, "exec")
-            except SyntaxError as exc:
-                if self.tm is None:
-                    return exc
-                try:
-                    return compile(self.tm.transform_cell(source), name, "exec")
-                except SyntaxError as exc2:
-                    return exc2
-                except Exception:
-                    return exc
-            except UnicodeEncodeError as exc:  # a lone surrogate: no valid Python source
-                line = source.count("\n", 0, exc.start) + 1
-                bad = f"U+{ord(source[exc.start]):04X}" if exc.start < len(source) else "?"
-                err = SyntaxError(
-                    f"the cell contains a character that is not valid Unicode ({bad}, a lone "
-                    f"surrogate) at line {line}: retype that line"
-                )
-                err.lineno = None
-                return err
-            except (ValueError, MemoryError, RecursionError, OverflowError) as exc:
-                return exc  # e.g. a NUL byte, or a cell too deeply nested to compile
+                if self.shell is None:
+                    exec(compile(source, self.cell_name, "exec"), self.ns)
+                    return
+                result = self.shell.run_cell(source, store_history=True)
+            finally:
+                if watching:
+                    watch.stop()
+            exc = result.error_before_exec or result.error_in_exec
+            if exc is not None:
+                raise exc
+
+        return run
 
     def _after_cell(self, index, exc, cap, seconds, fired=None):
         name = f"<cell {index}>"
@@ -679,7 +1001,7 @@ class Runner:
         err = None
         if exc is not None:
             try:
-                err = _short_error(exc, name)
+                err = _short_error(exc, name, self.roots)
             except Exception:
                 err = {"type": type(exc).__name__, "message": "", "traceback": ""}
             if isinstance(exc, SystemExit):
@@ -690,7 +1012,7 @@ class Runner:
                 "cell": index,
                 "error": err,
                 "output": cap.text()[: self.output_limit + 200],
-                "notes": [str(n) for n in self.shell.notes[:10]],
+                "notes": [str(n) for n in self.notes[:10]],
                 "seconds": round(seconds, 4),
                 "timed_out": fired,
             }
@@ -703,6 +1025,7 @@ class Runner:
         """
         ns = self.ns
         found = [w for w in want if isinstance(w, str) and callable(ns.get(w))]
+        hidden = getattr(self.shell, "user_ns_hidden", {})
         others = []
         for k, v in list(ns.items()):
             if len(others) >= 500:
@@ -713,6 +1036,7 @@ class Runner:
                 and callable(v)
                 and not isinstance(v, type(sys))
                 and not k.startswith("__")
+                and not (k in hidden and hidden[k] is v)  # IPython's exit, open, get_ipython
                 and k != "get_ipython"
             ):
                 others.append(k[:200])
@@ -750,13 +1074,15 @@ class Runner:
         def run():
             if limit is None:
                 return fn(*args, **kwargs)
-            watch.start(self.ns, limit, self.leash, call=name)
+            watch.start(self.ns, limit, self.leash, call=name, roots=self.roots)
             try:
                 return fn(*args, **kwargs)
             finally:
                 watch.stop()
 
+        t0 = busy_clock()
         value, exc, _ = self._captured(run)
+        took = round(max(0.0, busy_clock() - t0), 4)  # the call's time, as the limit counts it
         _close_figures()
         if watch.fired is not None:  # raised in its code, swallowed or not: it ran out
             with _CleanBuiltins():
@@ -775,6 +1101,7 @@ class Runner:
                 "error_type": type(exc).__name__,
                 "error_message": msg[:MAX_ERROR_CHARS],
                 "error_bases": _class_path(type(exc)),
+                "seconds": took,
             }
             if seen:  # how long the functions it called were seen running
                 reply["seen"] = seen
@@ -783,7 +1110,7 @@ class Runner:
         try:
             with _CleanBuiltins():
                 wire = encode(value)
-            reply = {"id": cid, "value": wire}
+            reply = {"id": cid, "value": wire, "seconds": took}
             if seen:
                 reply["seen"] = seen
             self.chan.send(reply)
@@ -943,6 +1270,15 @@ def child_main(chan_fd, ctl_fd, limits, workdir):
         os.chdir(workdir)
         os.environ["HOME"] = workdir
         os.environ["TMPDIR"] = workdir
+        # as in a kernel: ``!python``, ``!pip`` are the kernel's own; pip fails at once
+        # offline instead of retrying
+        bindir = os.path.dirname(sys.executable)
+        os.environ["PATH"] = bindir + os.pathsep + os.environ.get("PATH", "/usr/bin:/bin")
+        os.environ.update({"PIP_RETRIES": "0", "PIP_DISABLE_PIP_VERSION_CHECK": "1"})
+        os.environ["PIP_NO_INPUT"] = "1"
+        _notebook_path()
+        if SHELL is not None and isinstance(SHELL.user_ns.get("_dh"), list):
+            SHELL.user_ns["_dh"][:] = [workdir]  # %cd's history starts here
         set_limits(limits)
         builtins.input = _no_input
         sys.stdin = io.StringIO("")
@@ -955,8 +1291,9 @@ def child_main(chan_fd, ctl_fd, limits, workdir):
 
 
 # ----------------------------------------------------------------------------- zygote
-def preload(modules):
-    """Import what every notebook needs once, before forking; returns failures."""
+def preload(modules, scratch):
+    """Import what every notebook needs once and make IPython's shell, before forking;
+    returns failures."""
     global np
     errors = []
     os.environ.setdefault("MPLBACKEND", "Agg")
@@ -973,7 +1310,7 @@ def preload(modules):
             import matplotlib.pyplot  # noqa: F401
         except Exception as exc:
             errors.append(f"matplotlib.pyplot: {exc}")
-    _transformer()
+    make_shell(scratch, errors)
     _warm_up(errors)
     return errors
 
@@ -981,9 +1318,10 @@ def preload(modules):
 def _warm_up(errors):
     """Exercise the lazy first-use paths once, so each forked child starts warm."""
     try:
-        tm = _transformer()
-        if tm is not None:
-            tm.transform_cell("%matplotlib inline\nx = 1\n")
+        if SHELL is not None:
+            SHELL.transform_cell("%matplotlib inline\nx = 1\n")
+            SHELL.transform_cell("x = 1\ny = [x]\n")
+            SHELL._parsed = None
         if np is not None:
             np.linalg.solve(np.eye(3), np.ones(3))
             np.testing.assert_allclose(np.ones(2), np.ones(2))
@@ -1286,6 +1624,11 @@ class Zygote:
                 self.kill_all()
                 self.wipe_scratch()
                 self.send({"ok": True})
+            elif op == "warm":  # cells most notebooks share: compiled once, here
+                cells = msg.get("cells")
+                added = SHELL.warm(cells) if SHELL is not None and isinstance(cells, list) else 0
+                __import__("gc").freeze()
+                self.send({"ok": True, "added": added})
             elif op == "kill_except":
                 self.send({"ok": True, "kept": self.kill_except(int(msg.get("keep", -1)))})
             elif op == "wait":
@@ -1308,7 +1651,12 @@ def main(argv):
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     ctl = socket.socket(fileno=int(config["ctl_fd"]))
     os.environ.update({k: str(v) for k, v in config.get("env", {}).items()})
-    errors = preload(config.get("preload", []))
+    scratch = config.get("scratch", "/scratch")
+    errors = preload(config.get("preload", []), scratch)
+    import gc
+
+    gc.collect()
+    gc.freeze()  # what the zygote made is shared, never collected again in a child
     try:  # nobody may ptrace or read this process's memory, not even a student child
         import ctypes
 
@@ -1324,7 +1672,6 @@ def main(argv):
             ctypes.CDLL(None).prctl(36, 1, 0, 0, 0)  # PR_SET_CHILD_SUBREAPER
         except Exception:
             pass
-    scratch = config.get("scratch", "/scratch")
     zygote = Zygote(ctl, scratch, in_pidns, by_uid)
     zygote.pristine = zygote._scratch_state()
     zygote.send(

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 #: Libraries the zygote imports before forking (missing ones are reported, not fatal).
-PRELOAD = ("numpy", "sympy", "matplotlib", "IPython.core.inputtransformer2", "rikin")
+PRELOAD = ("numpy", "sympy", "matplotlib", "IPython", "rikin")
 #: Where the engine script and the matplotlib font cache appear inside the sandbox.
 CHILD_PATH = "/opt/rikingrade/child.py"
 # The private writable scratch is not /tmp: a checkout or venv under /tmp (a CI clone) must be

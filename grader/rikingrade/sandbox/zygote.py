@@ -53,6 +53,7 @@ LAUNCHER_SCRIPT = HERE / "launcher.py"
 START_TIMEOUT = 120.0  # seconds for a zygote to import numpy, sympy, matplotlib, rikin
 CONTROL_TIMEOUT = 2.0  # seconds for the zygote to answer a control message
 MAX_MESSAGE = 64 * 1024 * 1024  # bytes in one message from a child
+WARM_BYTES = 60_000  # bytes of cells sent to a zygote to compile ahead (one message)
 SANDBOX_STOPPED = (
     "the sandbox itself was stopped (the notebook killed or stopped the grader's helper)"
 )
@@ -194,6 +195,7 @@ class Sandbox:
         self.scratch: Path | None = None
         self.launcher_notes: dict[str, Any] = {}
         self.group: MemoryGroup | None = None  # the sandbox's memory cgroup (root only)
+        self.warmed = 0  # the start whose zygote compiled a notebook's cells ahead
         self.base = 0  # bytes the group holds once the zygote is ready
 
     # ------------------------------------------------------------------ lifecycle
@@ -450,11 +452,17 @@ class Sandbox:
             self.ctl.send(data)
         return self._ctl_recv(timeout)
 
-    def spawn(self, limits: Limits) -> Child:
-        """A fresh child forked from the zygote (restarting the sandbox if needed)."""
+    def spawn(self, limits: Limits, warm: list[str] | None = None) -> Child:
+        """A fresh child forked from the zygote (restarting the sandbox if needed).
+
+        ``warm``: the code cells of the notebook about to run; the first notebook after
+        the zygote starts has them compiled in the zygote (:meth:`warm`).
+        """
         for _attempt in range(2):
             if not self.alive:
                 self.start()
+            if warm and self.warmed != self.starts:
+                self.warm(warm)
             ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
             try:
                 reply = self._ctl({"op": "fork", "limits": self._limits(limits)}, [theirs.fileno()])
@@ -471,6 +479,34 @@ class Sandbox:
             log.warning("zygote refused to fork: %s", reply)
             self.close()
         raise SandboxUnavailable("could not start a notebook process in the sandbox")
+
+    def warm(self, cells: list[str]) -> None:
+        """Have the zygote parse and compile ``cells`` once for every child it forks.
+
+        The cells most notebooks of a class share (the exercise's setup and checks, often
+        most of a notebook's code) then cost a child nothing to compile; a cell a notebook
+        changed is compiled by its child as before. Sent once per zygote, in one control
+        message (cells that do not fit are left out); a zygote that does not answer is
+        replaced by a fresh one, which is not asked again.
+        """
+        self.warmed = self.starts
+        sent: list[str] = []
+        size = 0
+        for cell in cells:
+            n = len(json.dumps(cell))
+            if size + n < WARM_BYTES:
+                sent.append(cell)
+                size += n
+        if not sent:
+            return
+        try:
+            self._ctl({"op": "warm", "cells": sent}, timeout=CONTROL_TIMEOUT + 3)
+        except (OSError, ValueError, ChildDied, ProtocolError) as exc:
+            # a notebook's cells must never stop grading: a fresh zygote, without them
+            log.info("zygote did not answer warm (%s); restarting the sandbox", exc)
+            self.close()
+            self.start()
+            self.warmed = self.starts
 
     def _limits(self, limits: Limits) -> dict[str, Any]:
         """A child's limits: the whole sandbox's memory in its cgroup, or a process count
