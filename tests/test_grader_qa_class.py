@@ -24,7 +24,7 @@ MAX = 5.0  # fake2r's maximum
 LAYOUTS = ["canvas", "moodle", "moodle-worksheet", "blackboard", "brightspace"]
 
 
-def _grade(tmp_path, layout, monkeypatch, people=None, **kw):
+def _grade(tmp_path, layout, monkeypatch, people=None, relative=False, **kw):
     Q.local_zone(monkeypatch)
     people = people or Q.make_class()
     folder, roster = Q.write(people, layout, tmp_path)
@@ -44,6 +44,9 @@ def _grade(tmp_path, layout, monkeypatch, people=None, **kw):
         quiet=True,
     )
     args.update(kw)
+    if relative:  # the class folder as typed in a terminal opened beside it
+        monkeypatch.chdir(tmp_path)
+        folder = Path(folder.name)
     report = api.grade(str(ASSIGNMENT), [folder], out, **args)
     return people, folder, out, report
 
@@ -196,3 +199,102 @@ def test_canvas_names_keep_marks_as_canvas_does(name):
     assert p is not None and p.lms == "canvas", name
     assert (p.lms_id, p.file_id) == (name.split("_")[-3], name.split("_")[-2])
     assert p.late == ("_LATE_" in name)
+
+
+def _table(out: Path) -> dict[str, dict[str, str]]:
+    """grades.csv by student, without the run that made each row (and each notebook's path
+    as the file itself, however it was typed)."""
+    table = {r["student"]: {k: v for k, v in r.items() if k != "run"} for r in _rows(out)}
+    for r in table.values():
+        r["notebook"] = str(Path(r["notebook"]).resolve())
+    return table
+
+
+def _files_of(folder: Path, p: Q.Person, layout: str) -> list[Path]:
+    """Every file of ``p``'s in the download, oldest attempt first."""
+    if layout.startswith("moodle"):
+        return [folder / Q.moodle_folder(p) / "scara.ipynb"]
+    if layout == "canvas":
+        return sorted(folder.glob(f"{Q.canvas_prefix(p)}_*.ipynb"))
+    mine = [f for f in folder.rglob("*.ipynb") if (Q.token(f.read_bytes()) or (-1,))[0] == p.idx]
+    return sorted(mine, key=lambda f: Q.token(f.read_bytes())[1])
+
+
+@pytest.mark.parametrize(
+    "layout, who",
+    [
+        ("canvas", 4),
+        ("moodle", 4),  # a file in its student's folder
+        ("moodle-worksheet", Q.RESUBMITTER),
+        ("blackboard", Q.WANG),  # a username holding "_"
+        ("brightspace", 0),  # a John Smith: told by name only, and the roster has two
+        ("brightspace-folders", 1),
+    ],
+)
+def test_one_student_regraded_by_their_file_changes_only_that_student(
+    tmp_path, monkeypatch, layout, who
+):
+    """The guide: to regrade one student, pass their file (here by its absolute path,
+    while the class was graded by the folder's): the same student id, the same grade, and
+    nobody else's row changes."""
+    lms_layout = layout.removesuffix("-folders")
+    people, folder, out, _ = _grade(tmp_path, lms_layout, monkeypatch, relative=True)
+    if layout.endswith("-folders"):  # Brightspace's other download: a folder per submission
+        folder = _brightspace_folders(folder)
+        out = tmp_path / "out2"
+        roster = str(next(tmp_path.glob("*Grades*")))
+        kw = dict(roster=roster, lms_column="HW3", unsafe_no_sandbox=True, quiet=True)
+        api.grade(str(ASSIGNMENT), [Path(folder.name)], out, **kw)
+    before = _table(out)
+    newest = _files_of(folder, people[who], lms_layout)[-1].resolve()
+    api.grade(str(ASSIGNMENT), [newest], out, regrade=True, unsafe_no_sandbox=True, quiet=True)
+    after = _table(out)
+    assert set(after) == set(before), "a new student, or one lost"
+    assert after == before
+    runs = {r["student"]: r["run"] for r in _rows(out)}
+    changed = [s for s, run in runs.items() if run == max(runs.values())]
+    assert len(changed) == 1 and Q.token(Path(after[changed[0]]["notebook"]).read_bytes())[0] == who
+
+
+def _brightspace_folders(folder: Path) -> Path:
+    """The Brightspace download with a folder per submission (``... - Oct 24, 2026 1:10
+    PM/scara.ipynb``) instead of loose files."""
+    import re
+
+    other = folder.resolve().with_name("brightspace-folders")
+    other.mkdir()
+    for f in folder.iterdir():
+        m = re.match(r"(.*) - (\w{3} \d+, \d{4}) (\d{1,2})(\d\d) ([AP]M) - (.*)$", f.name)
+        if m is None:
+            continue
+        d = other / f"{m[1]} - {m[2]} {m[3]}:{m[4]} {m[5]}"
+        d.mkdir(exist_ok=True)
+        (d / m[6]).write_bytes(f.read_bytes())
+    return other
+
+
+@pytest.mark.parametrize("layout", ["blackboard", "brightspace"])
+def test_an_earlier_attempt_regraded_alone_does_not_replace_the_newest(
+    tmp_path, monkeypatch, layout
+):
+    """Every attempt is kept; the one handed in last counts, even when an earlier one is
+    graded after it (passed alone), and the instructor is told how to count that one."""
+    people, folder, out, _ = _grade(tmp_path, layout, monkeypatch)
+    before = _table(out)
+    p = people[Q.RESUBMITTER]
+    first = _files_of(folder, p, layout)[0]
+    assert Q.token(first.read_bytes()) == (Q.RESUBMITTER, 0)
+    report = api.grade(
+        str(ASSIGNMENT), [first], out, regrade=True, unsafe_no_sandbox=True, quiet=True
+    )
+    assert _table(out) == before, "the earlier attempt's grade replaced the newest's"
+    assert any("is an earlier attempt than" in n and "override" in n for n in report.notes)
+    # graded and kept: its result is in the gradebook
+    from rikingrade.gradebook import Gradebook
+
+    with Gradebook.open(out / "gradebook.sqlite", readonly=True) as gb:
+        sid = next(
+            s for s, r in before.items() if Q.token(Path(r["notebook"]).read_bytes())[0] == p.idx
+        )
+        scores = [h["score"] for h in gb.history("fake2r", sid)]
+    assert 0.0 in scores and scores[-1] == 0.0
