@@ -755,3 +755,24 @@ def test_an_extension_by_a_roster_id_reaches_its_student_and_an_unknown_one_is_n
     rows = _read_extensions(str(ext), [s], [e], notes)
     assert [r[0] for r in rows] == ["Fatima Zahra"] * 4 + ["nobody"]
     assert len(notes) == 1 and "nobody" in notes[0] and "line 6" in notes[0]
+
+
+@pytest.mark.parametrize("sep, enc", [(";", "utf-8-sig"), ("\t", "utf-16"), (",", "utf-8-sig")])
+def test_an_extensions_file_saved_from_a_spreadsheet_is_read(tmp_path, sep, enc):
+    """Excel saves a CSV with a BOM, with ';' where ',' is the decimal comma, or as UTF-16
+    'Unicode text' with tabs: each is read as the extensions it holds."""
+    from rikingrade.api import _read_extensions
+    from rikingrade.notebook import Submission
+
+    e = lms.RosterEntry("", "Ana Ruiz", username="aruiz", line=2)
+    s = Submission("Ana Ruiz", tmp_path / "a.ipynb", lms="brightspace", roster_key=e.key)
+    ext = tmp_path / "ext.csv"
+    buf = io.StringIO()
+    w = csv.writer(buf, delimiter=sep)
+    w.writerows([["student", "due", "reason"], ["aruiz", "2026-10-27 12:00", "medical; see note"]])
+    ext.write_bytes(buf.getvalue().encode(enc))
+    notes: list[str] = []
+    rows = _read_extensions(str(ext), [s], [e], notes)
+    assert [(r[0], r[1], r[2]) for r in rows] == [
+        ("Ana Ruiz", parse_time("2026-10-27 12:00"), "medical; see note")
+    ] and notes == []

@@ -30,7 +30,7 @@ from .notebook import Submission, discover, shown
 from .policy import PolicyError, Rules, parse_time, show_time
 from .progress import Progress, summarize, summary_text
 from .report import GRADER_ERROR, INVALID, SubmissionResult, TestResult
-from .roster import load_roster
+from .roster import RosterError, load_roster, read_table
 from .runner import RunOptions, SubmissionRunner
 from .sandbox import (
     Limits,
@@ -552,14 +552,11 @@ def _read_extensions(
 ) -> list[tuple[str, float, str]]:
     """(student id, due, reason) from an extensions CSV (student, due, reason), each student
     named by any of their ids (the roster's too); a note for one no submission has."""
-    import csv
-
     by_any = ids_of_class(subs, entries)
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise PolicyError(f"cannot read the extensions file {path}: {exc}") from None
-    rows = list(csv.reader(text.splitlines()))
+        rows = read_table(Path(path), "the extensions file")
+    except RosterError as exc:
+        raise PolicyError(str(exc)) from None
     out = []
     for i, r in enumerate(rows):
         if not r or not any(c.strip() for c in r):

@@ -150,20 +150,26 @@ def bare(value: str) -> str:
 
 
 # ----------------------------------------------------------------------------- reading
-def _text(path: Path) -> str:
+def _text(path: Path, what: str = "the roster") -> str:
     try:
         raw = path.read_bytes()
     except OSError as exc:
-        raise RosterError(f"cannot read the roster {path}: {exc.strerror or exc}") from None
+        raise RosterError(f"cannot read {what} {path}: {exc.strerror or exc}") from None
     if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
         return raw.decode("utf-16")
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise RosterError(
-            f"the roster {path} is not UTF-8 text (byte {exc.start}): export it again from "
+            f"{what} {path} is not UTF-8 text (byte {exc.start}): export it again from "
             "the LMS, or save it from a spreadsheet as 'CSV UTF-8'"
         ) from None
+
+
+def read_table(path: Path, what: str) -> list[list[str]]:
+    """The rows of a CSV ``path`` as an LMS or a spreadsheet saves it (a BOM, UTF-16,
+    ``,``/``;``/tab separated); :class:`RosterError` naming ``what`` if it cannot be read."""
+    return _rows(_text(Path(path), what))
 
 
 def _rows(text: str) -> list[list[str]]:
