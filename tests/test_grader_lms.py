@@ -717,3 +717,62 @@ def test_canvas_late_mark_decides_and_file_times_are_checked(tmp_path):
         for s in subs
     }
     assert days == {"a": 0, "b": 0, "c": 2, "e": 1}
+
+
+def test_names_in_their_order_before_the_same_words_reversed():
+    """Li Wei and Wei Li are two students (a Moodle export has no participant id): each
+    download name is its own row's; a name only the other way round still finds its row."""
+    from rikingrade.roster import Person, match_people
+
+    rows = [
+        lms.RosterEntry("", "Li Wei", first="Li", last="Wei", line=2),
+        lms.RosterEntry("", "Wei Li", first="Wei", last="Li", line=3),
+        lms.RosterEntry("", "Ana Ruiz", first="Ana", last="Ruiz", line=4),
+    ]
+    people = [Person(f"k{i}", "", "", n, n) for i, n in enumerate(["Li Wei", "Wei Li", "Ruiz Ana"])]
+    got = match_people(people, rows)
+    assert [(got[p.key].status, got[p.key].entry.line) for p in people] == [
+        ("matched", 2),
+        ("matched", 3),
+        ("matched", 4),
+    ]
+
+
+def test_an_extension_by_a_roster_id_reaches_its_student_and_an_unknown_one_is_noted(tmp_path):
+    """Brightspace's download names students only; the extension names them by the roster's
+    username or OrgDefinedId (as typed, with or without #, any case)."""
+    from rikingrade.api import _read_extensions
+    from rikingrade.notebook import Submission
+
+    e = lms.RosterEntry("", "Fatima Zahra", username="fzahra", org_id="#0042", line=2)
+    s = Submission("Fatima Zahra", tmp_path / "a.ipynb", lms="brightspace", roster_key=e.key)
+    ext = tmp_path / "ext.csv"
+    ext.write_text(
+        "student,due,reason\nfzahra,2026-10-27 12:00,x\n0042,2026-10-27 12:00,x\n"
+        "#0042,2026-10-27 12:00,x\nFZahra,2026-10-27 12:00,x\nnobody,2026-10-27 12:00,x\n"
+    )
+    notes: list[str] = []
+    rows = _read_extensions(str(ext), [s], [e], notes)
+    assert [r[0] for r in rows] == ["Fatima Zahra"] * 4 + ["nobody"]
+    assert len(notes) == 1 and "nobody" in notes[0] and "line 6" in notes[0]
+
+
+@pytest.mark.parametrize("sep, enc", [(";", "utf-8-sig"), ("\t", "utf-16"), (",", "utf-8-sig")])
+def test_an_extensions_file_saved_from_a_spreadsheet_is_read(tmp_path, sep, enc):
+    """Excel saves a CSV with a BOM, with ';' where ',' is the decimal comma, or as UTF-16
+    'Unicode text' with tabs: each is read as the extensions it holds."""
+    from rikingrade.api import _read_extensions
+    from rikingrade.notebook import Submission
+
+    e = lms.RosterEntry("", "Ana Ruiz", username="aruiz", line=2)
+    s = Submission("Ana Ruiz", tmp_path / "a.ipynb", lms="brightspace", roster_key=e.key)
+    ext = tmp_path / "ext.csv"
+    buf = io.StringIO()
+    w = csv.writer(buf, delimiter=sep)
+    w.writerows([["student", "due", "reason"], ["aruiz", "2026-10-27 12:00", "medical; see note"]])
+    ext.write_bytes(buf.getvalue().encode(enc))
+    notes: list[str] = []
+    rows = _read_extensions(str(ext), [s], [e], notes)
+    assert [(r[0], r[1], r[2]) for r in rows] == [
+        ("Ana Ruiz", parse_time("2026-10-27 12:00"), "medical; see note")
+    ] and notes == []

@@ -24,14 +24,14 @@ from typing import Any
 from . import __version__, repair
 from .assignment import Assignment, load_assignment
 from .gradebook import Gradebook, GradebookDamaged
-from .intake import match_roster, stored_roster, time_notes
+from .intake import ids_of_class, match_roster, stored_roster, time_notes
 from .lmsfiles import MISSING_BLANK, MISSING_ZERO
 from .notebook import OUTPUT_MARK, Submission, SubmissionsError, discover, shown
 from .outputs import atomic_write
-from .policy import PolicyError, Rules, parse_time
+from .policy import PolicyError, Rules, parse_time, show_time
 from .progress import Progress, summarize, summary_text
 from .report import GRADER_ERROR, INVALID, SubmissionResult, TestResult
-from .roster import load_roster
+from .roster import RosterError, load_roster, read_table
 from .runner import RunOptions, SubmissionRunner
 from .safetext import SafeFormatter
 from .sandbox import (
@@ -238,7 +238,7 @@ def grade(
                 subs, entries, missing_note=ros is not None
             )
         rules = Rules(parse_time(due) if due else None, late_per_day, late_cap, grace_minutes)
-        ext_rows = _read_extensions(extensions, subs) if extensions else []
+        ext_rows = _read_extensions(extensions, subs, entries, notes) if extensions else []
         limits = Limits(
             memory_mb=int(memory_mb),
             cpu_seconds=int(cpu_seconds),
@@ -270,6 +270,11 @@ def grade(
                 print(f"rikin-grade: note: {n}", file=sys.stderr)
         linked = {s.student for s in subs if s.refused}
         sub_ids = _record_submissions(gb, subs, a.exercise)  # reads (hashes) every file
+        for n in _older_than_counted(gb, a.exercise, subs):
+            notes.append(n)
+            log.warning("%s", n)
+            if not quiet:
+                print(f"rikin-grade: note: {n}", file=sys.stderr)
         for s in subs:
             if s.refused and s.student not in linked:
                 log.warning("%s: %s: not read: %s", s.student, s.shown_path, s.refused)
@@ -455,6 +460,23 @@ def _record_submissions(gb: Gradebook, subs: list[Submission], exercise: str) ->
     return ids
 
 
+def _older_than_counted(gb: Gradebook, exercise: str, subs: list[Submission]) -> list[str]:
+    """Notes on files handed in before the one whose grade counts (an earlier attempt
+    regraded alone): graded and kept, but the newer attempt's grade still counts."""
+    notes = []
+    for s in subs:
+        now = gb.current(exercise, s.student)
+        if not now or s.submitted_at is None or now[0]["submitted_at"] <= s.submitted_at:
+            continue
+        notes.append(
+            f"{s.student}: {s.shown_path} (handed in {show_time(s.submitted_at)}) is an earlier "
+            f"attempt than {now[0]['path']} (handed in {show_time(now[0]['submitted_at'])}), "
+            "whose grade still counts; it is graded and kept. To count it instead, set the "
+            f"grade by hand: rikin-grade override {exercise} {s.student} --score ..."
+        )
+    return notes
+
+
 def _open_gradebook(path: Path, assignment: str, out: Path, given: str | None) -> Gradebook:
     """The gradebook, refused with the repair advice when it is damaged or lacks grades
     that ``out`` holds (before anything is written)."""
@@ -528,20 +550,16 @@ def print_lms_files(files: dict[str, Any]) -> None:
             print(f"{what}: {len(who)}: {', '.join(who[:8])}{' ...' if len(who) > 8 else ''}")
 
 
-def _read_extensions(path: str, subs: list[Submission]) -> list[tuple[str, float, str]]:
-    """(student id, due, reason) from an extensions CSV (student, due, reason)."""
-    import csv
-
-    by_any = {}
-    for s in subs:
-        for k in (s.student, s.lms_id, s.sis_id, s.email, s.name):
-            if k:
-                by_any.setdefault(k, s.student)
+def _read_extensions(
+    path: str, subs: list[Submission], entries: list, notes: list[str]
+) -> list[tuple[str, float, str]]:
+    """(student id, due, reason) from an extensions CSV (student, due, reason), each student
+    named by any of their ids (the roster's too); a note for one no submission has."""
+    by_any = ids_of_class(subs, entries)
     try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise PolicyError(f"cannot read the extensions file {path}: {exc}") from None
-    rows = list(csv.reader(text.splitlines()))
+        rows = read_table(Path(path), "the extensions file")
+    except RosterError as exc:
+        raise PolicyError(str(exc)) from None
     out = []
     for i, r in enumerate(rows):
         if not r or not any(c.strip() for c in r):
@@ -551,7 +569,12 @@ def _read_extensions(path: str, subs: list[Submission]) -> list[tuple[str, float
         if len(r) < 2:
             raise PolicyError(f"{path} line {i + 1}: expected student, due, reason; got {r}")
         who = r[0].strip()
-        sid = by_any.get(who, who)
+        sid = by_any.get(who) or by_any.get(who.casefold()) or who
+        if sid == who and who not in by_any:
+            notes.append(
+                f"{path} line {i + 1}: the extension of {who} is for no student of this "
+                f"download; it is kept for a submission whose student id is {who}"
+            )
         out.append((sid, parse_time(r[1]), (r[2].strip() if len(r) > 2 else "") or "extension"))
     return out
 

@@ -172,17 +172,20 @@ CREATE TABLE IF NOT EXISTS settings (
     value TEXT NOT NULL,
     created_at REAL NOT NULL
 );
--- The grade that counts: each student's newest pick, with its result.
-CREATE VIEW IF NOT EXISTS current AS
+"""
+
+#: The grade that counts: of each student's picks, the one of the submission handed in last
+#: (an earlier attempt regraded alone does not replace it), the newest pick of that one.
+CURRENT_VIEW = """CREATE VIEW current AS
 SELECT p.assignment, p.student, p.submission_id, p.run_id, r.id AS result_id, r.status,
        r.reason, r.score, r.max_score, r.seed, r.key, r.graded_at, r.result,
        s.sha256, s.path, s.submitted_at, s.time_source, s.lms_late
 FROM picks p
 JOIN results r ON r.id = p.result_id
 JOIN submissions s ON s.id = p.submission_id
-WHERE p.id = (SELECT MAX(p2.id) FROM picks p2
-              WHERE p2.assignment = p.assignment AND p2.student = p.student);
-"""
+WHERE p.id = (SELECT p2.id FROM picks p2 JOIN submissions s2 ON s2.id = p2.submission_id
+              WHERE p2.assignment = p.assignment AND p2.student = p.student
+              ORDER BY s2.submitted_at DESC, p2.id DESC LIMIT 1)"""
 
 
 class GradebookBusy(RuntimeError):
@@ -287,10 +290,15 @@ def _connect(path: Path, readonly: bool) -> sqlite3.Connection:
 
 
 def _migrate(conn: sqlite3.Connection) -> None:
-    """Bring a gradebook of an earlier version up to this schema (columns added only)."""
+    """Bring a gradebook of an earlier version up to this schema (columns added, the view
+    of the grade that counts replaced)."""
     cols = {r[1] for r in conn.execute("PRAGMA table_info(students)")}
     if "roster_key" not in cols:
         conn.execute("ALTER TABLE students ADD COLUMN roster_key TEXT NOT NULL DEFAULT ''")
+    view = conn.execute("SELECT sql FROM sqlite_master WHERE name = 'current'").fetchone()
+    if view is None or view[0] != CURRENT_VIEW:  # new, or the view of an earlier version
+        conn.execute("DROP VIEW IF EXISTS current")
+        conn.execute(CURRENT_VIEW)
     conn.execute("INSERT OR IGNORE INTO meta VALUES ('schema_version', ?)", (str(SCHEMA_VERSION),))
     conn.execute("UPDATE meta SET value = ? WHERE key = 'schema_version'", (str(SCHEMA_VERSION),))
     conn.execute("INSERT OR IGNORE INTO meta VALUES ('gradebook_id', ?)", (uuid.uuid4().hex,))

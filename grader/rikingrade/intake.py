@@ -16,7 +16,7 @@ from pathlib import Path
 from .lms import person_key
 from .notebook import Submission
 from .policy import UNRELIABLE_TIME, show_time
-from .roster import MOODLE_WORKSHEET, Person, RosterEntry, match_people
+from .roster import MOODLE_WORKSHEET, Person, RosterEntry, bare, match_people
 
 #: Fewest files whose times are judged together, and the spread under which they are the
 #: time of an unzip or a copy (seconds).
@@ -100,6 +100,26 @@ def match_roster(
             + (" ..." if len(missing) > 10 else "")
         )
     return notes
+
+
+def ids_of_class(subs: list[Submission], roster: list[RosterEntry]) -> dict[str, str]:
+    """Every id an instructor may name a student of ``subs`` by (the download's student id,
+    LMS id, name; their roster row's ids: SIS id, e-mail, login, Canvas or Moodle id, the
+    Blackboard or Brightspace username and OrgDefinedId with or without ``#``) -> the
+    student id the gradebook keeps them under."""
+    rows = {e.key: e for e in roster}
+    out: dict[str, str] = {}
+    for s in subs:
+        ids = [s.student, s.lms_id, s.sis_id, s.email, s.login, s.name]
+        e = rows.get(s.roster_key)
+        if e is not None:
+            ids += [e.id, e.sis_id, e.email, e.login, e.canvas_id, e.moodle_id]
+            ids += [e.username, bare(e.username), e.org_id, bare(e.org_id)]
+        for k in ids:
+            if k.strip():
+                out.setdefault(k.strip(), s.student)
+                out.setdefault(k.strip().casefold(), s.student)
+    return out
 
 
 def _examples(subs: list[Submission], n: int = 4) -> str:

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import re
 import time
+import unicodedata
 import urllib.parse
 from dataclasses import dataclass, field
 from datetime import datetime
@@ -61,7 +62,6 @@ FILE = "file"  # a loose notebook, id = file name
 BRIGHTSPACE_INDEX = "index.html"
 
 _DIGITS = re.compile(r"^\d+$")
-_CANVAS_NAME = re.compile(r"^[^\W_]+(?:_[^\W_]+)*$")
 _CANVAS_ANON = re.compile(r"^(?:(?P<late>LATE|late)_)?anon_(?P<anon>[A-Za-z0-9]+)_(?P<rest>.+)$")
 _REUPLOAD = re.compile(r"^(?P<stem>.+?)-(?P<n>\d+)(?P<ext>\.[^.]*)?$")
 _MOODLE_DIR = re.compile(r"^(?P<name>[^_]+)_(?P<uid>\d+)_assignsubmission_(?P<plugin>[a-z]+)_?$")
@@ -149,9 +149,19 @@ def _canvas(name: str) -> Parsed | None:
     late = who[-1] in ("LATE", "late")
     if late:
         who = who[:-1]
-    if not who or not _CANVAS_NAME.match("_".join(who)):
+    if not who or not all(canvas_word(w) for w in who):
         return None
     return _canvas_rest(pieces[first], "_".join(who), late, pieces[first + 1 :])
+
+
+def canvas_word(piece: str) -> bool:
+    """Whether ``piece`` (of a name cut at ``_``) is what Canvas leaves of a name: it keeps
+    only Ruby's ``[[:word:]]``, letters, marks, decimal digits and connector punctuation.
+    Marks count (the vowel signs of Devanagari or Thai, an accent typed as its own
+    character), though Python's ``\\w`` leaves them out."""
+    return bool(piece) and all(
+        unicodedata.category(c)[0] in "LM" or unicodedata.category(c) in ("Nd", "Pc") for c in piece
+    )
 
 
 def _canvas_rest(uid: str, who: str, late: bool, rest: list[str]) -> Parsed | None:

@@ -823,6 +823,8 @@ def discover(
                 # A path the instructor typed may be a link; read what it points to as is.
                 p = Path(os.path.realpath(p))
             f = _from_file(p, _beside(p, roster))
+            if f.parsed is None:  # a notebook in a Moodle or Brightspace student folder
+                f = _in_student_folder(p) or f
             f.root, f.named = p.parent, True
             found.append(f)
         elif p.is_dir():
@@ -850,6 +852,30 @@ def discover(
         for one in (s, *s.earlier):
             one.files = files
     return subs, notes
+
+
+def _in_student_folder(p: Path) -> _Found | None:
+    """The notebook ``p`` given alone, whose own name says nothing, as its student: the
+    Moodle or Brightspace student folder holding it names them (as when the class is
+    graded), so one student is regraded under their own id. None: not in such a folder."""
+    from . import lms
+
+    parsed = lms.parse_folder(os.fsdecode(p.parent.name))
+    if parsed is None:
+        return None
+    why = not_a_notebook(shown(p.name), parsed.kind) if parsed.kind != "file" else ""
+    return _Found(
+        parsed.key,
+        _lms_id(parsed),
+        p,
+        parsed,
+        parsed.order,
+        parsed.submitted_at,
+        parsed.time_source,
+        parsed.name,
+        refused=why,
+        other=bool(why),
+    )
 
 
 def _beside(p: Path, roster):
@@ -885,7 +911,7 @@ def _split_namesakes(found: list[_Found], roster, notes: list[str]) -> None:
                 seen.setdefault(k, []).append(f)
     for k, same in seen.items():
         for f in same:
-            tag = _tag(shown(f.path))
+            tag = _tag(_download_name(f.path))
             f.key, f.student = f"{f.key}:{tag}", f"{f.student}-{tag}"
         notes.append(
             f"ambiguous: {count[k]} students on the roster are named {same[0].name}, and the "
@@ -893,6 +919,17 @@ def _split_namesakes(found: list[_Found], roster, notes: list[str]) -> None:
             f"({_examples([f.path for f in same])}) graded each on its own, matched to no "
             "roster row: give these grades by hand"
         )
+
+
+def _download_name(p: Path) -> str:
+    """The name the LMS gave the file ``p`` (with its submission folder's, when a folder
+    names the student): the same however the path was typed, so a file regraded alone keeps
+    its student's id."""
+    from . import lms
+
+    name = os.fsdecode(p.name)
+    folder = os.fsdecode(p.parent.name)
+    return f"{folder}/{name}" if lms.parse_folder(folder) is not None else name
 
 
 def _one_student(key: str, group: list[_Found], notes: list[str]) -> list[Submission]:

@@ -95,6 +95,18 @@ class RosterEntry:
                 return f"{prefix}:{value}"
         return f"name:{name_key(self.name)}:{self.line}"
 
+    def names_in_order(self) -> set[str]:
+        """The forms of this row's name as written (first name first, or ``Smith, John``
+        read as John Smith): a submission's name in this order is this row's before any
+        row whose name is the same words the other way round (Li Wei and Wei Li)."""
+        forms = {name_key(self.name)}
+        if self.first or self.last:
+            forms.add(name_key(self.first + self.last))
+        if "," in self.name:
+            last, _, first = self.name.partition(",")
+            forms.add(name_key(first + last))
+        return forms - {""}
+
     def names(self) -> set[str]:
         """The forms of this row's name a submission's name is compared with."""
         forms = {name_key(self.name)}
@@ -138,20 +150,26 @@ def bare(value: str) -> str:
 
 
 # ----------------------------------------------------------------------------- reading
-def _text(path: Path) -> str:
+def _text(path: Path, what: str = "the roster") -> str:
     try:
         raw = path.read_bytes()
     except OSError as exc:
-        raise RosterError(f"cannot read the roster {path}: {exc.strerror or exc}") from None
+        raise RosterError(f"cannot read {what} {path}: {exc.strerror or exc}") from None
     if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
         return raw.decode("utf-16")
     try:
         return raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise RosterError(
-            f"the roster {path} is not UTF-8 text (byte {exc.start}): export it again from "
+            f"{what} {path} is not UTF-8 text (byte {exc.start}): export it again from "
             "the LMS, or save it from a spreadsheet as 'CSV UTF-8'"
         ) from None
+
+
+def read_table(path: Path, what: str) -> list[list[str]]:
+    """The rows of a CSV ``path`` as an LMS or a spreadsheet saves it (a BOM, UTF-16,
+    ``,``/``;``/tab separated); :class:`RosterError` naming ``what`` if it cannot be read."""
+    return _rows(_text(Path(path), what))
 
 
 def _rows(text: str) -> list[list[str]]:
@@ -426,6 +444,19 @@ def _by_id(p: Person, entries: list[RosterEntry]) -> tuple[bool, list[RosterEntr
     return has, hits
 
 
+def _named(name: str, entries: list[RosterEntry]) -> list[RosterEntry]:
+    """The rows named ``name``: those with its words in its order, else (none such) those
+    with them the other way round (a download naming people last name first)."""
+    key = name_key(name)
+    if not key:
+        return []
+    same = [e for e in entries if key in e.names_in_order()]
+    if same:
+        return same
+    mine = {key, name_key("".join(reversed(name.split())))} - {""}
+    return [e for e in entries if mine & e.names()]
+
+
 def match_people(people: list[Person], entries: list[RosterEntry]) -> dict[str, Match]:
     """Each student's match (keyed by :attr:`Person.key`); see the module's documentation."""
     out: dict[str, Match] = {}
@@ -440,8 +471,7 @@ def match_people(people: list[Person], entries: list[RosterEntry]) -> dict[str, 
                 "ambiguous", rows=hits, note=f"{len(hits)} roster rows have the id {p.lms_id}"
             )
             continue
-        mine = {name_key(p.name), name_key("".join(reversed(p.name.split())))} - {""}
-        named = [e for e in entries if mine & e.names()]
+        named = _named(p.name, entries)
         if has_ids:  # the LMS's id decides: a row with the same name is someone else
             also = (
                 f" (roster has {', '.join(e.name for e in named)} under another id)"
