@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import importlib
 import json
+import os
 import sys
 from pathlib import Path
 from typing import Any
@@ -100,9 +101,63 @@ def plotly_js() -> Path:
     return path
 
 
+# ------------------------------------------------------------------ plotly.js in a notebook
+#: Set (to "1") by the book's build (``book/_ext/rikin_book.py``) in the environment of the
+#: kernels that execute the chapters: the book's pages load plotly.js from ``_static``, so a
+#: figure's HTML carries none of it.
+BOOK_BUILD_ENV = "RIKIN_BOOK_BUILD"
+#: What a figure says where its script has not run (a notebook opened but not yet run, or
+#: a page without plotly.js): replaced by the drawing once the script runs.
+NOT_DRAWN = ("Interactive figure: run this cell to draw it (the notebook's own outputs are "
+             "drawn; outputs saved in a file you did not run are not).")
+#: What a figure says when its script runs but plotly.js is missing from the page.
+NO_PLOTLY = ("This interactive figure needs plotly.js, which rikin puts in the first figure "
+             "this page shows: run the notebook from its first cell again (Run All).")
+#: The front ends (browser tabs: the ``session`` of their requests) that this kernel has
+#: sent plotly.js to. A reloaded tab is a new session and gets it again.
+_PLOTLY_SENT: set[str] = set()
+_DISPLAYED = [0]  # figures displayed by this kernel (their div ids get the count)
+
+
+def _frontend_session() -> str | None:
+    """The session id of the front end whose request is running, or None outside a kernel."""
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover - IPython comes with every notebook kernel
+        return None
+    shell = get_ipython()
+    header = getattr(shell, "parent_header", None) or {}
+    session = header.get("header", {}).get("session") if isinstance(header, dict) else None
+    return str(session) if session else None
+
+
+def _in_book_build() -> bool:
+    return os.environ.get(BOOK_BUILD_ENV) == "1"
+
+
+def plotly_js_script() -> str:
+    """plotly.js (the installed plotly's bundle) as one ``<script>`` for a notebook output.
+
+    The library is wrapped so that it always defines ``window.Plotly`` (a page with an AMD
+    loader or CommonJS globals would otherwise keep it to itself), and it is skipped where
+    the page has plotly.js already.
+    """
+    js = plotly_js().read_text(encoding="utf-8").replace("</script", "<\\/script")
+    return ("<script>\nif (!window.Plotly) {\n"
+            "  window.PlotlyConfig = {MathJaxConfig: 'local'};\n"
+            "  (function (define, module, exports) {\n" + js + "\n  }).call(window);\n"
+            "}\n</script>\n")
+
+
 # ------------------------------------------------------------------ the figure object
 class InteractiveFigure:
     """A plotly figure that displays offline in the book and in every notebook front end.
+
+    In the book the page loads plotly.js from the book's ``_static`` folder. In a notebook
+    (JupyterLab, Notebook 7, VS Code, a classic Jupyter) the figure is HTML with a script
+    and needs no front-end extension: the first figure a browser tab shows carries
+    plotly.js itself (about 5 MB, once per tab), so figures work in a JupyterLab that was
+    started before rikin and plotly were installed. Colab gets plotly's own output.
 
     Attributes
     ----------
@@ -114,7 +169,7 @@ class InteractiveFigure:
         self.figure = figure
         self.div_id = div_id
 
-    def to_html(self) -> str:
+    def to_html(self, div_id: str | None = None) -> str:
         """A ``<div>`` and the script that draws it; plotly.js must be loaded on the page.
 
         The figure's JSON is written with sorted keys and a fixed div id, so a
@@ -126,16 +181,15 @@ class InteractiveFigure:
         frames = json.dumps(spec.get("frames", []), sort_keys=True, cls=_Encoder)
         config = json.dumps({"responsive": True, "displaylogo": False,
                              "modeBarButtonsToRemove": ["toImage"]})
-        div = self.div_id
+        div = self.div_id if div_id is None else div_id
         return (
             f'<div class="{HTML_MARKER}" id="{div}" style="width:100%;max-width:100%;'
-            f'height:{int(self.figure.layout.height or 520)}px"></div>\n'
+            f'height:{int(self.figure.layout.height or 520)}px">{NOT_DRAWN}</div>\n'
             "<script>(function () {\n"
             f'  var el = document.getElementById("{div}");\n'
-            "  if (!window.Plotly) {\n"
-            '    el.textContent = "This interactive figure needs plotly.js, which the book '
-            'serves itself; in a notebook, display the figure with fig.figure.show().";\n'
-            "    return;\n  }\n"
+            "  if (!el) { return; }\n"
+            f"  if (!window.Plotly) {{ el.textContent = {json.dumps(NO_PLOTLY)}; return; }}\n"
+            '  el.textContent = "";\n'
             f"  var frames = {frames};\n"
             f"  Plotly.newPlot(el, {data}, {layout}, {config}).then(function () {{\n"
             "    if (frames.length) { return Plotly.addFrames(el, frames); }\n"
@@ -147,21 +201,36 @@ class InteractiveFigure:
         """The figure as an ``IPython.display.HTML`` (only ``text/html``), for ``myst_nb.glue``.
 
         A glued figure gets the book's numbered caption (``{glue:figure}``);
-        glue renders every mime type it is given, so give it this one alone.
+        glue renders every mime type it is given, so give it this one alone. It carries
+        no plotly.js (the book's page loads it); in a notebook, display the figure itself.
         """
         from IPython.display import HTML
 
         return HTML(self.to_html())
 
+    def notebook_html(self) -> str:
+        """The figure's HTML for a notebook: plotly.js first where this tab has not had it.
+
+        Every call gets its own div id (a figure shown twice in one page draws twice).
+        """
+        _DISPLAYED[0] += 1
+        html = self.to_html(f"{self.div_id}-{_DISPLAYED[0]}")
+        session = _frontend_session()
+        if session is None or session in _PLOTLY_SENT:
+            return html
+        _PLOTLY_SENT.add(session)
+        return plotly_js_script() + html
+
     def _repr_mimebundle_(self, include: Any = None, exclude: Any = None) -> dict[str, Any]:
         if "google.colab" in sys.modules:
-            # Colab renders plotly's own output (its renderer loads plotly.js itself)
+            # Colab shows each output in its own frame; plotly's Colab renderer loads
+            # plotly.js into it
             return dict(self.figure._repr_mimebundle_(include, exclude))
-        return {
-            "text/html": self.to_html(),
-            "application/vnd.plotly.v1+json": self.figure.to_plotly_json(),
-            "text/plain": f"<rikin interactive figure: {self.figure.layout.title.text}>",
-        }
+        title = self.figure.layout.title.text or ""
+        text = f"<rikin interactive figure: {title.split('<br>')[0]}>"
+        if _in_book_build():
+            return {"text/html": self.to_html(), "text/plain": text}
+        return {"text/html": self.notebook_html(), "text/plain": text}
 
     def show(self) -> None:
         """Display with plotly's renderer (a browser tab outside a notebook)."""

@@ -80,6 +80,58 @@ def _png(fig: Any) -> bytes:
     return buf.getvalue()
 
 
+#: What a panel's still picture says. The picture is the panel's output wherever the page
+#: cannot show widgets: a JupyterLab or Notebook page opened before ipywidgets was installed
+#: (they load the widget support when a page opens), a static viewer.
+STILL_NOTE = ("A still picture of the live panel: this page cannot show widgets yet. "
+              "After rikin's first install, reload the page (F5), then run the notebook "
+              "again (Run All): JupyterLab and Jupyter Notebook load the widget support "
+              "when a page opens.")
+
+
+def _png_html(fig: Any, alt: str) -> str:
+    """A matplotlib figure as an ``<img>`` (embedded PNG), sized to its panel."""
+    import base64
+
+    data = base64.b64encode(_png(fig)).decode("ascii")
+    return (f'<img src="data:image/png;base64,{data}" alt="{html.escape(alt)}" '
+            'style="max-width:100%;height:auto">')
+
+
+def _still_bundle(panel: Any) -> dict[str, str]:
+    """The panel as it looks now, as a still picture with :data:`STILL_NOTE` (no widgets)."""
+    note = (f'<p class="rikin-still-note" style="color:#8a4b00;font-size:90%">'
+            f"{html.escape(STILL_NOTE)}</p>")
+    return {"text/html": '<div class="rikin-still">' + note + panel.still_html() + "</div>",
+            "text/plain": f"<rikin {type(panel).__name__}: {STILL_NOTE}>"}
+
+
+def _display_panel(panel: Any) -> None:
+    """Display a panel: the live widget, and its still picture for a page without widgets.
+
+    The output carries both: a front end with the widget manager shows the widget; one
+    without it (JupyterLab opened before ipywidgets was installed) shows the still
+    picture and says how to get the live panel. Such a front end refuses the widget's
+    comm; the kernel then replaces the output by the still picture alone, so the saved
+    notebook holds no widget that would look alive after a reload and do nothing.
+    """
+    from IPython.display import display
+
+    box = panel.widget()
+    still = _still_bundle(panel)
+    bundle = {**dict(box._repr_mimebundle_() or {}), **still}
+    handle = display(bundle, raw=True, display_id=True)
+    comm = getattr(box, "comm", None)
+    if handle is None or comm is None or not hasattr(comm, "on_close"):
+        return
+
+    def refused(_msg: Any = None) -> None:
+        panel.frontend_refused = True
+        handle.update(_still_bundle(panel), raw=True)
+
+    comm.on_close(refused)
+
+
 def _reach(arm: SerialArm) -> float:
     """A generous bound on how far the TCP gets from the base: every link and the tool."""
     total = sum(abs(float(lk.a)) + abs(float(lk.d)) for lk in arm.links)
@@ -274,6 +326,14 @@ class IKPanel:
         return (f"<p><b>{html.escape(st.message)}</b></p>"
                 + solutions_table(st.result)._repr_html_())
 
+    def still_html(self) -> str:
+        """The panel as it looks now, without widgets: the target, the solutions, the drawing."""
+        values = ", ".join(f"{name} = {self.values[name]:.4g}{' ' + unit if unit else ''}"
+                           for name, unit, _, _ in self.spec)
+        return (f"<p><b>{html.escape(self.arm.name)}</b>: target {html.escape(values)}</p>"
+                + self.table_html() + _png_html(self.figure(), f"{self.arm.name}: "
+                                                 f"{self.state.message}"))
+
     # ---- the widget
     def _refresh(self) -> None:
         if self._widget is None:
@@ -312,9 +372,7 @@ class IKPanel:
                 self.set(**{name: change["new"]})
 
     def _ipython_display_(self) -> None:
-        from IPython.display import display
-
-        display(self.widget())
+        _display_panel(self)
 
 
 class TeachPanel:
@@ -373,6 +431,11 @@ class TeachPanel:
         fig.set_size_inches(self.width, self.width)
         return fig
 
+    def still_html(self) -> str:
+        """The pendant as it looks now, without widgets: the pose and the drawing."""
+        return (f"<p><code>{html.escape(self.pose_text())}</code></p>"
+                + _png_html(self.figure(), f"{self.arm.name} at the sliders' joint values"))
+
     def _refresh(self) -> None:
         if self._widget is None:
             return
@@ -406,9 +469,7 @@ class TeachPanel:
         self.set(**{f"q{i + 1}": change["new"]})
 
     def _ipython_display_(self) -> None:
-        from IPython.display import display
-
-        display(self.widget())
+        _display_panel(self)
 
 
 #: The table :func:`dh_panel` starts with: the Puma 560 in standard DH, metres and degrees
@@ -771,6 +832,10 @@ class DHPanel:
         return ('<div class="rikin-dh-panel" style="text-align:left">' + "\n".join(rows)
                 + "</div>")
 
+    def still_html(self) -> str:
+        """The panel as it looks now, without widgets (:meth:`static_html`)."""
+        return self.static_html(alt="every IK solution of the target, drawn")
+
     # ---- the widget
     def _refresh(self) -> None:
         if self._widget is None:
@@ -834,9 +899,7 @@ class DHPanel:
         self._on_solve()
 
     def _ipython_display_(self) -> None:
-        from IPython.display import display
-
-        display(self.widget())
+        _display_panel(self)
 
 
 def _pose_error(arm: SerialArm, Q: FloatArray, T: FloatArray) -> float:
