@@ -9,12 +9,20 @@ The checks are the visible, public ones a student runs: fixed public cases,
 FK round trips through the student's own FK, counts, and the same cases with every
 length scaled (a function that ignores its length arguments fails). They never call
 a reference solution of the arm being exercised. A failed check raises
-``CheckFailed`` with a message in the student's terms.
+``CheckFailed`` with a message in the student's terms; the notebook shows that message
+alone (``%tb`` shows the traceback), and each hint names the cause the check saw
+(a length argument whose change does not change the answer, a target on the edge of
+the workspace that the function refuses although it answers 1e-9 of the arm's size
+away, angles that look like degrees, a missing tool).
 
 They call the student's functions as the grader does (positionally, in the
-stub's order, with float64 numpy arrays and float lengths) and read the answers
-with the grader's rule (``rikingrade.hidden._common.as_array``/``student_rows``):
-what one accepts the other accepts.
+stub's order, with float64 numpy arrays and float lengths), read the answers
+with the grader's rule (``rikingrade.hidden._common.as_array``/``student_rows``)
+and judge them with the statement's tolerance, the grader's: poses to 1e-6 times
+the arm's size (the sum of its lengths, at least 1, plus the tool) in position and
+1e-6 in each rotation entry; joint values to 1e-6 rad, or 1e-6 times the arm's
+size for a prismatic joint. ``tests/test_visible_checks_agree.py`` runs the checks
+and the grader on the same answers and fails where they disagree.
 """
 # ruff: noqa: E402  (each section is a notebook cell: imports follow code on purpose)
 
@@ -38,10 +46,27 @@ class CheckFailed(AssertionError):
     """A visible check found a problem; the message says what, in your terms."""
 
 
-CHECK_TOL = 1e-6      # joint values (rad or length units) and poses
+def _show_only_the_message(shell, etype, value, tb, tb_offset=None):
+    """A failed check shows its message; %tb shows where it was raised."""
+    shell.showtraceback((etype, value, tb), exception_only=True)
+
+
+try:
+    get_ipython().set_custom_exc((CheckFailed,), _show_only_the_message)  # noqa: F821
+except NameError:  # not in IPython (a script): the usual traceback
+    pass
+
+CHECK_TOL = 1e-6      # the statement's tolerance: rad, or times the arm's size for lengths
 TWO_PI = 2 * np.pi
 SCALE = 1.7           # the lengths-matter check multiplies every length by this
 BRANCH_TOL = 0.05     # a row that reaches the target belongs to the branch this close
+EDGE = 1e-9           # a target this close (times the arm's size) to a limit is on it
+
+
+def _size(lengths):
+    """The arm's size, as the grader has it: the sum of its lengths (at least 1) + the tool."""
+    links = [float(v) for k, v in lengths.items() if k != "tool"]
+    return max(1.0, sum(links)) + float(lengths.get("tool", 0.0))
 
 
 def _call(f, first, lengths):
@@ -112,15 +137,20 @@ def _pose_text(T):
             f"z axis {_fmt(T[:3, 2])}")
 
 
-def _compare_pose(T, T_expected, what, q):
+def _pose_gap(T, T_expected, size):
+    """(position error / size, largest rotation-entry error), as the grader measures them."""
+    return (float(np.linalg.norm(T[:3, 3] - T_expected[:3, 3])) / size,
+            float(np.abs(T[:3, :3] - T_expected[:3, :3]).max()))
+
+
+def _compare_pose(T, T_expected, what, q, size):
     T = _as_numbers(T, what)
     T_expected = np.asarray(T_expected, dtype=float)
     if T.shape != (4, 4):
         raise CheckFailed(f"for q = {_fmt(q)} {what} has shape {T.shape}; expected a (4, 4) matrix")
     if not np.all(np.isfinite(T)):
         raise CheckFailed(f"for q = {_fmt(q)} {what} contains NaN or infinity:\n{T}")
-    dp = np.abs(T[:3, 3] - T_expected[:3, 3]).max()
-    dr = np.abs(T[:3, :3] - T_expected[:3, :3]).max()
+    dp, dr = _pose_gap(T, T_expected, size)
     if dp > CHECK_TOL:
         return (f"for q = {_fmt(q)} {what} puts the TCP at {_fmt(T[:3, 3])}, "
                 f"expected {_fmt(T_expected[:3, 3])}")
@@ -133,6 +163,7 @@ def _compare_pose(T, T_expected, what, q):
 def _degrees_hint(fk, q, kwargs, revolute):
     """Whether fk changes when a revolute joint turns a full 2*pi (then it reads degrees)."""
     q = np.asarray(q, dtype=float)
+    size = _size(kwargs)
     T = _as_numbers(_call(fk, q, kwargs), "fk")
     for i in np.flatnonzero(revolute):
         q2 = q.copy()
@@ -142,7 +173,7 @@ def _degrees_hint(fk, q, kwargs, revolute):
         except Exception:  # noqa: BLE001 - an FK that refuses angles beyond 2*pi
             return (f"\nHint: your FK fails when joint {i + 1} turns a full 2*pi rad; any "
                     "angle modulo 2*pi is allowed (q is in radians).")
-        if np.abs(T2 - T).max() > CHECK_TOL:
+        if T2.shape != (4, 4) or max(_pose_gap(T2, T, size)) > CHECK_TOL:
             return (f"\nHint: your FK changes when joint {i + 1} turns a full 2*pi rad, so it "
                     "probably reads the angles as degrees. q is in radians.")
     return ""
@@ -158,16 +189,16 @@ def check_dh(dh_table, lengths, cases):
     if arm.n != 3:
         raise CheckFailed(f"dh_table has {arm.n} rows; the positioning arm has 3 joints")
     for q, T_expected in cases:
-        msg = _compare_pose(arm.fk(q), T_expected, "your table", q)
+        msg = _compare_pose(arm.fk(q), T_expected, "your table", q, _size(lengths))
         if msg:
             raise CheckFailed(msg + "\n(frame 3 of your table, built with rikin.SerialArm)")
     big = _arm_from_rows(_call(dh_table, None, _scaled_lengths(lengths)))
     prismatic = np.array([link.joint == "P" for link in arm.links])
     for q, T_expected in cases:
         msg = _compare_pose(big.fk(_scaled_q(q, ~prismatic)), _scaled_pose(T_expected),
-                            "your table", _scaled_q(q, ~prismatic))
+                            "your table", _scaled_q(q, ~prismatic), SCALE * _size(lengths))
         if msg:
-            raise CheckFailed(_lengths_hint(msg, "dh_table", lengths))
+            raise CheckFailed(_lengths_hint(msg, dh_table, None, lengths))
     print(f"✓ dh_table: frame 3 is where it should be for {len(cases)} public joint vectors, "
           f"also with every length x{SCALE}")
 
@@ -180,14 +211,15 @@ def check_fk(fk, lengths, cases, revolute, *, tool=None):
     """
     name = getattr(fk, "__name__", "fk")
     revolute = np.asarray(revolute, dtype=bool)
+    size = _size(lengths)
     for q, T_expected in cases:
         T = _call(fk, q, lengths)
-        msg = _compare_pose(T, T_expected, f"your {name}", q)
+        msg = _compare_pose(T, T_expected, f"your {name}", q, size)
         if msg:
             T = _as_numbers(T, name)
             T_expected = np.asarray(T_expected, dtype=float)
-            if tool is not None and np.abs(
-                    T[:3, 3] - (T_expected[:3, 3] - tool * T_expected[:3, 2])).max() < CHECK_TOL:
+            flange = T_expected[:3, 3] - (tool or 0.0) * T_expected[:3, 2]
+            if tool and np.linalg.norm(T[:3, 3] - flange) / size <= CHECK_TOL:
                 msg += ("\nHint: that is the flange (frame 6, at the wrist centre), not the TCP: "
                         "the tool is missing")
             msg += _degrees_hint(fk, q, lengths, revolute)
@@ -195,9 +227,9 @@ def check_fk(fk, lengths, cases, revolute, *, tool=None):
     for q, T_expected in cases:
         q_big = _scaled_q(q, revolute)
         msg = _compare_pose(_call(fk, q_big, _scaled_lengths(lengths)), _scaled_pose(T_expected),
-                            f"your {name}", q_big)
+                            f"your {name}", q_big, SCALE * size)
         if msg:
-            raise CheckFailed(_lengths_hint(msg, name, lengths))
+            raise CheckFailed(_lengths_hint(msg, fk, q_big, lengths))
     print(f"✓ {name}: right for {len(cases)} public joint vectors, also with every length "
           f"x{SCALE}")
 
@@ -218,27 +250,73 @@ def _scaled_pose(T):
     return T
 
 
-def _lengths_hint(msg, name, lengths):
+def _answer(f, first, lengths):
+    """What f gives: ("value", array) or ("raised", "Type: message")."""
+    try:
+        value = _call(f, first, lengths)
+    except Exception as exc:  # noqa: BLE001 - any outcome is compared, none is judged
+        return ("raised", f"{type(exc).__name__}: {exc}")
+    if isinstance(value, (list, tuple)) and value and all(isinstance(r, dict) for r in value):
+        value = [sorted((k, float(v) if np.isscalar(v) and not isinstance(v, str) else str(v))
+                        for k, v in r.items()) for r in value]  # dh_table rows
+        return ("value", repr(value))
+    try:
+        return ("value", np.asarray(value, dtype=float))
+    except (TypeError, ValueError):
+        return ("value", repr(value))
+
+
+def _same(a, b):
+    if a[0] != b[0] or type(a[1]) is not type(b[1]):
+        return False
+    if isinstance(a[1], np.ndarray):
+        return a[1].shape == b[1].shape and bool(np.allclose(a[1], b[1], rtol=1e-12,
+                                                              atol=1e-12, equal_nan=True))
+    return a[1] == b[1]
+
+
+def _ignored_lengths(f, first, lengths):
+    """The length arguments whose change (x SCALE, alone) leaves f's answer as it was."""
+    base = _scaled_lengths(lengths)
+    before = _answer(f, first, base)
+    ignored = []
+    for k in lengths:
+        other = dict(base, **{k: float(lengths[k])})
+        if _same(_answer(f, first, other), before):
+            ignored.append(k)
+    return ignored
+
+
+def _lengths_hint(msg, f, first, lengths):
+    """The scaled case failed: say so, and which length ``f`` ignores, if one is."""
+    name = getattr(f, "__name__", "your function")
     names = ", ".join(lengths)
-    return (f"with every length multiplied by {SCALE} ({names}), and the prismatic joint values "
-            f"with them, the arm is the same shape {SCALE} times bigger; but {msg}.\nDoes {name} "
-            f"use its own arguments {names} everywhere (not the notebook's L or numbers typed "
-            "in)? The grader uses random lengths.")
+    text = (f"with every length multiplied by {SCALE} ({names}), and the prismatic joint "
+            f"values with them, the arm is the same shape {SCALE} times bigger; but {msg}.")
+    ignored = _ignored_lengths(f, first, lengths)
+    if ignored:
+        which = ", ".join(ignored)
+        return (text + f"\n{name} gives the same answer when {which} changes: does it use its "
+                f"own argument{'s' if len(ignored) > 1 else ''} {which} (not the notebook's L "
+                "or a number typed in)? The grader uses random lengths.")
+    return (text + f"\n{name} does read each of {names} (its answer changes with each), so "
+            "look for a number that should grow with the arm: a tolerance or an offset typed "
+            "as a fixed length.")
 
 
-def _matches(row, expected, revolute):
+def _matches(row, expected, revolute, size):
     """Whether a solution (that reaches the target) is of an expected one's branch.
 
     As the grader judges it: near a singular configuration a right answer can sit
     1e-4 from the representative, so a row that reaches the target belongs to the
-    branch within BRANCH_TOL of it. None in ``expected`` marks a free joint.
+    branch within BRANCH_TOL of it (rad, or times the arm's size). None in
+    ``expected`` marks a free joint.
     """
     for i, e in enumerate(expected):
         if e is None:
             continue
         d = row[i] - e
-        if revolute[i]:
-            d = rikin.wrap_angle(d)
+        d = rikin.wrap_angle(d) if revolute[i] else d / size
         if abs(d) > BRANCH_TOL:
             return False
     return True
@@ -267,58 +345,80 @@ def check_ik(ik, fk, lengths, target, expected, revolute):
     try:
         _check_ik_once(ik, fk, _scaled_lengths(lengths), target_big, big, revolute)
     except CheckFailed as exc:
-        raise CheckFailed(_lengths_hint(str(exc).rstrip("."), name, lengths)) from None
-    except ValueError as exc:
-        raise CheckFailed(_lengths_hint(f"it raised ValueError: {exc}", name, lengths)) from None
-    dup = len(Q) - len(_distinct(Q, revolute))
+        if getattr(exc, "edge", False):  # the cause is known: the edge of the workspace
+            raise CheckFailed(f"with every length multiplied by {SCALE}: {exc}") from None
+        raise CheckFailed(_lengths_hint(str(exc).rstrip("."), ik, target_big, lengths)) from None
+    dup = len(Q) - len(_distinct(Q, revolute, _size(lengths)))
     note = f" ({dup} duplicate row(s) merged)" if dup else ""
     print(f"✓ {name}: {len(expected)} of {len(expected)} solutions, each reaching the target "
           f"with your {getattr(fk, '__name__', 'fk')}{note}; also with every length x{SCALE}")
 
 
-def _distinct(Q, revolute):
+def _distinct(Q, revolute, size):
     distinct = []
     for row in Q:
-        if not any(np.abs(np.where(revolute, rikin.wrap_angle(row - d), row - d)).max() < CHECK_TOL
-                   for d in distinct):
+        if not any(np.abs(np.where(revolute, rikin.wrap_angle(row - d), (row - d) / size)).max()
+                   <= CHECK_TOL for d in distinct):
             distinct.append(row)
     return distinct
+
+
+def _nudged(target, size):
+    """Targets EDGE x size away from ``target`` (a point or a pose), in a few directions."""
+    target = np.asarray(target, dtype=float)
+    p = target if target.shape == (3,) else target[:3, 3]
+    steps = [EDGE * size * p / max(np.linalg.norm(p), 1e-300)]
+    steps += [EDGE * size * np.append(p[:2] / max(np.linalg.norm(p[:2]), 1e-300), 0.0),
+              EDGE * size * np.array([0.0, 0.0, 1.0])]
+    for step in steps:
+        for sign in (-1.0, 1.0):
+            moved = np.array(target)
+            if moved.shape == (3,):
+                moved = moved + sign * step
+            else:
+                moved[:3, 3] += sign * step
+            yield moved
+
+
+def _refused(ik, lengths, target, expected, exc):
+    """CheckFailed for an IK that raised ValueError on a target it can reach."""
+    name = getattr(ik, "__name__", "ik")
+    labels = ", ".join(expected)
+    msg = (f"{name} raised {type(exc).__name__}({str(exc)!r}) for a target it can reach "
+           f"({labels})")
+    for moved in _nudged(target, _size(lengths)):
+        try:
+            _call(ik, moved, lengths)
+        except Exception:  # noqa: BLE001 - it refuses this one too
+            continue
+        failed = CheckFailed(
+            msg + f".\nIt answers for a target {EDGE:g} x the arm's size away: this one is on "
+            "the edge of the workspace (stretched or folded), where rounding can put a cosine "
+            "a hair past 1 (1.0000000000000002). Treat a cosine within 1e-9 of +-1 as +-1 "
+            "(np.clip) and raise only beyond that, as the statement says.")
+        failed.edge = True
+        return failed
+    return CheckFailed(msg)
 
 
 def _check_ik_once(ik, fk, lengths, target, expected, revolute):
     """One target of check_ik: CheckFailed, or the rows returned."""
     name = getattr(ik, "__name__", "ik")
     fk_name = getattr(fk, "__name__", "fk")
-    n = len(revolute)
-    Q = _as_rows(_call(ik, target, lengths), n, name)
-    distinct = []
-    for row in Q:
-        if not any(np.abs(np.where(revolute, rikin.wrap_angle(row - d), row - d)).max() < CHECK_TOL
-                   for d in distinct):
-            distinct.append(row)
-    p_target = target if target.shape == (3,) else target[:3, 3]
+    size = _size(lengths)
+    try:
+        answer = _call(ik, target, lengths)
+    except ValueError as exc:
+        raise _refused(ik, lengths, target, expected, exc) from None
+    Q = _as_rows(answer, len(revolute), name)
+    distinct = _distinct(Q, revolute, size)
     for row in distinct:
-        hint = ""
-        if np.abs(row[revolute]).max(initial=0.0) > TWO_PI + 1e-9:
-            hint = ("\nIts angles look like degrees: return radians (np.radians converts); "
-                    "any angle modulo 2*pi is fine.")
-        try:  # any angle modulo 2*pi is a right answer: your FK sees it wrapped
-            T = _as_numbers(_call(fk, np.where(revolute, rikin.wrap_angle(row), row), lengths),
-                            fk_name)
-        except CheckFailed:
-            raise
-        except Exception as exc:  # noqa: BLE001 - the student's FK refused the row
-            raise CheckFailed(f"your {fk_name} raised {type(exc).__name__} on the solution "
-                              f"{_fmt(row)} that {name} returned: {exc}{hint}") from None
-        if np.abs(T[:3, 3] - p_target).max() > CHECK_TOL:
-            raise CheckFailed(f"solution {_fmt(row)} does not reach the target: your {fk_name} "
-                              f"puts the TCP at {_fmt(T[:3, 3])}, target {_fmt(p_target)}{hint}")
-        if target.shape == (4, 4) and np.abs(T[:3, :3] - target[:3, :3]).max() > CHECK_TOL:
-            raise CheckFailed(f"solution {_fmt(row)} puts the TCP in the right place with the "
-                              f"wrong orientation (checked with your {fk_name})")
+        _check_row_reaches(row, fk, lengths, target, revolute, name, fk_name)
     labels = list(expected)
-    found = [lab for lab in labels if any(_matches(r, expected[lab], revolute) for r in distinct)]
-    extra = [r for r in distinct if not any(_matches(r, expected[lab], revolute) for lab in labels)]
+    found = [lab for lab in labels
+             if any(_matches(r, expected[lab], revolute, size) for r in distinct)]
+    extra = [r for r in distinct
+             if not any(_matches(r, expected[lab], revolute, size) for lab in labels)]
     missing = [lab for lab in labels if lab not in found]
     if missing:
         lines = [f"{len(found)} of {len(labels)} solutions found; missing:"]
@@ -331,6 +431,32 @@ def _check_ik_once(ik, fk, lengths, target, expected, revolute):
                           f"{_fmt(extra[0])}, which reaches the target yet is not allowed here "
                           "(check the joint limits: prismatic joints only extend, q >= 0)")
     return Q
+
+
+def _check_row_reaches(row, fk, lengths, target, revolute, name, fk_name):
+    """CheckFailed unless the student's FK puts solution ``row`` on the target."""
+    size = _size(lengths)
+    hint = ""
+    if np.abs(row[revolute]).max(initial=0.0) > TWO_PI + 1e-9:
+        hint = ("\nIts angles look like degrees: return radians (np.radians converts); "
+                "any angle modulo 2*pi is fine.")
+    try:  # any angle modulo 2*pi is a right answer: your FK sees it wrapped
+        T = _as_numbers(_call(fk, np.where(revolute, rikin.wrap_angle(row), row), lengths),
+                        fk_name)
+    except CheckFailed:
+        raise
+    except Exception as exc:  # noqa: BLE001 - the student's FK refused the row
+        raise CheckFailed(f"your {fk_name} raised {type(exc).__name__} on the solution "
+                          f"{_fmt(row)} that {name} returned: {exc}{hint}") from None
+    p_target = target if target.shape == (3,) else target[:3, 3]
+    if T.shape != (4, 4):
+        raise CheckFailed(f"your {fk_name} returned shape {T.shape}; expected (4, 4)")
+    if np.linalg.norm(T[:3, 3] - p_target) / size > CHECK_TOL:
+        raise CheckFailed(f"solution {_fmt(row)} does not reach the target: your {fk_name} "
+                          f"puts the TCP at {_fmt(T[:3, 3])}, target {_fmt(p_target)}{hint}")
+    if target.shape == (4, 4) and np.abs(T[:3, :3] - target[:3, :3]).max() > CHECK_TOL:
+        raise CheckFailed(f"solution {_fmt(row)} puts the TCP in the right place with the "
+                          f"wrong orientation (checked with your {fk_name})")
 
 
 def check_unreachable(ik, lengths, cases):
