@@ -19,6 +19,7 @@ Standard library only: the book extension (``rikin_book``), ``tools/make_exercis
 from __future__ import annotations
 
 import hashlib
+import ipaddress
 import json
 import os
 import re
@@ -26,6 +27,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import urllib.parse
 from pathlib import Path
 from typing import Any
 
@@ -35,6 +37,8 @@ CONFIG = ROOT / "_config.yml"
 DIST_PATH = "_static/dist"
 #: Where the book publishes the exercise notebooks under stable names (relative to its root).
 EXERCISES_PATH = "_static/exercises"
+#: The page that offers the exercise notebooks (relative to the site's root).
+EXERCISES_PAGE = "book/exercises.html"
 #: The manifest written next to them: version, file names, sizes, sha256.
 MANIFEST = "rikin-dist.json"
 #: The tag of the install cell in every published notebook.
@@ -79,6 +83,67 @@ def read_base_url_value(url: str | None, where: str = "html.baseurl") -> str:
     if not re.match(r"^https?://[^/\s]+", url):
         raise SiteError(f"{where} must be an absolute http(s) URL, not {url!r}")
     return url if url.endswith("/") else url + "/"
+
+
+def is_loopback(url: str) -> bool:
+    """Whether ``url`` names this computer only (127.0.0.0/8, ::1, localhost, 0.0.0.0).
+
+    A book built for such an address works in a local preview and nowhere else: its
+    notebooks install rikin from there.
+    """
+    host = (urllib.parse.urlsplit(url).hostname or "").lower()
+    if host == "localhost" or host.endswith(".localhost"):
+        return True
+    try:
+        ip = ipaddress.ip_address(host)
+    except ValueError:
+        return False
+    return ip.is_loopback or ip.is_unspecified
+
+
+def loopback_warning(url: str) -> str:
+    """What a build for a loopback ``url`` says (on every page, and in the log)."""
+    return (f"A local preview: this book's notebooks install rikin from {url}, an address only "
+            "this computer can reach. Set html.baseurl in _config.yml to the public URL the "
+            "book is served from, then build it again before publishing it.")
+
+
+#: The GitHub address of a folder of a branch: owner, repository, branch, folder.
+_GITHUB_TREE = re.compile(r"^https://github\.com/(?P<owner>[\w.-]+)/(?P<repo>[\w.-]+)"
+                          r"/tree/(?P<branch>[\w.-]+)(?P<folder>(?:/[^?#\s]*)?)/?$")
+
+
+def read_launch_repository(value: str | None,
+                           where: str = "rikin_launch_repository") -> tuple[str, ...] | None:
+    """The launch key: the GitHub folder holding the built site, as (owner, repo, branch,
+    folder), or None when it is empty (no launch links but the download)."""
+    value = (value or "").strip()
+    if not value:
+        return None
+    m = _GITHUB_TREE.match(value)
+    if not m:
+        raise SiteError(
+            f"{where} must be the GitHub address of the folder that holds the built site, "
+            f"like https://github.com/<user>/<repo>/tree/gh-pages (a branch without '/'), "
+            f"not {value!r}")
+    return (m["owner"], m["repo"], m["branch"], m["folder"].strip("/"))
+
+
+def launch_links(repository: tuple[str, ...], path: str) -> dict[str, str]:
+    """Where a published notebook (``path`` in the site) opens with one click.
+
+    ``repository`` is :func:`read_launch_repository`'s answer. Colab opens a notebook
+    from GitHub; Binder starts JupyterLab on the repository's branch and opens it there.
+    """
+    owner, repo, branch, folder = repository
+    inside = f"{folder}/{path}" if folder else path
+    q = urllib.parse.quote
+    return {
+        "Colab": f"https://colab.research.google.com/github/{owner}/{repo}/blob/{branch}/"
+                 f"{q(inside)}",
+        "JupyterLab (Binder)": f"https://mybinder.org/v2/gh/{owner}/{repo}/{branch}"
+                               f"?urlpath={q('lab/tree/' + inside, safe='')}",
+    }
 
 
 def read_version(root: Path = ROOT) -> str:
@@ -169,86 +234,225 @@ def wheel_url(base_url: str, manifest: dict) -> str:
     return f"{base_url}{DIST_PATH}/{w['file']}#sha256={w['sha256']}"
 
 
-INSTALL_CELL = '''\
-#@title Setup: install rikin if it is missing (Colab, a fresh Jupyter)
-# Installs the rikin wheel published with this course's book, pinned by its sha256, never a
-# package of that name from a public index. A no-op where rikin is already installed.
-RIKIN_BOOK = {book!r}
-RIKIN_NEEDED = {version!r}
-RIKIN_EXTRAS = {extras!r}
-RIKIN_WHEEL = {wheel!r}
+#: The install cell's code after its settings (RIKIN_BOOK, RIKIN_PAGE, RIKIN_NEEDED,
+#: RIKIN_EXTRAS, RIKIN_WHEEL). Plain Python that any notebook kernel runs (Colab's too):
+#: standard library only, every step a small function, one line of news per run.
+INSTALL_BODY = r'''
+
+class RikinSetupError(Exception):
+    """This cell cannot go on; the message says what to do. Run All stops here."""
+
+
+def _rikin_say_only_the_message():
+    """A RikinSetupError shows as its message, not a traceback (%tb shows it)."""
+    try:
+        shell = get_ipython()  # noqa: F821 (defined in IPython and Jupyter kernels)
+    except NameError:
+        return
+
+    def message_only(shell, etype, value, tb, tb_offset=None):
+        shell.showtraceback((etype, value, tb), exception_only=True)
+
+    shell.set_custom_exc((RikinSetupError,), message_only)
+
+
+def _rikin_version_key(v):
+    import re
+    return tuple(int(x) for x in re.findall(r"\d+", v.split("+")[0])[:3])
+
+
+def _rikin_missing():
+    """Why rikin (with the extras this notebook uses) must be installed, or None."""
+    import importlib.metadata as md
+    import re
+    try:
+        have = md.version("rikin")
+    except md.PackageNotFoundError:
+        return "rikin is not installed"
+    if _rikin_version_key(have) < _rikin_version_key(RIKIN_NEEDED):
+        return f"rikin {have} is older than this notebook needs ({RIKIN_NEEDED})"
+    for req in md.requires("rikin") or []:
+        m = re.match(r"([A-Za-z0-9._-]+).*extra *== *.(\w+)", req)
+        if m and m.group(2) in RIKIN_EXTRAS:
+            try:
+                md.version(m.group(1))
+            except md.PackageNotFoundError:
+                return f"{m.group(1)} (rikin[{m.group(2)}]) is not installed"
+    return None
+
+
+def _rikin_checkout():
+    """The folder of a checkout of the course around this notebook, or None."""
+    import pathlib
+    here = pathlib.Path.cwd().resolve()
+    for folder in (here, *here.parents):
+        if (folder / "rikin" / "__init__.py").is_file() and (folder / "pyproject.toml").is_file():
+            return folder
+    return None
+
+
+def _rikin_wheel(why):
+    """The pinned URL of the wheel the book hosts (asking the book when not written here)."""
+    import json
+    import urllib.request
+    if RIKIN_WHEEL:
+        return RIKIN_WHEEL
+    url = RIKIN_BOOK + "_static/dist/rikin-dist.json"
+    try:
+        with urllib.request.urlopen(url, timeout=60) as r:
+            w = json.load(r)["wheel"]
+    except (OSError, ValueError, KeyError) as exc:
+        raise RikinSetupError(
+            f"{why}, and the course's book, {RIKIN_BOOK}, could not tell "
+            f"which rikin to install ({exc}). Are you online? Or download this notebook "
+            f"again from {RIKIN_PAGE}") from None
+    return f"{RIKIN_BOOK}_static/dist/{w['file']}#sha256={w['sha256']}"
+
+
+def _rikin_pip(wheel):
+    """pip install rikin from ``wheel``, showing pip's progress; its exit code and output."""
+    import subprocess
+    import sys
+    import time
+    extras = f"[{','.join(RIKIN_EXTRAS)}]" if RIKIN_EXTRAS else ""
+    pip = subprocess.Popen([sys.executable, "-m", "pip", "install", "--progress-bar", "off",
+                            "--no-compile", "--disable-pip-version-check",
+                            f"rikin{extras} @ {wheel}"],
+                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    lines, t0 = [], time.monotonic()
+    for line in pip.stdout:
+        lines.append(line)
+        if line.startswith(("Collecting", "Processing", "Downloading", "Installing",
+                            "Successfully")):
+            print(f"  [{time.monotonic() - t0:4.0f} s] {line.strip()[:110]}", flush=True)
+    return pip.wait(), "".join(lines)
+
+
+def _rikin_pip_failed(code, out, wheel):
+    """The one line that says why pip failed, and what to do."""
+    if "DO NOT MATCH THE HASHES" in out or ("404" in out and wheel.split("#")[0] in out):
+        why = (f"this notebook is older than the book: the book now hosts another rikin. "
+               f"Download this notebook again from {RIKIN_PAGE}")
+    elif any(s in out for s in ("Failed to establish a new connection", "Network is unreachable",
+                                "Name or service not known", "Temporary failure in name",
+                                "nodename nor servname", "getaddrinfo failed",
+                                "Connection refused", "timed out", "No matching distribution")):
+        host = wheel.split("/")[2] if wheel.count("/") >= 2 else wheel
+        why = (f"pip could not download rikin or a package it needs (from {host} or your "
+               f"package index): are you online?")
+    else:
+        last = [ln.strip() for ln in out.splitlines() if ln.strip()][-3:]
+        why = f"pip exit code {code}: " + " / ".join(last)
+    return RikinSetupError(f"could not install rikin: {why}")
+
+
+def _rikin_imported_versions():
+    """Distributions whose modules this kernel has imported, with their versions."""
+    import importlib.metadata as md
+    import sys
+    out = {}
+    for name in ("rikin", "numpy", "sympy", "matplotlib", "plotly", "ipywidgets"):
+        if name in sys.modules:
+            try:
+                out[name] = md.version(name)
+            except md.PackageNotFoundError:
+                out[name] = None
+    return out
+
+
+def _rikin_restart_needed(before):
+    """The packages pip changed under modules this kernel has imported (restart for them)."""
+    import importlib.metadata as md
+    import sys
+    changed = []
+    for name, old in before.items():
+        try:
+            new = md.version(name)
+        except md.PackageNotFoundError:
+            new = None
+        if new != old:
+            changed.append(f"{name} {old} -> {new}")
+    mod = sys.modules.get("rikin")
+    if mod is not None and not any(c.startswith("rikin ") for c in changed) and getattr(
+            mod, "__version__", None) not in (None, md.version("rikin")):
+        changed.append(f"rikin {mod.__version__} (imported) -> {md.version('rikin')}")
+    return sorted(set(changed))
+
+
+def _rikin_front_end():
+    """Colab: turn on its widget manager for ipywidgets 8 (the live panels)."""
+    import sys
+    if "google.colab" in sys.modules:
+        from google.colab import output
+        output.enable_custom_widget_manager()
 
 
 def _rikin_setup():
     import importlib
-    import importlib.metadata
-    import json
-    import pathlib
-    import re
-    import subprocess
+    import importlib.metadata as md
+    import importlib.util
     import sys
-    import urllib.request
-
-    def key(v):
-        return tuple(int(x) for x in re.findall(r"\\d+", v.split("+")[0])[:3])
-
-    def missing():  # why rikin must be installed, or None
-        try:
-            have = importlib.metadata.version("rikin")
-        except importlib.metadata.PackageNotFoundError:
-            return "rikin is not installed"
-        if key(have) < key(RIKIN_NEEDED):
-            return f"rikin {{have}} is older than this notebook needs ({{RIKIN_NEEDED}})"
-        for req in importlib.metadata.requires("rikin") or []:
-            m = re.match(r"([A-Za-z0-9._-]+).*extra *== *.(\\w+)", req)
-            if m and m.group(2) in RIKIN_EXTRAS:
-                try:
-                    importlib.metadata.version(m.group(1))
-                except importlib.metadata.PackageNotFoundError:
-                    return f"{{m.group(1)}} (rikin[{{m.group(2)}}]) is not installed"
-        return None
-
-    why = missing()
+    _rikin_say_only_the_message()
+    _rikin_front_end()
+    why = _rikin_missing()
     if why is None:
-        return f"rikin {{importlib.metadata.version('rikin')}} is installed"
-    here = pathlib.Path.cwd().resolve()
-    for folder in (here, *here.parents):  # inside a checkout of the course: use it
-        if (folder / "rikin" / "__init__.py").is_file() and (folder / "pyproject.toml").is_file():
-            sys.path.insert(0, str(folder))
-            return f"rikin from the checkout at {{folder}}"
-    wheel = RIKIN_WHEEL
-    if wheel is None:  # a copy made outside the book: ask the book which wheel it hosts
-        try:
-            with urllib.request.urlopen(RIKIN_BOOK + "{dist}/{manifest}", timeout=60) as r:
-                w = json.load(r)["wheel"]
-        except (OSError, ValueError, KeyError) as exc:
-            raise RuntimeError(f"rikin is not installed, and the course's book, {{RIKIN_BOOK}}, "
-                               f"could not tell which rikin to install ({{exc}}). Are you "
-                               "online? Or download this notebook again from the book.") from None
-        wheel = f"{{RIKIN_BOOK}}{dist}/{{w['file']}}#sha256={{w['sha256']}}"
-    print(f"{{why}}: installing it from {{wheel.split('#')[0]}} ...", flush=True)
-    extras = f"[{{','.join(RIKIN_EXTRAS)}}]" if RIKIN_EXTRAS else ""
-    pip = subprocess.run([sys.executable, "-m", "pip", "install", "--quiet",
-                          "--disable-pip-version-check", f"rikin{{extras}} @ {{wheel}}"],
-                         stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    if pip.returncode != 0:
-        raise RuntimeError(f"could not install rikin (pip exit code {{pip.returncode}}):\\n"
-                           f"{{pip.stdout[-3000:]}}\\nAre you online? rikin comes from the "
-                           f"course's book, {{RIKIN_BOOK}}; if the book has moved, download "
-                           "this notebook again from it.")
+        stale = _rikin_restart_needed({"rikin": md.version("rikin")})
+        if stale:
+            raise RikinSetupError(f"rikin {md.version('rikin')} is installed, but this kernel "
+                                  f"still runs the one it imported first ({stale[0]}): restart "
+                                  "the kernel (Kernel > Restart Kernel), then run all cells.")
+        return f"rikin {md.version('rikin')} is installed"
+    folder = _rikin_checkout()
+    if folder is not None:  # inside a checkout of the course: use it
+        sys.path.insert(0, str(folder))
+        return f"rikin from the checkout at {folder}"
+    wheel = _rikin_wheel(why)
+    had_widgets = importlib.util.find_spec("ipywidgets") is not None
+    before = _rikin_imported_versions()
+    print(f"{why}: installing it from {wheel.split('#')[0]} (about a minute) ...", flush=True)
+    code, out = _rikin_pip(wheel)
+    if code != 0:
+        raise _rikin_pip_failed(code, out, wheel)
     importlib.invalidate_caches()
-    if "rikin" in sys.modules:
-        return "rikin was updated: restart the kernel (Kernel > Restart), then run all cells"
-    return f"rikin {{importlib.metadata.version('rikin')}} installed"
+    changed = _rikin_restart_needed(before)
+    if changed:
+        raise RikinSetupError(f"rikin {md.version('rikin')} is installed, over packages this "
+                              f"kernel had imported ({', '.join(changed)}): restart the kernel "
+                              "(Kernel > Restart Kernel), then run all cells again.")
+    news = f"rikin {md.version('rikin')} installed"
+    if "widgets" in RIKIN_EXTRAS and not had_widgets and "google.colab" not in sys.modules:
+        news += (". The live panels need this page reloaded once (F5), then Run All again: "
+                 "until then they show still pictures")
+    return news
 
 
-print(_rikin_setup())
-del _rikin_setup
+try:
+    print(_rikin_setup())
+finally:
+    for _name in [n for n in globals() if n.startswith("_rikin_")]:
+        del globals()[_name]
+    del _name
 '''
 
 
+def _install_cell_header(book: str, page: str, version: str, wheel: str | None,
+                         extras: tuple[str, ...]) -> str:
+    return (
+        "#@title Setup: install rikin if it is missing (Colab, a fresh Jupyter)\n"
+        "# Installs the rikin wheel published with this course's book, pinned by its sha256,"
+        " never a\n# package of that name from a public index. A no-op where rikin is already"
+        " installed.\n"
+        f"RIKIN_BOOK = {book!r}\n"
+        f"RIKIN_PAGE = {page!r}\n"
+        f"RIKIN_NEEDED = {version!r}\n"
+        f"RIKIN_EXTRAS = {tuple(extras)!r}\n"
+        f"RIKIN_WHEEL = {wheel!r}\n"
+    )
+
+
 def install_cell_source(
-    book: str, version: str, wheel: str | None = None, extras: tuple[str, ...] = ()
+    book: str, version: str, wheel: str | None = None, extras: tuple[str, ...] = (),
+    page: str | None = None,
 ) -> str:
     """The install cell's code: needs rikin >= ``version``, published by the book at ``book``.
 
@@ -259,13 +463,20 @@ def install_cell_source(
     book publishes carries. A notebook made outside a book build (``exercises/`` in git,
     which must not change whenever rikin's code does) has ``wheel=None``: it then reads the
     wheel's name and sha256 from the book's manifest, ``<book>_static/dist/rikin-dist.json``.
+
+    ``page`` is where a student downloads this notebook again (default: the book).
+
+    What a student sees: one line when rikin is there; pip's progress and one line when it
+    installs; otherwise one line (a ``RikinSetupError``, which stops Run All) saying what
+    to do: restart the kernel (pip changed a package this kernel had imported), download
+    the notebook again (the book hosts another wheel now), or go online.
     """
-    return INSTALL_CELL.format(book=book, version=version, wheel=wheel, extras=tuple(extras),
-                               dist=DIST_PATH, manifest=MANIFEST)
+    return _install_cell_header(book, page or book, version, wheel, extras) + INSTALL_BODY
 
 
 def install_cell(book: str, version: str, wheel: str | None = None,
-                 extras: tuple[str, ...] = (), extra_tags: tuple[str, ...] = ()) -> dict[str, Any]:
+                 extras: tuple[str, ...] = (), extra_tags: tuple[str, ...] = (),
+                 page: str | None = None) -> dict[str, Any]:
     """The install cell as an nbformat 4 code cell (a plain dict), its code folded away.
 
     Colab shows it as a form titled by its ``#@title`` line; Jupyter folds its source.
@@ -280,5 +491,5 @@ def install_cell(book: str, version: str, wheel: str | None = None,
             "tags": [INSTALL_TAG, *extra_tags],
         },
         "outputs": [],
-        "source": install_cell_source(book, version, wheel, extras),
+        "source": install_cell_source(book, version, wheel, extras, page),
     }
