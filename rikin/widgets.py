@@ -31,8 +31,6 @@ from __future__ import annotations
 import html
 import importlib
 import io
-import math
-import re
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -48,6 +46,7 @@ from ._validate import (
     check_length_range,
 )
 from .dh import SerialArm
+from .dhtext import arm_from_table, row_tokens
 from .errors import InputError, RikinError, UnreachableError
 from .ik import classify
 from .ik.result import IKResult
@@ -98,11 +97,14 @@ def _png_html(fig: Any, alt: str) -> str:
             'style="max-width:100%;height:auto">')
 
 
-def _still_bundle(panel: Any) -> dict[str, str]:
-    """The panel as it looks now, as a still picture with :data:`STILL_NOTE` (no widgets)."""
+def _still_bundle(panel: Any, refused: bool = False) -> dict[str, str]:
+    """The panel as it looks now, as a still picture with :data:`STILL_NOTE` (no widgets).
+
+    ``refused``: the page has refused the live panel (its ``div`` says so, for tests)."""
     note = (f'<p class="rikin-still-note" style="color:#8a4b00;font-size:90%">'
             f"{html.escape(STILL_NOTE)}</p>")
-    return {"text/html": '<div class="rikin-still">' + note + panel.still_html() + "</div>",
+    div = '<div class="rikin-still"' + (' data-refused="1">' if refused else ">")
+    return {"text/html": div + note + panel.still_html() + "</div>",
             "text/plain": f"<rikin {type(panel).__name__}: {STILL_NOTE}>"}
 
 
@@ -127,7 +129,7 @@ def _display_panel(panel: Any) -> None:
 
     def refused(_msg: Any = None) -> None:
         panel.frontend_refused = True
-        handle.update(_still_bundle(panel), raw=True)
+        handle.update(_still_bundle(panel, refused=True), raw=True)
 
     comm.on_close(refused)
 
@@ -523,106 +525,10 @@ R      0.0823    0           0   0
         "target": "30 -60 80 -110 -90 20"},
 }
 
-_DECIMAL_COMMA = re.compile(r"^[-+]?\d+,\d+$")
-
-
-def _is_number(token: str) -> bool:
-    try:
-        return math.isfinite(float(token))
-    except ValueError:
-        return False
-
-
-def _row_tokens(line: str) -> list[str]:
-    """The columns of one table row: spaces, tabs, ``;``, ``|`` or commas separate them;
-    on a row with one comma per number at most and none between columns, ``0,4318`` is
-    a decimal comma."""
-    parts = [t for t in re.split(r"[\s;|]+", line) if t]
-    if sum(t.count(",") for t in parts) and all(_DECIMAL_COMMA.match(t) or "," not in t
-                                                for t in parts):
-        return [t.replace(",", ".") for t in parts]
-    return [t for part in parts for t in part.split(",") if t]
-
-
-def arm_from_table(text: str, convention: str = "standard", units: str = "",
-                   name: str = "your arm", tool: Any = None, base: Any = None) -> SerialArm:
-    """A :class:`~rikin.SerialArm` from a DH table typed as text, one row per joint.
-
-    Parameters
-    ----------
-    text : str
-        One row per joint: ``type d a alpha offset``. ``type`` is ``R`` or ``P``
-        (may be left out: revolute); ``d`` and ``a`` in length units; ``alpha``
-        and a revolute joint's ``offset`` in **degrees** (a prismatic joint's
-        offset is a length); ``offset`` may be left out (0). Columns are
-        separated by spaces, tabs, ``;``, ``|`` or commas (``0,4318`` on a row
-        without column commas is a decimal comma); ``#`` starts a comment;
-        blank lines and a header row of words are skipped. For a modified-DH
-        arm ``a`` and ``alpha`` of row i are ``a_{i-1}``, ``alpha_{i-1}``
-        (Craig), as in :class:`~rikin.Link`.
-    convention : {"standard", "modified"}
-    units : str
-        Name of the length unit.
-    name : str
-    tool, base : array_like, shape (4, 4), optional
-        ``T_n_tcp`` and ``T_world_0``; identity by default.
-
-    Returns
-    -------
-    SerialArm
-
-    Raises
-    ------
-    InputError
-        A row that is not ``type d a alpha offset``, naming the row and the
-        column.
-
-    Examples
-    --------
-    >>> arm = arm_from_table("R 0 1 0\\nR 0 1 0", name="2R")
-    >>> arm.fk([0.0, 0.0])[:3, 3]
-    array([2., 0., 0.])
-    """
-    from .dh import Link
-
-    if not isinstance(text, str):
-        raise InputError(f"the DH table must be text, got {type(text).__name__}")
-    links: list[Link] = []
-    for number, raw in enumerate(text.splitlines(), 1):
-        line = raw.split("#", 1)[0].strip()
-        tokens = _row_tokens(line)
-        if not tokens:
-            continue
-        if not links and not any(_is_number(t) for t in tokens):
-            continue  # a header row of words: "type d a alpha offset"
-        joint = "R"
-        if tokens[0].upper() in ("R", "P"):
-            joint, tokens = tokens[0].upper(), tokens[1:]
-        if not 3 <= len(tokens) <= 4:
-            raise InputError(
-                f"DH table line {number} ({raw.strip()!r}): expected 'type d a alpha offset' "
-                f"(3 or 4 numbers after R or P), got {len(tokens)} values")
-        values = []
-        for column, token in zip(("d", "a", "alpha", "offset"), tokens, strict=False):
-            if not _is_number(token):
-                raise InputError(f"DH table line {number} ({raw.strip()!r}): {column} = "
-                                 f"{token!r} is not a number")
-            values.append(float(token))
-        d, a, alpha_deg = values[:3]
-        offset = values[3] if len(values) == 4 else 0.0
-        links.append(Link("P" if joint == "P" else "R", d=d, a=a, alpha=math.radians(alpha_deg),
-                          offset=math.radians(offset) if joint == "R" else offset))
-    if not links:
-        raise InputError("the DH table has no rows: type one row 'R d a alpha offset' per joint")
-    return SerialArm(tuple(links), convention=convention,  # type: ignore[arg-type]
-                     base=np.eye(4) if base is None else base,
-                     tool=np.eye(4) if tool is None else tool, units=units, name=name)
-
-
 def _numbers(text: Any, count: int, what: str) -> FloatArray:
     """``count`` numbers typed as text (or given as a sequence)."""
     try:
-        tokens = _row_tokens(text) if isinstance(text, str) else list(np.ravel(
+        tokens = row_tokens(text) if isinstance(text, str) else list(np.ravel(
             np.array(text, dtype=object)))
         values = np.array([float(t) if isinstance(t, str) else as_real(t, what) for t in tokens])
     except (TypeError, ValueError):
@@ -635,7 +541,7 @@ def _numbers(text: Any, count: int, what: str) -> FloatArray:
 def _tool_pose(text: Any) -> FloatArray:
     """The tool ``T_n_tcp`` from "x y z" or "x y z roll pitch yaw" (degrees)."""
     try:
-        tokens = _row_tokens(text) if isinstance(text, str) else list(np.ravel(
+        tokens = row_tokens(text) if isinstance(text, str) else list(np.ravel(
             np.array(text, dtype=object)))
     except (TypeError, ValueError):
         raise InputError(f"the tool must be 3 or 6 numbers, got {text!r:.80}") from None
@@ -879,8 +785,12 @@ class DHPanel:
         self._out = w.HTML()
         self._image = w.Image(format="png", layout=w.Layout(max_width="100%"))
         help_text = w.HTML("<b>Your own arm</b>: one row per joint, <code>type d a alpha "
-                           "offset</code> (R or P; lengths in your units, angles in degrees); "
-                           "press Solve for every IK solution of the target, drawn.")
+                           "offset</code> (R or P; lengths in your units, angles in degrees "
+                           "or with pi: <code>-90</code>, <code>-90°</code>, "
+                           "<code>-pi/2</code>), or paste a table with a header row naming "
+                           "its columns in any order (<code>| joint | θ | d | a | α |</code>,"
+                           " joint variables such as <code>q2 + 90°</code>); press Solve for "
+                           "every IK solution of the target, drawn.")
         self._widget = w.VBox([help_text, self._example, *self._fields.values(), button,
                                self._out,
                                self._image], layout=w.Layout(max_width="100%"))

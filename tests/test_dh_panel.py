@@ -90,6 +90,63 @@ def test_bad_rows_name_the_line_and_column(text, match):
         widgets.arm_from_table(text)
 
 
+#: The Puma 560 as books and data sheets print it (issue 28 item 8): columns in another
+#: order under a header, joint variables, pi/2, degrees marked ° or deg, Greek letters.
+BOOK_TABLES = [
+    "| joint | theta | d | a | alpha |\n|---|---|---|---|---|\n"
+    "| 1 | q1 | 0.67183 | 0 | pi/2 |\n| 2 | q2 | 0 | 0.4318 | 0 |\n"
+    "| 3 | q3 | 0.15005 | 0.0203 | -pi/2 |\n| 4 | q4 | 0.4318 | 0 | pi/2 |\n"
+    "| 5 | q5 | 0 | 0 | -pi/2 |\n| 6 | q6 | 0 | 0 | 0 |",
+    "i  α_{i}   a_i     d_i      θ_i\n1  90°     0       0.67183  θ1\n2  0°      0.4318  0        θ2\n"
+    "3  -90°    0.0203  0.15005  θ3\n4  90°     0       0.4318   θ4\n5  -90°    0       0        θ5\n"
+    "6  0°      0       0        θ6",
+    "θ ; d ; a ; α (rad)\nq1 ; 0,67183 ; 0 ; 1.5707963267948966\nq2 ; 0 ; 0,4318 ; 0\n"
+    "q3 ; 0,15005 ; 0,0203 ; -π/2\nq4 ; 0,4318 ; 0 ; π/2\nq5 ; 0 ; 0 ; -π/2\nq6 ; 0 ; 0 ; 0",
+    "type d a alpha\nR 0.67183 0 90 deg\nR 0 0.4318 0\nR 0.15005 0.0203 -90 deg\n"
+    "R 0.4318 0 90deg\nR 0 0 -90 deg\nR 0 0 0",
+]
+
+
+@pytest.mark.parametrize("text", BOOK_TABLES)
+def test_tables_as_books_print_them(text):
+    arm = widgets.arm_from_table(text, units="m")
+    assert arm.n == 6 and arm.joint_types == "RRRRRR"
+    Q = np.random.default_rng(3).uniform(-pi, pi, size=(20, 6))
+    assert np.abs(arm.fk(Q) - PUMA.fk(Q)).max() < 1e-12
+
+
+def test_joint_variables_carry_offsets_and_the_joint_type():
+    """q2 + 90° is a revolute joint with an offset; d3 in the d column a prismatic joint."""
+    arm = widgets.arm_from_table("| θ | d | a | α |\n|--|--|--|--|\n| θ1 | 0.5 | 0 | -90° |\n"
+                                 "| θ2 + 90° | 0 | 0.3 | 0 |\n| 0 | d3 | 0 | 0 |\n"
+                                 "| theta_4 - pi/2 | 0 | 0 | 0 |")
+    ref = SerialArm((Link(d=0.5, alpha=-pi / 2), Link(a=0.3, offset=pi / 2), Link("P"),
+                     Link(offset=-pi / 2)))
+    assert arm.joint_types == "RRPR"
+    Q = np.random.default_rng(4).uniform(-1, 1, size=(10, 4))
+    assert np.abs(arm.fk(Q) - ref.fk(Q)).max() < 1e-12
+    typed = widgets.arm_from_table("type alpha a d offset\nP 0 0 0.2 0.1\nR -pi/2 0.4 0 45")
+    ref = SerialArm((Link("P", d=0.2, offset=0.1), Link(a=0.4, alpha=-pi / 2, offset=pi / 4)))
+    assert np.abs(typed.fk(Q[:, :2]) - ref.fk(Q[:, :2])).max() < 1e-12
+
+
+@pytest.mark.parametrize("text, match", [
+    ("theta d a alpha\nq1 0 1 ninety", r"line 2 .*column alpha = 'ninety' is not a number: "
+                                         r"write a number of degrees \(90, -90°, 90 deg\)"),
+    ("theta d a alpha\nq1 d1 1 0", r"line 2 .*column d = 'd1', a symbol: write its value"),
+    ("theta d a alpha\n0 0 1 0", r"line 2 .*no joint variable: write the joint variable"),
+    ("theta d a alpha\nq1 0 1", r"line 2 .*3 values under a header of 4 columns"),
+    ("theta d a beta\nq1 0 1 0", r"column 'beta' is not one rikin knows; name the columns"),
+    ("R 0 __import__('os').getcwd() 0", r"line 1 .*column a = .* is not a number: write a "
+                                         r"number in the arm's units"),
+    ("R 0 2**999 0", r"column a = '2\*\*999' is not a number"),
+    ("R 0 pi/2 0", r"column a = 'pi/2' is an angle"),
+])
+def test_a_refusal_says_which_cell_and_how_to_write_it(text, match):
+    with pytest.raises(InputError, match=match):
+        widgets.arm_from_table(text)
+
+
 def test_panel_gives_every_solution_of_the_typed_joints():
     panel = widgets.dh_panel()
     st = panel.state
