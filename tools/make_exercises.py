@@ -207,8 +207,9 @@ def install_cell():
     Not pinned to a wheel's sha256 (that changes with every edit of rikin/, and exercises/ is
     in git): it asks the book's manifest. The book build pins the copies it publishes.
     """
-    cell = rikin_site.install_cell(rikin_site.read_base_url(CONFIG_FILE),
-                                   rikin_site.read_version())
+    base = rikin_site.read_base_url(CONFIG_FILE)
+    cell = rikin_site.install_cell(base, rikin_site.read_version(),
+                                   page=base + rikin_site.EXERCISES_PAGE)
     return nbformat.from_dict(cell)
 
 

@@ -28,8 +28,12 @@ Loaded from ``_config.yml`` (``sphinx.local_extensions``). It does two things:
 
 from __future__ import annotations
 
+import html
 import importlib.util
 import json
+import os
+import posixpath
+import re
 import shutil
 import sys
 from pathlib import Path
@@ -41,7 +45,8 @@ from sphinx.errors import ExtensionError
 from sphinx.util import logging
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import rikin_site  # noqa: E402  (next to this file; standard library only)
+import rikin_markdown  # noqa: E402  (next to this file; standard library only)
+import rikin_site  # noqa: E402
 
 LOGGER = logging.getLogger(__name__)
 
@@ -142,17 +147,135 @@ def build_rikin_dists(app: Sphinx) -> None:
                 manifest["wheel"]["file"], manifest["wheel"]["sha256"], base)
 
 
-def _install_cell(app: Sphinx, extras: tuple[str, ...] = ()) -> nbformat.NotebookNode:
+def _install_cell(app: Sphinx, extras: tuple[str, ...] = (),
+                  page: str | None = None) -> nbformat.NotebookNode:
     info = app.env.rikin_install
     cell = rikin_site.install_cell(info["book"], info["version"], info["wheel"], extras=extras,
-                                   extra_tags=("remove-cell",))
+                                   extra_tags=("remove-cell",), page=page)
     return nbformat.from_dict(cell)
+
+
+class BookLinks:
+    """The book's cross-references as links to the hosted book (a ``rikin_markdown.Resolve``).
+
+    ``links(role, target, text)`` -> (text shown, URL) for ``{numref}``, ``{ref}``,
+    ``{doc}``, ``{term}``, ``{eq}`` and ``{download}`` as they appear on page ``docname``;
+    None where Sphinx knows no such target.
+    """
+
+    def __init__(self, app: Sphinx, docname: str) -> None:
+        self.app, self.env, self.docname = app, app.env, docname
+        self.base = app.env.rikin_install["book"]
+        self.std: Any = app.env.get_domain("std")
+
+    def url(self, docname: str, anchor: str = "") -> str:
+        return self.base + self.app.builder.get_target_uri(docname) + (
+            f"#{anchor}" if anchor else "")
+
+    def __call__(self, role: str, target: str, text: str | None) -> rikin_markdown.Link | None:
+        how = {"numref": self.numref, "ref": self.ref, "doc": self.doc, "term": self.term,
+               "eq": self.eq, "download": self.download}.get(role)
+        return how(target, text) if how else None
+
+    def _label(self, label: str) -> tuple[str, str] | None:
+        found = self.std.labels.get(label) or self.std.anonlabels.get(label)
+        return (found[0], found[1]) if found else None
+
+    def numref(self, label: str, text: str | None) -> rikin_markdown.Link | None:
+        found = self._label(label)
+        if found is None:
+            return None
+        doc, anchor = found
+        numbers = self.env.toc_fignumbers.get(doc, {})
+        for kind in ("figure", "table", "code-block", "section"):
+            number = numbers.get(kind, {}).get(anchor)
+            if number:
+                n = ".".join(map(str, number))
+                fmt = text or self.app.config.numfig_format.get(kind, "%s")
+                return fmt.replace("{number}", n).replace("%s", n), self.url(doc, anchor)
+        return text or label, self.url(doc, anchor)
+
+    def ref(self, label: str, text: str | None) -> rikin_markdown.Link | None:
+        found = self.std.labels.get(label)
+        if found:
+            return text or found[2] or label, self.url(found[0], found[1])
+        anon = self.std.anonlabels.get(label)
+        return (text or label, self.url(anon[0], anon[1])) if anon else None
+
+    def doc(self, target: str, text: str | None) -> rikin_markdown.Link | None:
+        doc = target.lstrip("/") if target.startswith("/") else posixpath.normpath(
+            posixpath.join(posixpath.dirname(self.docname), target))
+        doc = doc.removesuffix(".md")
+        if doc not in self.env.titles:
+            return None
+        return text or self.env.titles[doc].astext(), self.url(doc)
+
+    def term(self, name: str, text: str | None) -> rikin_markdown.Link | None:
+        for (kind, term), (doc, anchor) in self.std.objects.items():
+            if kind == "term" and term.lower() == name.lower():
+                return text or name, self.url(doc, anchor)
+        return None
+
+    def eq(self, label: str, text: str | None) -> rikin_markdown.Link | None:
+        math: Any = self.env.get_domain("math")
+        found = math.equations.get(label)
+        if not found:
+            return None
+        return text or f"({found[1]})", self.url(found[0], f"equation-{label}")
+
+    def download(self, target: str, text: str | None) -> rikin_markdown.Link | None:
+        rel, _ = self.env.relfn2path(target, self.docname)
+        found = self.env.dlfiles.get(rel)
+        if not found:
+            return None
+        name = posixpath.basename(rel)
+        if name.endswith(".ipynb"):  # published at a stable address too
+            return text or name, f"{self.base}{rikin_site.EXERCISES_PATH}/{name}"
+        return text or name, f"{self.base}_downloads/{found[1]}"
+
+
+def _glued(nb: nbformat.NotebookNode) -> rikin_markdown.Glue:
+    """The values a notebook glued (``myst_nb.glue``), as text."""
+    text: dict[str, str] = {}
+    for cell in nb.cells:
+        for out in cell.get("outputs", []):
+            name = out.get("metadata", {}).get("scrapbook", {}).get("name")
+            if name:
+                data = out.get("data", {})
+                plain = [v for k, v in data.items() if k.endswith("text/plain")]
+                if plain:
+                    text[name] = str(plain[0]).strip("'\"")
+    return rikin_markdown.Glue(text)
+
+
+def jupyter_markdown(nb: nbformat.NotebookNode, links: rikin_markdown.Resolve) -> None:
+    """A chapter's executed notebook as Jupyter reads it (in place).
+
+    Every markdown cell in plain Jupyter Markdown (:mod:`rikin_markdown`); after every cell
+    that draws a numbered figure, a markdown cell with the figure's number and caption
+    (the book shows them under the figure; the notebook's own run draws it).
+    """
+    glue = _glued(nb)
+    cells = []
+    for cell in nb.cells:
+        if cell.cell_type == "markdown":
+            cell.source = rikin_markdown.to_jupyter(cell.source, links, glue).strip("\n")
+        cells.append(cell)
+        figure = cell.get("metadata", {}).get("mystnb", {}).get("figure", {})
+        if cell.cell_type == "code" and figure.get("caption"):
+            caption = rikin_markdown.to_jupyter(
+                str(figure["caption"]).strip(), links, glue).strip()
+            found = links("numref", figure["name"], None) if figure.get("name") else None
+            head = f"**{found[0]}.** " if found else ""
+            cells.append(nbformat.v4.new_markdown_cell(head + caption))
+    nb.cells = cells
 
 
 def publish_notebook(
     app: Sphinx, pagename: str, templatename: str, context: dict[str, Any], doctree: Any
 ) -> None:
-    """Copy the executed notebook of a page to ``_sources/`` and announce it to the theme."""
+    """Publish the executed notebook of a page as ``_sources/<page>.ipynb``, in Jupyter
+    Markdown and with its install cell, and announce it to the theme's download button."""
     if doctree is None or app.builder.format != "html":
         return
     executed = Path(app.outdir).parent / "jupyter_execute" / f"{pagename}.ipynb"
@@ -161,7 +284,9 @@ def publish_notebook(
     nb = nbformat.read(executed, as_version=4)
     for key in ("jupytext", "source_map"):  # build-time metadata, noise for a reader
         nb.metadata.pop(key, None)
-    nb.cells.insert(0, _install_cell(app, rikin_site.CHAPTER_EXTRAS))
+    jupyter_markdown(nb, BookLinks(app, pagename))
+    page = BookLinks(app, pagename).url(pagename)
+    nb.cells.insert(0, _install_cell(app, rikin_site.CHAPTER_EXTRAS, page=page))
     out = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"
     out.parent.mkdir(parents=True, exist_ok=True)
     nbformat.write(_with_ids(nb), out)
@@ -182,7 +307,7 @@ def pin_downloaded_notebooks(app: Sphinx, exc: Exception | None) -> None:
     stable = Path(app.outdir) / rikin_site.EXERCISES_PATH
     for path in sorted((Path(app.outdir) / "_downloads").rglob("*.ipynb")):
         data = json.loads(path.read_text(encoding="utf-8"))
-        cell = json.loads(json.dumps(_install_cell(app)))
+        cell = json.loads(json.dumps(_install_cell(app, page=_download_page(app, path))))
         cells = data.get("cells", [])
         at = [i for i, c in enumerate(cells)
               if rikin_site.INSTALL_TAG in c.get("metadata", {}).get("tags", [])]
@@ -199,12 +324,73 @@ def pin_downloaded_notebooks(app: Sphinx, exc: Exception | None) -> None:
         (stable / path.name).write_text(text, encoding="utf-8")
 
 
+def _download_page(app: Sphinx, path: Path) -> str | None:
+    """The URL of the page that offers the downloaded file at ``path`` (None if unknown)."""
+    dest = path.relative_to(Path(app.outdir) / "_downloads").as_posix()
+    for docnames, found in app.env.dlfiles.values():
+        if found == dest and docnames:
+            return BookLinks(app, sorted(docnames)[0]).url(sorted(docnames)[0])
+    return None
+
+
 def _with_ids(nb: nbformat.NotebookNode) -> nbformat.NotebookNode:
     """Give every cell a deterministic id (nbformat 4.5), so rebuilds write identical files."""
     nb.nbformat, nb.nbformat_minor = 4, max(int(nb.get("nbformat_minor", 5)), 5)
     for i, cell in enumerate(nb.cells):
         cell["id"] = f"cell-{i:03d}"
     return nb
+
+
+def _launch_html(app: Sphinx, path: str, download: str | None, what: str) -> str:
+    """Links that open the published notebook at ``path`` (in the site) with one click."""
+    repo = rikin_site.read_launch_repository(app.config.rikin_launch_repository,
+                                             "_config.yml sphinx.config.rikin_launch_repository")
+    links = [f'<a class="rikin-launch-{name.split()[0].lower()}" href="{html.escape(url)}" '
+             f'target="_blank" rel="noopener">{html.escape(name)}</a>'
+             for name, url in (rikin_site.launch_links(repo, path).items() if repo else ())]
+    if download:
+        links.append(f'<a href="{html.escape(download)}" download>download the notebook '
+                     "(.ipynb)</a>")
+    tail = "" if repo else " and open it in Jupyter, JupyterLab or Colab (File → Upload notebook)"
+    return (f'<p class="rikin-launch" style="margin:.2em 0 1em">Run {what} yourself: '
+            + " · ".join(links) + tail + "</p>")
+
+
+def _preview_banner(app: Sphinx) -> str:
+    base = app.env.rikin_install["book"]
+    if not rikin_site.is_loopback(base):
+        return ""
+    return ('<div class="rikin-preview-banner" role="note" style="border-left:4px solid '
+            'var(--pst-color-danger, #c00);padding:.4em .8em;margin:0 0 1em">'
+            f"<b>Not for publishing.</b> {html.escape(rikin_site.loopback_warning(base))}</div>")
+
+
+#: A download link to an exercise notebook in a page's HTML (Sphinx's ``{download}`` role).
+_DOWNLOAD_LINK = re.compile(r'(<a class="reference download internal"[^>]*href="(?P<href>'
+                            r'[^"]*_downloads/[^"]*/(?P<name>[\w.-]+\.ipynb))"[^>]*>.*?</a>)',
+                            re.S)
+
+
+def add_launch_links(
+    app: Sphinx, pagename: str, templatename: str, context: dict[str, Any], doctree: Any
+) -> None:
+    """On every page: the preview banner of a loopback build; on a page published as a
+    notebook, its launch links; after every exercise download link, that exercise's."""
+    if app.builder.format != "html" or "body" not in context:
+        return
+    top = _preview_banner(app)
+    if context.get("ipynb_source"):
+        path = f"_sources/{context['ipynb_source']}"
+        top += _launch_html(app, path, context.get("pathto", lambda p, _=1: p)(path, 1),
+                            "this page")
+
+    def with_links(m: re.Match[str]) -> str:
+        path = f"{rikin_site.EXERCISES_PATH}/{m['name']}"
+        return m[1] + " " + _launch_html(app, path, None, m["name"]).replace(
+            '<p class="rikin-launch" style="margin:.2em 0 1em">', "<span class=\"rikin-launch\">"
+        ).replace("</p>", "</span>")
+
+    context["body"] = top + _DOWNLOAD_LINK.sub(with_links, context["body"])
 
 
 def drop_thebe_scripts(
@@ -226,6 +412,10 @@ def drop_thebe_scripts(
 
 
 def setup(app: Sphinx) -> dict[str, Any]:
+    # the kernels that execute the chapters inherit this: their interactive figures carry
+    # no plotly.js (the pages load it from _static; see rikin.interactive.BOOK_BUILD_ENV)
+    os.environ[_interactive().BOOK_BUILD_ENV] = "1"
+    app.add_config_value("rikin_launch_repository", "", "html")
     app.connect("config-inited", set_mathjax_path)
     app.connect("config-inited", add_book_static)
     app.add_css_file(BOOK_CSS)
@@ -236,5 +426,6 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("html-page-context", add_plotly)  # before drop_thebe_scripts (900)
     # before sphinx-book-theme's header buttons (priority 501), which read ipynb_source
     app.connect("html-page-context", publish_notebook, priority=500)
+    app.connect("html-page-context", add_launch_links, priority=510)
     app.connect("html-page-context", drop_thebe_scripts, priority=900)
     return {"version": "1.0", "parallel_read_safe": True, "parallel_write_safe": True}
