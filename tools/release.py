@@ -3,6 +3,9 @@
 
     python3 tools/release.py 0.2.0 [--date 2026-12-24]
 
+Refused at once when ``html.baseurl`` in ``_config.yml`` is a loopback address (the default
+local preview, ``http://127.0.0.1:8000/``): the book a release builds is for publishing.
+
 1. ``CHANGELOG.md``: the entries under ``## [Unreleased]`` become ``## [0.2.0] - <date>``
    (refused when there are none: a release says what changed), and a new empty
    ``## [Unreleased]`` goes on top.
@@ -34,6 +37,7 @@ ROOT = Path(__file__).resolve().parent.parent
 CHANGELOG = ROOT / "CHANGELOG.md"
 INIT = ROOT / "rikin" / "__init__.py"
 DIST = ROOT / "dist"
+CONFIG = ROOT / "_config.yml"
 VERSION_RE = re.compile(r"^\d+\.\d+\.\d+(?:(?:a|b|rc)\d+)?$")
 
 sys.path.insert(0, str(ROOT / "book" / "_ext"))
@@ -83,9 +87,21 @@ def _venv_python() -> Path:
     return dev.PY
 
 
+def check_public_url(config: Path) -> str:
+    """html.baseurl of ``config``, refused when only this computer can reach it."""
+    base = rikin_site.read_base_url(config)
+    if rikin_site.is_loopback(base):
+        raise ReleaseError(f"html.baseurl is {base}, a loopback address: the released book's "
+                           "notebooks would install rikin from this computer only. Set it in "
+                           "_config.yml to the public URL the book will be served from "
+                           "(README: Hosting the book)")
+    return base
+
+
 def release(version: str, date: str) -> dict:
     if not VERSION_RE.match(version):
         raise ReleaseError(f"{version!r} is not a version like 1.2.3 (or 1.2.3rc1)")
+    check_public_url(CONFIG)
     current = rikin_site.read_version()
     if _key(version) < _key(current):
         raise ReleaseError(f"{version} is older than the current version {current}")
