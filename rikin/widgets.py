@@ -31,6 +31,8 @@ from __future__ import annotations
 import html
 import importlib
 import io
+import math
+import re
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -58,6 +60,45 @@ __all__ = ["DHPanel", "EXAMPLES", "IKPanel", "PUMA560_TABLE", "TeachPanel", "arm
 
 #: Pixel density of the redrawn figure.
 DPI = 80
+#: The panels' drawings are sized for a 1000 px notebook column (JupyterLab on a 1366 x 768
+#: laptop screen with its file browser open): at most this wide, in inches at DPI (960 px).
+DRAWING_WIDTH = 12.0
+#: One solution's drawing at most this wide (inches): one or two solutions are not blown up.
+PANEL_MAX = 3.6
+#: The teach pendant's drawing and the drawing of a target out of reach (inches).
+SMALL_DRAWING = 4.8
+
+
+def _solutions_figsize(width: float, k: int) -> tuple[tuple[float, float], int]:
+    """(figsize, columns) for k solutions side by side within ``width`` inches."""
+    cols = min(k, 4)
+    rows = -(-k // cols)
+    panel = min(width / cols, PANEL_MAX)
+    return (panel * cols, panel * 1.15 * rows + 0.5), cols
+
+
+def plain_unreachable(exc: UnreachableError) -> str:
+    """An UnreachableError in plain words, how far first.
+
+    "out of reach by 451.4 mm: the wrist centre is 951.4 mm from the shoulder axis, links
+    2-3 reach 500 mm" (the arm's name, "target is unreachable" and the note on rounded
+    poses are left out: the panel says them elsewhere, or they are not for a slider).
+    """
+    units = f" {exc.units}" if getattr(exc, "units", "") else ""
+    text = re.sub(r"^.*?target is unreachable:\s*", "", str(exc))
+    text = re.sub(r"\s*\(a pose up to [^()]* off is taken as rounded[^()]*\)", "", text)
+    m = re.match(r"(?P<what>.+?) is [\d.eE+-]+(?: \w+)? beyond the reach of (?P<links>links "
+                 r"[\d-]+) \((?:it is (?P<dist>[\d.eE+-]+)(?: \w+)? from the (?P<from>[^;]+)|"
+                 r"distance (?P<dist2>[\d.eE+-]+) from (?P<from2>[^,]+)); (?:links [\d-]+ )?"
+                 r"reach (?P<reach>[\d.eE+-]+)(?: \w+)?\)$", text.replace(", reach", "; reach"))
+    if m:
+        dist = float(m["dist"] or m["dist2"])
+        where = f"the {m['from']}" if m["from"] else m["from2"]
+        text = (f"{m['what']} is {dist:.4g}{units} from {where}, "
+                f"{m['links']} reach {float(m['reach']):.4g}{units}")
+    excess = float(getattr(exc, "excess", float("nan")))
+    head = f"out of reach by {excess:.4g}{units}" if math.isfinite(excess) else "out of reach"
+    return f"{head}: {text}" if text else head
 
 
 def _ipywidgets() -> Any:
@@ -210,7 +251,7 @@ class IKPanel:
     """The lab's pose panel: target sliders, every IK solution drawn live (see :func:`ik_panel`)."""
 
     def __init__(self, arm: SerialArm, values: dict[str, float] | None = None,
-                 width: float = 9.0) -> None:
+                 width: float = DRAWING_WIDTH) -> None:
         _check_arm(arm)
         self.arm = arm
         self.spec = pose_sliders_for(arm)
@@ -284,9 +325,7 @@ class IKPanel:
             res = self.arm.ik(T)
         except UnreachableError as exc:
             units = getattr(exc, "units", "") or ""
-            ex = float(exc.excess)
-            return IKState(T, None, f"unreachable: {ex:.4g} {units} out of reach. {exc}".replace(
-                "  ", " "), ex, units)
+            return IKState(T, None, plain_unreachable(exc), float(exc.excess), units)
         except RikinError as exc:
             return IKState(T, None, f"no solution: {exc}")
         n = len(res)
@@ -303,19 +342,16 @@ class IKPanel:
 
         st = self.state
         if st.result is not None:
-            k = len(st.result)
-            cols = min(k, 4)
-            rows = -(-k // cols)
-            return plot_solutions(self.arm, st.result, ncols=cols,
-                                  figsize=(self.width, self.width / cols * 1.15 * rows + 0.4))
+            size, cols = _solutions_figsize(self.width, len(st.result))
+            return plot_solutions(self.arm, st.result, ncols=cols, figsize=size)
         ax = plot_arm(self.arm, np.zeros(self.arm.n), frames=False,
-                      title=f"{self.arm.name}: target out of reach (the arm at q = 0 for scale)")
+                      title=f"{self.arm.name}: target out of reach\n(the arm at q = 0 for scale)")
         p = st.target[:3, 3]
         three_d = ax.name == "3d"
         ax.plot(*p[:3 if three_d else 2], "o", ms=13, mfc="none", mec="tab:red", mew=2.0,
                 ls="none", gid="target")
         fig = ax.figure
-        fig.set_size_inches(self.width * 0.6, self.width * 0.6)
+        fig.set_size_inches(SMALL_DRAWING, SMALL_DRAWING)
         return fig
 
     def table_html(self) -> str:
@@ -358,12 +394,16 @@ class IKPanel:
                               layout=w.Layout(width="100%"))
             s.observe(self._on_slider, names="value")
             self._sliders[name] = s
-        self._image = w.Image(format="png", layout=w.Layout(max_width="100%"))
-        self._table = w.HTML()
+        self._image = w.Image(format="png", layout=w.Layout(max_width="100%", height="auto"))
+        self._table = w.HTML(layout=w.Layout(max_width="100%", overflow="auto"))
+        # the sliders side by side where the column is wide (x y z / roll pitch yaw in a
+        # 1000 px column), one under the other where it is not
+        grid = w.GridBox(list(self._sliders.values()), layout=w.Layout(
+            grid_template_columns="repeat(auto-fill, minmax(290px, 1fr))", width="100%"))
         box = w.VBox([w.HTML(f"<b>{html.escape(self.arm.name)}</b>: move the target; every IK "
                              "solution is drawn with its branch"),
-                      *self._sliders.values(), self._table, self._image],
-                     layout=w.Layout(max_width="100%"))
+                      grid, self._table, self._image],
+                     layout=w.Layout(width="100%", max_width="100%"))
         self._widget = box
         self._refresh()
         return box
@@ -380,7 +420,7 @@ class IKPanel:
 class TeachPanel:
     """The lessons' ``teach()``: joint sliders, the arm drawn by FK (see :func:`teach`)."""
 
-    def __init__(self, arm: SerialArm, q: Any = None, width: float = 6.0) -> None:
+    def __init__(self, arm: SerialArm, q: Any = None, width: float = SMALL_DRAWING) -> None:
         _check_arm(arm)
         self.arm = arm
         self.width = float(as_positive(width, "width"))  # type: ignore[arg-type]
@@ -459,10 +499,14 @@ class TeachPanel:
                               layout=w.Layout(width="100%"))
             s.observe(self._on_slider, names="value")
             self._sliders.append(s)
-        self._image = w.Image(format="png", layout=w.Layout(max_width="100%"))
+        self._image = w.Image(format="png", layout=w.Layout(max_width="100%", height="auto",
+                                                              flex="0 1 auto"))
         self._readout = w.HTML()
-        self._widget = w.VBox([*self._sliders, self._readout, self._image],
-                              layout=w.Layout(max_width="100%"))
+        # the sliders beside the drawing (and under it where the column is narrow)
+        controls = w.VBox([*self._sliders, self._readout],
+                          layout=w.Layout(flex="1 1 300px", min_width="260px", max_width="100%"))
+        self._widget = w.HBox([controls, self._image], layout=w.Layout(
+            flex_flow="row wrap", align_items="flex-start", width="100%", max_width="100%"))
         self._refresh()
         return self._widget
 
@@ -596,7 +640,8 @@ class DHPanel:
 
     def __init__(self, table: str = PUMA560_TABLE, convention: str = "standard",
                  units: str = "m", target: Any = "20 -30 40 10 50 60", mode: str = "joints",
-                 tool: Any = "0 0 0", name: str = "your arm", width: float = 12.0) -> None:
+                 tool: Any = "0 0 0", name: str = "your arm",
+                 width: float = DRAWING_WIDTH) -> None:
         self.inputs: dict[str, Any] = {"table": table, "convention": convention,
                                        "units": units, "target": target, "mode": mode,
                                        "tool": tool, "name": name}
@@ -703,17 +748,14 @@ class DHPanel:
         if st.arm is None:
             return None
         if st.result is not None and len(st.result):
-            k = len(st.result)
-            cols = min(k, 4)
-            rows = -(-k // cols)
-            return plot_solutions(st.arm, st.result, ncols=cols,
-                                  figsize=(self.width, self.width / cols * 1.15 * rows + 0.4))
+            size, cols = _solutions_figsize(self.width, len(st.result))
+            return plot_solutions(st.arm, st.result, ncols=cols, figsize=size)
         q = st.numerical.q if st.numerical is not None and st.numerical.success else None
         title = ("ik_numerical's solution" if q is not None else "the arm at q = 0")
         ax = plot_arm(st.arm, np.zeros(st.arm.n) if q is None else q, frames=True,
                       title=f"{st.arm.name}: {title}")
         fig: Any = ax.get_figure(root=True)
-        fig.set_size_inches(self.width * 0.6, self.width * 0.6)
+        fig.set_size_inches(SMALL_DRAWING, SMALL_DRAWING)
         return fig
 
     def static_html(self, alt: str = "") -> str:

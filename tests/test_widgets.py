@@ -6,6 +6,8 @@ check what the panel then shows (the image bytes, the table, the words).
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -52,8 +54,12 @@ def test_ik_panel_says_how_far_out_of_reach():
     panel._sliders["x"].value = panel._sliders["x"].max
     st = panel.state
     assert st.result is None and st.excess is not None and st.excess > 0
-    assert st.message.startswith("unreachable: ") and f"{st.excess:.4g}" in st.message
-    assert "unreachable" in panel._table.value
+    assert st.message.startswith(f"out of reach by {st.excess:.4g}: "), st.message
+    # in plain words: how far, where the wrist centre is, what links 2-3 reach; said once,
+    # with no note on rounded poses
+    assert re.fullmatch(r"out of reach by [\d.]+: the wrist centre is [\d.]+ from the shoulder "
+                        r"axis, links 2-3 reach 30", st.message), st.message
+    assert st.message in panel._table.value
     assert panel._image.value != before        # the drawing changed (the arm, no solutions)
 
 
@@ -83,3 +89,49 @@ def test_teach_moves_the_arm_by_fk():
         assert np.isclose(s.min, lim[0]) and np.isclose(s.max, lim[1])
     with pytest.raises(rikin.InputError, match="no joint"):
         panel.set(q7=1.0)
+
+
+# ------------------------------------------------------------------ laid out for a notebook
+#: A notebook column on a 1366 x 768 laptop screen (JupyterLab, file browser open).
+COLUMN_PX = 1000
+
+
+def _title_boxes(fig):
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    return [ax.title.get_window_extent(renderer) for ax in fig.axes if ax.get_title()]
+
+
+@pytest.mark.parametrize("make", [robots.aula10_6r, robots.epson_c4, robots.barrientos_6r,
+                                  robots.angular_3r, robots.planar_3r, robots.pprrr])
+def test_panel_drawings_fit_a_notebook_column_without_overlap(make):
+    """Issue 28 item 7: every solution's title stays clear of its neighbours' and inside the
+    drawing, and the drawing is no wider than a 1000 px column (at the panel's DPI)."""
+    import matplotlib.pyplot as plt
+
+    panel = widgets.ik_panel(make())
+    for fig in (panel.figure(), widgets.dh_panel().figure()):
+        width_px = fig.get_size_inches()[0] * widgets.DPI
+        assert 300 <= width_px <= COLUMN_PX - 40, width_px
+        boxes = _title_boxes(fig)
+        assert len(boxes) >= 1
+        for i, a in enumerate(boxes):
+            assert a.x0 >= -1 and a.x1 <= fig.bbox.x1 + 1, (i, a, fig.bbox)
+            for j, b in enumerate(boxes[i + 1:], i + 1):
+                assert not a.overlaps(b), f"titles {i + 1} and {j + 1} overlap: {a} {b}"
+        plt.close(fig)
+
+
+def test_small_drawings_are_small():
+    """The teach pendant's drawing fits beside its sliders; the out-of-reach drawing is
+    not bigger than the solutions' drawing it replaces."""
+    import matplotlib.pyplot as plt
+
+    fig = widgets.teach(robots.epson_c4()).figure()
+    assert fig.get_size_inches()[0] * widgets.DPI <= 400
+    far = widgets.ik_panel(robots.epson_c4(), x=900.0, y=0.0, z=900.0, roll=0.0, pitch=0.0,
+                           yaw=0.0)
+    fig2 = far.figure()
+    assert far.state.result is None and fig2.get_size_inches()[0] * widgets.DPI <= 400
+    plt.close(fig)
+    plt.close(fig2)

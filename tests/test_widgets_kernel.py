@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import queue
+import re
 import sys
 import time
 from collections.abc import Iterator
@@ -155,7 +156,8 @@ def test_ik_panel_in_a_live_kernel_says_out_of_reach_in_words(kernel: Any) -> No
     x_max = models[x_id]["max"]
     answer = _drag(kernel, x_id, x_max)
     said = _said(answer)
-    assert "unreachable:" in said and "mm out of reach" in said, said
+    assert re.search(r"out of reach by [\d.]+ mm: the wrist centre is [\d.]+ mm from the "
+                     r"shoulder axis, links 2-3 reach 500 mm", said), said
 
 
 @pytest.mark.slow
@@ -176,3 +178,59 @@ def test_kernel_runs_this_interpreter() -> None:
     spec = KernelSpecManager().get_kernel_spec("python3")
     assert spec.argv[0] in (sys.executable, "python", "python3") or os.path.samefile(
         spec.argv[0], sys.executable), spec.argv
+
+
+# ------------------------------------------------------------------ a page without widgets
+def _refuse(kc: Any, comm_id: str) -> list[dict[str, Any]]:
+    """What JupyterLab without the widget manager sends for a widget's comm_open: a
+    comm_close (it has no handler for the target); the kernel's answer."""
+    msg = kc.session.msg("comm_close", {"comm_id": comm_id, "data": {}})
+    kc.shell_channel.send(msg)
+    return _iopub_until_idle(kc, msg["header"]["msg_id"])
+
+
+@pytest.mark.slow
+def test_a_panel_on_a_page_without_widgets_is_its_still_picture(kernel: Any) -> None:
+    """Issue 28 item 1: the output carries the widget and, for a page that cannot show
+    widgets, the panel's picture with one line saying to reload; when the page refuses the
+    widget's comm, the kernel replaces the output by the picture alone (no dead widget is
+    left in the notebook for after the reload)."""
+    for code in ("widgets.ik_panel(arm)", "widgets.teach(arm)", "widgets.dh_panel()"):
+        msgs = _run(kernel, code)
+        (shown,) = [m for m in msgs if m["msg_type"] == "display_data"]
+        data = shown["content"]["data"]
+        assert "application/vnd.jupyter.widget-view+json" in data, code
+        assert "A still picture of the live panel" in data["text/html"], code
+        assert "reload the page" in data["text/html"] and "data:image/png;base64," in data[
+            "text/html"], code
+        assert "VBox(" not in data["text/plain"] and "HBox(" not in data["text/plain"]
+        display_id = shown["content"]["transient"]["display_id"]
+        root = data["application/vnd.jupyter.widget-view+json"]["model_id"]
+        answer = _refuse(kernel, root)
+        (update,) = [m for m in answer if m["msg_type"] == "update_display_data"]
+        assert update["content"]["transient"]["display_id"] == display_id
+        assert set(update["content"]["data"]) == {"text/html", "text/plain"}, code
+        assert 'data-refused="1"' in update["content"]["data"]["text/html"]
+
+
+@pytest.mark.slow
+def test_figures_carry_plotly_js_once_per_browser_tab(kernel: Any) -> None:
+    """A figure's HTML works without plotly's JupyterLab extension: the first figure a tab
+    (a front-end session) shows carries plotly.js, later ones do not; a reloaded tab is a
+    new session and gets it again."""
+    setup = ("from rikin import interactive\nres = arm.ik(arm.fk(np.radians([20, -30, 40, 10, "
+             "30, 0])))\nimport numpy as np\n")
+    _run(kernel, "import numpy as np\n" + setup)
+
+    def figure_html() -> str:
+        msgs = _run(kernel, "interactive.solutions_figure(arm, res)")
+        (out,) = [m for m in msgs if m["msg_type"] in ("execute_result", "display_data")]
+        assert "application/vnd.plotly.v1+json" not in out["content"]["data"]
+        return out["content"]["data"]["text/html"]
+
+    first, second = figure_html(), figure_html()
+    assert "window.Plotly" in first and "plotly.js v" in first and len(first) > 1_000_000
+    assert "plotly.js v" not in second and len(second) < 300_000
+    assert 'Plotly.newPlot' in first and 'Plotly.newPlot' in second
+    kernel.session.session = "another-tab"  # what a reloaded page sends: a new session id
+    assert "plotly.js v" in figure_html()
