@@ -294,7 +294,8 @@ def _plain_row(cell: _Cell, tokens: list[str]) -> Link:
     kinds = {"d": "length", "a": "length", "alpha": "angle",
              "offset": "angle" if joint == "R" else "length"}
     v = {k: _read(_Cell(cell.line, cell.raw, k), t, kinds[k]) for k, t in values.items()}
-    return Link(joint, d=v["d"], a=v["a"], alpha=v["alpha"], offset=v.get("offset", 0.0))
+    return Link("P" if joint == "P" else "R", d=v["d"], a=v["a"], alpha=v["alpha"],
+                offset=v.get("offset", 0.0))
 
 
 def _map_row(cell: _Cell, tokens: list[str],

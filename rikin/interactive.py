@@ -4,8 +4,10 @@ The figures are plotly figures (``pip install "rikin[interactive]"``). In the
 built book they are plain HTML: the page loads ``plotly.min.js`` from the
 book's own ``_static/`` folder (copied there from the installed plotly
 package at build time, see :func:`plotly_js`), so nothing is fetched from
-the network. In Jupyter, JupyterLab and Colab the same objects display
-through plotly's own renderer.
+the network. In a notebook (JupyterLab, Notebook 7, VS Code) they are the same
+HTML, and the first figure a browser tab shows carries plotly.js itself, so no
+front-end extension is needed: a figure works in a JupyterLab that was running
+before plotly was installed. Colab shows plotly's own output.
 
 * :func:`solutions_figure`: every IK solution of one target, one at a time
   (buttons ``1 .. k`` and ``all``), rotatable in 3D, with each solution's

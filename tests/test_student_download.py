@@ -18,6 +18,7 @@ the only rikin pip can install is the one the notebook names by URL.
 
 from __future__ import annotations
 
+import html
 import json
 import os
 import re
@@ -25,7 +26,9 @@ import shutil
 import socket
 import subprocess
 import sys
+import threading
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
@@ -41,6 +44,10 @@ CHAPTERS = ("book/planar", "book/exercises")
 EXERCISE = "scara"
 #: What the student's environment has before opening a notebook: Jupyter's pieces only.
 STUDENT_PACKAGES = ["nbclient>=0.8,<1", "ipykernel>=6.25,<8"]
+#: JupyterLab's own pieces and nothing else, as `pip install jupyterlab` gives them.
+LAB_PACKAGES = ["jupyterlab>=4.0,<5"]
+#: The launch key the test build is given (the links are checked, not followed).
+LAUNCH_REPOSITORY = "https://github.com/rikin-course/book/tree/gh-pages"
 
 # Run by the fresh venv's Python inside the sandbox: serve the site, download, execute.
 DRIVER = r'''
@@ -126,6 +133,9 @@ def _build_book(base: str, out: Path) -> Path:
     config = (ROOT / "_config.yml").read_text(encoding="utf-8")
     config, n = re.subn(r'(?m)^(\s+baseurl:\s*).*$', rf'\g<1>"{base}"', config)
     assert n == 1, "_config.yml must have exactly one html.baseurl line"
+    config, n = re.subn(r'(?m)^(\s+rikin_launch_repository:\s*).*$',
+                        rf'\g<1>"{LAUNCH_REPOSITORY}"', config)
+    assert n == 1, "_config.yml must have exactly one rikin_launch_repository line"
     # next to _config.yml: jupyter-book resolves local_extensions relative to the config's folder
     cfg = ROOT / f"_config.student-{os.getpid()}.yml"
     cfg.write_text(config, encoding="utf-8")
@@ -162,19 +172,83 @@ def _student_env(home: Path, wheelhouse: Path) -> dict[str, str]:
     return env
 
 
+@dataclass
+class Published:
+    """The book built for ``base`` (an address on 127.0.0.1), and rikin's dependencies."""
+
+    base: str
+    site: Path
+    manifest: dict
+    wheelhouse: Path
+
+
+class Background:
+    """Commands run one after the other in a thread, started now, waited for later."""
+
+    def __init__(self, *cmds: list) -> None:
+        self.error: BaseException | None = None
+        self.thread = threading.Thread(target=self._run_all, args=(cmds,), daemon=True)
+        self.thread.start()
+
+    def _run_all(self, cmds: tuple[list, ...]) -> None:
+        try:
+            for cmd in cmds:
+                _run(cmd, timeout=1200)
+        except BaseException as exc:  # noqa: BLE001 - re-raised by wait()
+            self.error = exc
+
+    def wait(self) -> None:
+        self.thread.join(timeout=1500)
+        assert not self.thread.is_alive(), "the background commands did not finish"
+        if self.error is not None:
+            raise self.error
+
+
+@pytest.fixture(scope="module")
+def lab_venv(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Background]:
+    """The student's fresh venv with only JupyterLab, made while the book builds."""
+    venv = tmp_path_factory.mktemp("lab") / "venv"
+    return venv, Background(
+        [sys.executable, "-m", "venv", venv],
+        [venv / "bin" / "python", "-m", "pip", "install", "--quiet", "--no-compile",
+         *LAB_PACKAGES])
+
+
+@pytest.fixture(scope="module")
+def published(tmp_path_factory: pytest.TempPathFactory,
+              lab_venv: tuple[Path, Background]) -> Published:
+    """Build the book as an instructor would, for a local base URL, and fetch rikin's
+    dependencies from the package index into a wheelhouse (without rikin itself)."""
+    given = os.environ.get("RIKIN_STUDENT_SITE")  # a site this fixture built before
+    if given:
+        site = Path(given)
+        cell = json.loads((site / rikin_site.EXERCISES_PATH / f"{EXERCISE}.ipynb").read_text())
+        base = re.search(r"RIKIN_BOOK = '([^']+)'", "".join(cell["cells"][0]["source"]))[1]
+    else:
+        base = f"http://127.0.0.1:{_free_port()}/"
+        site = _build_book(base, tmp_path_factory.mktemp("build"))
+    manifest = json.loads((site / rikin_site.DIST_PATH / rikin_site.MANIFEST).read_text())
+    wheel = site / rikin_site.DIST_PATH / manifest["wheel"]["file"]
+    assert rikin_site.sha256_of(wheel) == manifest["wheel"]["sha256"]
+    wheelhouse = tmp_path_factory.mktemp("wheelhouse")
+    extras = ",".join(rikin_site.CHAPTER_EXTRAS)
+    _run([sys.executable, "-m", "pip", "download", "--quiet", "--dest", wheelhouse,
+          f"rikin[{extras}] @ {wheel.as_uri()}"], timeout=900)
+    for w in wheelhouse.glob("rikin-*"):
+        w.unlink()
+    return Published(base, site, manifest, wheelhouse)
+
+
 @pytest.mark.book
 @pytest.mark.slow
-def test_downloaded_chapter_and_exercise_run_in_a_fresh_environment(tmp_path: Path) -> None:
+def test_downloaded_chapter_and_exercise_run_in_a_fresh_environment(
+        published: Published, tmp_path: Path) -> None:
     bwrap = shutil.which("bwrap")
     if bwrap is None:
         pytest.fail("bubblewrap (bwrap) is needed to cut the student's side off the network "
                     "(Debian: apt-get install bubblewrap; python3 tools/dev.py test does)")
-    base = f"http://127.0.0.1:{_free_port()}/"
-    (tmp_path / "build").mkdir()
-    site = _build_book(base, tmp_path / "build")
-    manifest = json.loads((site / rikin_site.DIST_PATH / rikin_site.MANIFEST).read_text())
-    wheel = site / rikin_site.DIST_PATH / manifest["wheel"]["file"]
-    assert rikin_site.sha256_of(wheel) == manifest["wheel"]["sha256"]
+    base, site, manifest = published.base, published.site, published.manifest
+    wheelhouse = published.wheelhouse
 
     # The student's fresh environment: only Jupyter's pieces, no rikin.
     venv = tmp_path / "venv"
@@ -183,13 +257,6 @@ def test_downloaded_chapter_and_exercise_run_in_a_fresh_environment(tmp_path: Pa
     _run([py, "-m", "pip", "install", "--quiet", *STUDENT_PACKAGES], timeout=900)
     probe = subprocess.run([py, "-c", "import rikin"], capture_output=True, text=True)
     assert probe.returncode != 0, "the fresh venv must not have rikin"
-    # rikin's dependencies, as the package index has them (fetched now, used offline below)
-    wheelhouse = tmp_path / "wheelhouse"
-    extras = ",".join(rikin_site.CHAPTER_EXTRAS)
-    _run([py, "-m", "pip", "download", "--quiet", "--dest", wheelhouse,
-          f"rikin[{extras}] @ {wheel.as_uri()}"], timeout=900)
-    for w in wheelhouse.glob("rikin-*"):
-        w.unlink()
 
     home = tmp_path / "home"
     home.mkdir()
@@ -281,3 +348,271 @@ def test_downloaded_chapter_and_exercise_run_in_a_fresh_environment(tmp_path: Pa
     assert errors, "the exercise's unfinished tasks raised nothing"
     assert {i for i, _ in errors} <= set(expected)
     assert {e for _, e in errors} == {"NotImplementedError"}, errors
+
+
+# ------------------------------------------------------------------ plain Jupyter Markdown
+def _published_notebooks(site: Path) -> list[Path]:
+    return sorted([*(site / "_sources").rglob("*.ipynb"),
+                   *(site / rikin_site.EXERCISES_PATH).glob("*.ipynb"),
+                   *(site / "_downloads").rglob("*.ipynb")])
+
+
+@pytest.mark.book
+@pytest.mark.slow
+def test_published_notebooks_are_plain_jupyter_markdown(published: Published) -> None:
+    """No MyST left in any notebook the book publishes, and every link to the book lands
+    on a page of it and an anchor that page has (issue 28 item 3)."""
+    import nbformat
+    import rikin_markdown
+
+    site, base = published.site, published.base
+    notebooks = _published_notebooks(site)
+    assert len(notebooks) >= 10, notebooks
+    left, broken = [], []
+    for path in notebooks:
+        nb = nbformat.read(path, as_version=4)
+        for cell in nb.cells:
+            if cell.cell_type != "markdown":
+                continue
+            left += [f"{path.name}: {x}" for x in rikin_markdown.myst_left(cell.source)]
+            for url in re.findall(r"\]\((" + re.escape(base) + r"[^)\s]*)\)", cell.source):
+                page, _, anchor = url[len(base):].partition("#")
+                target = site / page
+                if not target.is_file():
+                    broken.append(f"{path.name}: {url} (no such file)")
+                elif anchor and f'id="{anchor}"' not in target.read_text(encoding="utf-8"):
+                    broken.append(f"{path.name}: {url} (no such anchor)")
+    assert not left, "MyST left in published notebooks:\n" + "\n".join(left[:40])
+    assert not broken, "links to the book that land nowhere:\n" + "\n".join(broken[:40])
+
+
+# ------------------------------------------------------------------ a real JupyterLab
+#: The chapter the JupyterLab test runs: a rotatable figure and the two live panels.
+LAB_CHAPTER = "book/angular"
+
+
+def _lab_env(home: Path, wheelhouse: Path, venv: Path) -> dict[str, str]:
+    """The student's JupyterLab: a fresh HOME, the venv first on PATH, pip offline."""
+    env = _student_env(home, wheelhouse)
+    env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env.get('PATH', '')}"
+    env["VIRTUAL_ENV"] = str(venv)
+    return env
+
+
+def _download(base: str, page: str, pattern: str, dest: Path) -> str:
+    """Save the file a page links to (its first href matching ``pattern``) into ``dest``."""
+    import urllib.parse
+    import urllib.request
+
+    with urllib.request.urlopen(base + page, timeout=60) as r:
+        hrefs = re.findall(r'href="([^"]+)"', r.read().decode())
+    found = [h for h in hrefs if re.search(pattern, h)]
+    assert found, f"no link matching {pattern} on {page}"
+    url = urllib.parse.urljoin(base + page, found[0])
+    with urllib.request.urlopen(url, timeout=60) as r:
+        dest.write_bytes(r.read())
+    return url
+
+
+@pytest.fixture
+def site_server(published: Published):
+    """The built site served at its base URL on 127.0.0.1."""
+    import functools
+    import http.server
+    import threading
+
+    class Quiet(http.server.SimpleHTTPRequestHandler):
+        def log_message(self, format: str, *args: object) -> None:  # noqa: A002
+            pass
+
+    port = int(published.base.rstrip("/").rsplit(":", 1)[1])
+    httpd = http.server.ThreadingHTTPServer(
+        ("127.0.0.1", port), functools.partial(Quiet, directory=str(published.site)))
+    thread = threading.Thread(target=httpd.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield published.base
+    finally:
+        httpd.shutdown()
+        httpd.server_close()
+
+
+def _errors(cells: list[dict]) -> list[str]:
+    """Error outputs (JupyterLab shows them as ``application/vnd.jupyter.error``)."""
+    return [f"cell {i}: {o['text'][:600]}" for i, c in enumerate(cells) for o in c["outputs"]
+            if o["mime"] == "application/vnd.jupyter.error" or (
+                o["mime"] == "application/vnd.jupyter.stderr" and "Traceback" in o["text"])]
+
+
+@pytest.mark.book
+@pytest.mark.slow
+def test_downloaded_chapter_runs_all_in_jupyterlab_in_headless_chromium(
+        published: Published, site_server: str, lab_venv: tuple[Path, Background],
+        tmp_path: Path) -> None:
+    """What a student does (issue 28 items 1 and 2): a fresh venv with only JupyterLab,
+    the chapter and the SCARA exercise downloaded from the book served on 127.0.0.1,
+    opened in JupyterLab in headless Chromium, Run All. The first Run All installs rikin
+    and draws everything with no error: the rotatable figure works (a solution button
+    changes what it draws) and each live panel, which this page cannot show as a widget
+    yet, is its still picture with one line saying to reload. After the reload the panel
+    is a widget: moving a slider redraws it and changes its solution list."""
+    from jupyterlab_driver import Lab
+
+    base = site_server
+    venv, made = lab_venv
+    made.wait()
+    probe = subprocess.run([venv / "bin" / "python", "-c", "import rikin"], capture_output=True)
+    assert probe.returncode != 0, "the student's JupyterLab must not have rikin"
+    student, home = tmp_path / "student", tmp_path / "home"
+    student.mkdir()
+    home.mkdir()
+    chapter = f"{Path(LAB_CHAPTER).name}.ipynb"
+    _download(base, f"{LAB_CHAPTER}.html", r"_sources/.*\.ipynb$", student / chapter)
+    _download(base, "book/exercises.html", rf"_downloads/.*/{EXERCISE}\.ipynb$",
+              student / f"{EXERCISE}.ipynb")
+    shots = Path(os.environ.get("RIKIN_LAB_SCREENSHOTS", tmp_path / "screenshots"))
+    with Lab(venv, student, _lab_env(home, published.wheelhouse, venv), shots) as lab:
+        lab.open(chapter)
+        cells = lab.run_all(timeout=900)
+        assert not _errors(cells), "errors in the first Run All:\n" + "\n".join(_errors(cells))
+        # the page refused the panels' comms: the kernel replaced them by their pictures
+        lab.wait("the panels' outputs to be their pictures alone", lambda: len(lab.js(
+            "return [...document.querySelectorAll('.rikin-still[data-refused]')];")) == 2, 120)
+        cells = lab.cells()
+        lab.js("document.querySelector('.rikin-still').scrollIntoView({block: 'start'});")
+        lab.screenshot("1-chapter-after-first-run-all")
+        _check_first_run(lab, cells, base, published.manifest["version"])
+        _check_figure_buttons(lab)
+        lab.reload()
+        lab.run_cell("widgets.ik_panel(arm)", timeout=300)
+        _check_live_panel(lab)
+        lab.open(f"{EXERCISE}.ipynb")
+        cells = lab.run_all(timeout=600)
+        lab.screenshot("4-exercise-after-run-all")
+        _check_exercise(cells, published.manifest["version"])
+
+
+def _check_first_run(lab, cells: list[dict], base: str, version: str) -> None:
+    assert cells and all(re.fullmatch(r"\[\d+\]:", c["prompt"]) or (c["hidden"] and c["outputs"])
+                         for c in cells), (
+        "Run All did not run every cell: " + str([c["prompt"] for c in cells]))
+    assert not _errors(cells), "errors after the first Run All:\n" + "\n".join(_errors(cells))
+    said = " ".join(o["text"] for o in cells[0]["outputs"])
+    assert f"installing it from {base}{rikin_site.DIST_PATH}/" in said, said
+    assert re.search(r"\[\s*\d+ s\] getting numpy", said), f"no progress: {said}"
+    assert f"rikin {version} installed" in said and "reloaded once" in said, said
+    figures = [o for c in cells for o in c["outputs"] if o["plotly"]]
+    assert figures, "no rotatable figure was drawn"
+    panels = [c for c in cells if "widgets.ik_panel(arm)" in c["source"]
+              or "widgets.teach(arm)" in c["source"]]
+    assert len(panels) == 2, [c["source"][:80] for c in cells]
+    for cell in panels:
+        (out,) = cell["outputs"]
+        assert out["mime"] == "text/html" and "A still picture of the live panel" in out["text"]
+        assert "VBox(" not in out["text"] and not out["widget"], out
+    pictures = lab.js("""return [...document.querySelectorAll('.rikin-still img')]
+        .map(i => i.naturalWidth);""")
+    assert len(pictures) == 2 and all(w > 100 for w in pictures), pictures
+
+
+def _check_figure_buttons(lab) -> None:
+    """Click solution 2 of the first rotatable figure: the title, the traces shown and the
+    pixels drawn change."""
+    from selenium.webdriver.common.by import By
+
+    fig = lab.driver.find_elements(By.CSS_SELECTOR, ".rikin-interactive.js-plotly-plot")[0]
+    lab.js("arguments[0].scrollIntoView({block: 'center'});", fig)
+    state = """const gd = arguments[0]; return JSON.stringify([gd.layout.title.text,
+        gd.data.map(t => t.visible)]);"""
+    before, pixels = lab.js(state, fig), fig.screenshot_as_png
+    buttons = fig.find_elements(By.CSS_SELECTOR, ".updatemenu-button")
+    labels = [b.text.strip() for b in buttons]
+    assert "2" in labels, labels
+    buttons[labels.index("2")].click()
+    lab.wait("the figure to show solution 2", lambda: lab.js(state, fig) != before, 30)
+    lab.wait("the figure's pixels to change", lambda: fig.screenshot_as_png != pixels, 30)
+    assert "2:" in lab.js("return arguments[0].layout.title.text;", fig)
+    lab.screenshot("2-chapter-figure-solution-2")
+
+
+def _check_live_panel(lab) -> None:
+    """After the reload the IK panel is a widget; typing x in its slider's readout redraws
+    the drawing and changes the solution list."""
+    from selenium.webdriver.common.by import By
+    from selenium.webdriver.common.keys import Keys
+
+    with lab.output_of("widgets.ik_panel(arm)") as cell:
+        panel = lab.wait("the live panel", lambda: cell.find_elements(
+            By.CSS_SELECTOR, ".widget-vbox .widget-slider"), 120)
+        assert not cell.find_elements(By.CSS_SELECTOR, ".rikin-still"), "still a picture"
+        look = """const c = arguments[0]; const img = c.querySelector('.widget-image');
+            const table = c.querySelector('.widget-html table');
+            return JSON.stringify([img ? img.src.length + img.src.slice(-200) : null,
+                                   table ? table.textContent : null]);"""
+        before = lab.wait("the panel's drawing and table", lambda: (
+            lambda v: v if "null" not in v else None)(lab.js(look, cell)), 120)
+        lab.js("arguments[0].scrollIntoView({block: 'center'});", panel[0])
+        readout = panel[0].find_element(By.CSS_SELECTOR, ".widget-readout")
+        readout.click()
+        readout.send_keys(Keys.CONTROL, "a")
+        readout.send_keys("5", Keys.ENTER)
+        after = lab.wait("the panel to redraw", lambda: (
+            lambda v: v if v != before and "null" not in v else None)(lab.js(look, cell)), 120)
+        _check_fits(lab, cell)
+        img_before, table_before = json.loads(before)
+        img_after, table_after = json.loads(after)
+        assert img_after != img_before, "the drawing did not change"
+        assert table_after != table_before, "the solution list did not change"
+        lab.screenshot("3-chapter-live-panel-after-the-reload")
+
+
+def _check_fits(lab, cell) -> None:
+    """Issue 28 item 7, in the browser at 1366 x 768: the panel needs no horizontal scroll
+    and its drawing stays inside the notebook's column."""
+    m = lab.js("""const out = arguments[0].querySelector('.jp-OutputArea-output');
+        const box = out.querySelector('.widget-vbox'), img = out.querySelector('.widget-image');
+        const r = el => el.getBoundingClientRect();
+        return {out: out.clientWidth, outScroll: out.scrollWidth, box: box.clientWidth,
+                boxScroll: box.scrollWidth, imgRight: r(img).right, outRight: r(out).right,
+                imgWidth: r(img).width, window: window.innerWidth};""", cell)
+    assert m["window"] >= 1300, m
+    assert m["outScroll"] <= m["out"] + 1 and m["boxScroll"] <= m["box"] + 1, m
+    assert m["imgRight"] <= m["outRight"] + 1 and m["imgWidth"] > 300, m
+
+
+def _check_exercise(cells: list[dict], version: str) -> None:
+    said = " ".join(o["text"] for o in cells[0]["outputs"])
+    assert f"rikin {version} is installed" in said, said
+    ran = [c for c in cells if re.fullmatch(r"\[\d+\]:", c["prompt"])]
+    assert len(ran) >= 4, [c["prompt"] for c in cells]
+    errors = _errors(cells)
+    assert all("NotImplementedError" in e for e in errors), errors
+
+
+# ------------------------------------------------------------------ launch links, the banner
+@pytest.mark.book
+@pytest.mark.slow
+def test_every_page_warns_of_a_loopback_build_and_offers_launch_links(
+        published: Published) -> None:
+    """The site was built for 127.0.0.1 with the launch key set (issue 28 item 4): every
+    page says it is a local preview; every page published as a notebook, and every
+    exercise on the exercises page, opens in Colab and in JupyterLab on Binder."""
+    import yaml
+
+    site = published.site
+    toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
+    pages = [toc["root"]] + [e["file"] for e in toc["chapters"]] + [
+        s["file"] for e in toc["chapters"] for s in e.get("sections", [])]
+    repo = rikin_site.read_launch_repository(LAUNCH_REPOSITORY)
+    assert repo is not None
+    for page in pages:
+        text = (site / f"{page}.html").read_text(encoding="utf-8")
+        assert 'class="rikin-preview-banner"' in text and published.base in text, page
+        if (site / "_sources" / f"{page}.ipynb").is_file():
+            for url in rikin_site.launch_links(repo, f"_sources/{page}.ipynb").values():
+                assert f'href="{html.escape(url)}"' in text, (page, url)
+    exercises = (site / "book" / "exercises.html").read_text(encoding="utf-8")
+    for name in ("cartesian", "cylindrical", "spherical", "scara"):
+        for url in rikin_site.launch_links(
+                repo, f"{rikin_site.EXERCISES_PATH}/{name}.ipynb").values():
+            assert f'href="{html.escape(url)}"' in exercises, (name, url)

@@ -170,12 +170,27 @@ def _graded_ok(arm: str, ns: dict[str, Any], fn_name: str) -> tuple[bool, list[s
     return not said, said
 
 
-CASES = [(arm, fn, ch) for arm in ARMS for fn in _functions(arm) for ch in CHANGES
-         if ch.kind == _kind(fn)]
+def _grader_reads_longdouble() -> bool:
+    """Whether the grader's child reads a longdouble array (issue 26 item 3 fixes it)."""
+    from rikingrade.sandbox import child
+
+    try:
+        child.encode(np.eye(2, dtype=np.longdouble))
+    except (RecursionError, child.EncodeError):
+        return False
+    return True
 
 
-@pytest.mark.parametrize("arm,fn_name,change", CASES,
-                         ids=[f"{a}-{f}-{c.name}" for a, f, c in CASES])
+#: Until the grader reads longdouble (issue 26 item 3, another branch), the checks accept
+#: it and the grader does not: those cases must fail, and pass once the grader is fixed.
+_LONGDOUBLE = pytest.mark.xfail(not _grader_reads_longdouble(), strict=True,
+                                reason="the grader does not read longdouble yet (issue 26.3)")
+CASES = [pytest.param(arm, fn, ch, marks=_LONGDOUBLE if "longdouble" in ch.name else (),
+                      id=f"{arm}-{fn}-{ch.name}")
+         for arm in ARMS for fn in _functions(arm) for ch in CHANGES if ch.kind == _kind(fn)]
+
+
+@pytest.mark.parametrize("arm,fn_name,change", CASES)
 def test_visible_checks_and_grader_agree(arm: str, fn_name: str, change: Change) -> None:
     ns = dict(solution_namespace(arm))
     ns[fn_name] = change.wrap(ns[fn_name], fn_name, _revolute(arm, fn_name))

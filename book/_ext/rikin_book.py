@@ -24,6 +24,16 @@ Loaded from ``_config.yml`` (``sphinx.local_extensions``). It does two things:
   Jupyter), installs exactly that wheel from ``html.baseurl`` (``_config.yml``), pinned to
   its sha256. The exercise notebooks the book offers for download (``_downloads/``) get
   the same pinned cell in place of the one ``tools/make_exercises.py`` wrote.
+* **Jupyter Markdown in them.** The chapters' MyST (targets, roles, directives) becomes
+  Markdown that JupyterLab, Notebook 7 and Colab render (``rikin_markdown``), its
+  cross-references links to the hosted book resolved by Sphinx (:class:`BookLinks`), and
+  each numbered figure's number and caption follow the cell that draws it.
+* **Launch links and the preview banner.** Every page published as a notebook, and every
+  exercise on the exercises page, gets links that open it in Colab and in JupyterLab on
+  Binder, from one key (``rikin_launch_repository``); a build whose ``html.baseurl`` is a
+  loopback address says on every page that it is a local preview.
+* **Figures without plotly.js in the build.** The kernels that execute the chapters get
+  ``RIKIN_BOOK_BUILD=1`` (their figures' HTML carries no plotly.js: the page loads it).
 """
 
 from __future__ import annotations

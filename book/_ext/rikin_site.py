@@ -322,10 +322,24 @@ def _rikin_pip(wheel):
     lines, t0 = [], time.monotonic()
     for line in pip.stdout:
         lines.append(line)
-        if line.startswith(("Collecting", "Processing", "Downloading", "Installing",
-                            "Successfully")):
-            print(f"  [{time.monotonic() - t0:4.0f} s] {line.strip()[:110]}", flush=True)
+        news = _rikin_pip_news(line)
+        if news:
+            print(f"  [{time.monotonic() - t0:4.0f} s] {news}", flush=True)
     return pip.wait(), "".join(lines)
+
+
+def _rikin_pip_news(line):
+    """One of pip's lines as a short progress line ('getting numpy 2.4.6'), or None."""
+    import re
+    m = re.match(r"(Collecting|Processing|Downloading)\s+(\S+)", line)
+    if m:
+        wheel = re.search(r"([A-Za-z0-9_.]+)-(\d[\w.]*)-[^/]*\.whl", m.group(2))
+        what = f"{wheel.group(1)} {wheel.group(2)}" if wheel else m.group(2).split("@")[0]
+        name = re.split(r"[<>=!~;@\[]", what)[0]
+        return f"getting {name}"
+    if line.startswith("Installing collected packages:"):
+        return f"installing {len(line.split(':', 1)[1].split(','))} packages"
+    return None
 
 
 def _rikin_pip_failed(code, out, wheel):
