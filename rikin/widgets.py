@@ -391,7 +391,7 @@ class IKPanel:
                               description=f"{name} ({unit})" if unit else name,
                               continuous_update=False, readout_format=".4g",
                               style={"description_width": "70px"},
-                              layout=w.Layout(width="100%"))
+                              layout=w.Layout(width="auto"))
             s.observe(self._on_slider, names="value")
             self._sliders[name] = s
         self._image = w.Image(format="png", layout=w.Layout(max_width="100%", height="auto"))
@@ -399,11 +399,11 @@ class IKPanel:
         # the sliders side by side where the column is wide (x y z / roll pitch yaw in a
         # 1000 px column), one under the other where it is not
         grid = w.GridBox(list(self._sliders.values()), layout=w.Layout(
-            grid_template_columns="repeat(auto-fill, minmax(290px, 1fr))", width="100%"))
+            grid_template_columns="repeat(auto-fill, minmax(290px, 1fr))", width="auto"))
         box = w.VBox([w.HTML(f"<b>{html.escape(self.arm.name)}</b>: move the target; every IK "
                              "solution is drawn with its branch"),
                       grid, self._table, self._image],
-                     layout=w.Layout(width="100%", max_width="100%"))
+                     layout=w.Layout(width="auto", max_width="100%"))
         self._widget = box
         self._refresh()
         return box
@@ -496,7 +496,7 @@ class TeachPanel:
                               description=f"{name} ({unit})" if unit else name,
                               continuous_update=False, readout_format=".4g",
                               style={"description_width": "70px"},
-                              layout=w.Layout(width="100%"))
+                              layout=w.Layout(width="auto"))
             s.observe(self._on_slider, names="value")
             self._sliders.append(s)
         self._image = w.Image(format="png", layout=w.Layout(max_width="100%", height="auto",
@@ -506,7 +506,7 @@ class TeachPanel:
         controls = w.VBox([*self._sliders, self._readout],
                           layout=w.Layout(flex="1 1 300px", min_width="260px", max_width="100%"))
         self._widget = w.HBox([controls, self._image], layout=w.Layout(
-            flex_flow="row wrap", align_items="flex-start", width="100%", max_width="100%"))
+            flex_flow="row wrap", align_items="flex-start", width="auto", max_width="100%"))
         self._refresh()
         return self._widget
 
@@ -798,12 +798,12 @@ class DHPanel:
         if self._widget is not None:
             return self._widget
         w = _ipywidgets()
-        full = w.Layout(width="100%")
+        full = w.Layout(width="auto")  # stretched by the box, margins included
         style = {"description_width": "90px"}
         inp = self.inputs
         self._fields = {
             "table": w.Textarea(value=str(inp["table"]), description="DH table",
-                                style=style, layout=w.Layout(width="100%", height="170px")),
+                                style=style, layout=w.Layout(width="auto", height="170px")),
             "convention": w.ToggleButtons(options=["standard", "modified"],
                                           value=inp["convention"], description="convention",
                                           style=style),

@@ -180,11 +180,21 @@ class Lab:
         self.driver.get(f"{self.base}/{where}/{name}?token={self.token}")
         self._wait_for_notebook(name)
 
+    #: JavaScript: whether the page shows the notebook's kernel as connected and idle
+    #: (JupyterLab's status bar; Notebook 7's kernel indicator in the toolbar).
+    PAGE_KERNEL_IDLE_JS = """
+      if (window.__rikinOldPage || document.querySelector('.jp-Spinner')) { return false; }
+      const bar = [...document.querySelectorAll('.jp-StatusBar-TextItem')]
+        .some(e => /\\| Idle/.test(e.textContent));
+      const toolbar = [...document.querySelectorAll('.jp-Notebook-ExecutionIndicator, '
+        + '.jp-KernelStatus, [data-jp-item-name="kernelStatus"]')]
+        .some(e => /idle/i.test(e.getAttribute('title') || '') || /Idle/.test(e.textContent));
+      return bar || toolbar;"""
+
     def _wait_for_notebook(self, name: str) -> None:
-        """The notebook shown (no loading spinner, its cells there) and its kernel idle."""
-        self.wait(f"{name} to open", lambda: not self.js(
-            "return !!window.__rikinOldPage || !!document.querySelector('.jp-Spinner');")
-            and len(self.cells()) > 0, 300)
+        """The notebook shown with its cells and its kernel connected and idle."""
+        self.wait(f"{name} to open with its kernel idle", lambda: self.js(
+            self.PAGE_KERNEL_IDLE_JS) and len(self.cells()) > 0, 300)
         self.wait(f"{name}'s kernel", self.kernel_idle, 180)
 
     def menu(self, top: str, *items: str) -> None:
