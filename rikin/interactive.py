@@ -114,7 +114,12 @@ NOT_DRAWN = ("Interactive figure: run this cell to draw it (the notebook's own o
              "drawn; outputs saved in a file you did not run are not).")
 #: What a figure says when its script runs but plotly.js is missing from the page.
 NO_PLOTLY = ("This interactive figure needs plotly.js, which rikin puts in the first figure "
-             "this page shows: run the notebook from its first cell again (Run All).")
+             "this page shows: it is drawn as soon as that one is; if it stays like this, "
+             "run the notebook from its first cell again (Run All).")
+#: How long a figure whose script ran before plotly.js was on the page waits for it (a
+#: JupyterLab that attaches cells as they scroll into view may run a later figure's script
+#: before the first one's), in seconds.
+WAIT_FOR_PLOTLY_S = 600
 #: The front ends (browser tabs: the ``session`` of their requests) that this kernel has
 #: sent plotly.js to. A reloaded tab is a new session and gets it again.
 _PLOTLY_SENT: set[str] = set()
@@ -188,14 +193,21 @@ class InteractiveFigure:
             f'<div class="{HTML_MARKER}" id="{div}" style="width:100%;max-width:100%;'
             f'height:{int(self.figure.layout.height or 520)}px">{NOT_DRAWN}</div>\n'
             "<script>(function () {\n"
-            f'  var el = document.getElementById("{div}");\n'
+            f'  var el = document.getElementById("{div}"), tries = 0;\n'
             "  if (!el) { return; }\n"
-            f"  if (!window.Plotly) {{ el.textContent = {json.dumps(NO_PLOTLY)}; return; }}\n"
-            '  el.textContent = "";\n'
-            f"  var frames = {frames};\n"
-            f"  Plotly.newPlot(el, {data}, {layout}, {config}).then(function () {{\n"
-            "    if (frames.length) { return Plotly.addFrames(el, frames); }\n"
-            "  });\n"
+            "  function draw() {\n"
+            "    if (!window.Plotly) {\n"
+            f"      el.textContent = {json.dumps(NO_PLOTLY)};\n"
+            f"      if (tries++ < {4 * WAIT_FOR_PLOTLY_S}) {{ setTimeout(draw, 250); }}\n"
+            "      return;\n"
+            "    }\n"
+            '    el.textContent = "";\n'
+            f"    var frames = {frames};\n"
+            f"    Plotly.newPlot(el, {data}, {layout}, {config}).then(function () {{\n"
+            "      if (frames.length) { return Plotly.addFrames(el, frames); }\n"
+            "    });\n"
+            "  }\n"
+            "  draw();\n"
             "})();</script>"
         )
 
