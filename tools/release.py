@@ -4,7 +4,7 @@
     python3 tools/release.py 0.2.0 [--date 2026-12-24]
 
 Refused at once when ``html.baseurl`` in ``_config.yml`` is a loopback address (the default
-local preview, ``http://127.0.0.1:8000/``): the book a release builds is for publishing.
+local preview on 127.0.0.1): the book a release builds is for publishing.
 
 1. ``CHANGELOG.md``: the entries under ``## [Unreleased]`` become ``## [0.2.0] - <date>``
    (refused when there are none: a release says what changed), and a new empty
