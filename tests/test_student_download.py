@@ -488,7 +488,10 @@ def test_downloaded_chapter_runs_all_in_jupyterlab_in_headless_chromium(
         _check_live_panel(lab)
         lab.open(f"{EXERCISE}.ipynb")
         cells = lab.run_all(timeout=600)
-        lab.screenshot("4-exercise-after-run-all")
+        lab.js("""const e = document.querySelector(
+            '.jp-OutputArea-output[data-mime-type="application/vnd.jupyter.error"]');
+            if (e) { e.scrollIntoView({block: 'center'}); }""")
+        lab.screenshot("4-exercise-after-run-all-its-first-unfinished-task")
         _check_exercise(cells, published.manifest["version"])
 
 
@@ -601,8 +604,12 @@ def test_every_page_warns_of_a_loopback_build_and_offers_launch_links(
 
     site = published.site
     toc = yaml.safe_load((ROOT / "_toc.yml").read_text(encoding="utf-8"))
-    pages = [toc["root"]] + [e["file"] for e in toc["chapters"]] + [
-        s["file"] for e in toc["chapters"] for s in e.get("sections", [])]
+    def files(entries: list[dict]) -> list[str]:  # chapters, parts and sections, nested
+        return [f for e in entries for f in ([e["file"]] if "file" in e else [])
+                + files(e.get("parts", []) + e.get("chapters", []) + e.get("sections", []))]
+
+    pages = [toc["root"], *files([toc])]
+    assert len(pages) > 10 and "book/instructor/hosting" in pages, pages
     repo = rikin_site.read_launch_repository(LAUNCH_REPOSITORY)
     assert repo is not None
     for page in pages:
