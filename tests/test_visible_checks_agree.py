@@ -276,3 +276,35 @@ def test_a_failed_check_shows_its_message_alone_in_ipython() -> None:
         assert "Traceback" not in text and "<ipython-input" not in text and "%tb" in text, text
     finally:
         InteractiveShell.clear_instance()
+
+
+def test_a_task_not_written_yet_shows_one_line_in_ipython() -> None:
+    """Run All on an exercise stops at its first unwritten task: a check reaching the stub
+    says which task, in one line and a hint, not a traceback through the checking helpers;
+    a NotImplementedError of the student's own keeps its traceback."""
+    from IPython.core.interactiveshell import InteractiveShell
+    from IPython.utils.capture import capture_output
+
+    shell = InteractiveShell.instance()
+    try:
+        nb = solution("scara")
+        checks = next(c.source for c in nb.cells if "checks" in c.metadata.get("tags", []))
+        shell.run_cell(checks, store_history=False)
+        stub = ("def ik_scara_6dof(T, l1, l2, l3):\n"
+                "    raise NotImplementedError('task 4: ik_scara_6dof')\n")
+        with capture_output() as out:
+            call = ("check_unreachable(ik_scara_6dof, {'l1': 1.0, 'l2': 1.0, 'l3': 1.0}, "
+                    "[([9.0, 9.0, 9.0], 'far away')])")
+            result = shell.run_cell(stub + call, store_history=False)
+        assert result.error_in_exec is not None and not result.success
+        text = re.sub(r"\x1b\[[0-9;]*m", "", out.stdout + out.stderr)
+        assert "NotImplementedError: task 4: ik_scara_6dof" in text, text
+        assert "is not written yet" in text, text
+        assert "Traceback" not in text and "_call" not in text, text
+        with capture_output() as out:
+            shell.run_cell("def mine():\n    raise NotImplementedError('my own')\nmine()",
+                           store_history=False)
+        text = re.sub(r"\x1b\[[0-9;]*m", "", out.stdout + out.stderr)
+        assert "Traceback" in text and "not written yet" not in text, text
+    finally:
+        InteractiveShell.clear_instance()

@@ -47,12 +47,24 @@ class CheckFailed(AssertionError):
 
 
 def _show_only_the_message(shell, etype, value, tb, tb_offset=None):
-    """A failed check shows its message; %tb shows where it was raised."""
+    """A failed check, or a task not written yet, shows its message; %tb shows where.
+
+    A task not written yet is the exercise's own stub, ``raise NotImplementedError("task N:
+    fn")``, reached by any check that calls it; a NotImplementedError of the student's own
+    keeps its traceback.
+    """
+    if etype is NotImplementedError and not str(value).startswith("task "):
+        shell.showtraceback((etype, value, tb), tb_offset=tb_offset)
+        return
     shell.showtraceback((etype, value, tb), exception_only=True)
+    if etype is NotImplementedError:
+        print(f"({value} is not written yet: replace its raise NotImplementedError line with "
+              "your code, run that cell, then this one.)")
 
 
 try:
-    get_ipython().set_custom_exc((CheckFailed,), _show_only_the_message)  # noqa: F821
+    get_ipython().set_custom_exc(  # noqa: F821
+        (CheckFailed, NotImplementedError), _show_only_the_message)
 except NameError:  # not in IPython (a script): the usual traceback
     pass
 
