@@ -3,12 +3,14 @@
 
     python3 tools/dev.py book [--cached]   set up .venv for the book, build it (_build/html/)
     python3 tools/dev.py test [-- ARGS]    set up .venv with everything, run every test
+    python3 tools/dev.py lint              set up .venv with everything, run ruff (the whole
+                                           repository) and mypy (rikin, grader/rikingrade)
     python3 tools/dev.py lab [-- ARGS]     set up .venv with everything, start JupyterLab
                                            at the repository root (book/, exercises/, ...)
 
 Each creates ``.venv`` in the repository root with the Python running this script if it is
 missing, and installs into it what the command needs: ``book`` only requirements-book.txt
-(rikin, Jupyter Book, the kernel, the wheel builder), ``test`` and ``lab``
+(rikin, Jupyter Book, the kernel, the wheel builder), ``test``, ``lint`` and ``lab``
 requirements.txt (that, plus the grader and the test tools). It reinstalls only when one of
 the requirements files or pyproject.toml changed since the last install (a sha256 stamp per
 set is kept inside .venv). Works from any current directory. Every command run is printed
@@ -204,7 +206,8 @@ def _published_note() -> str:
         port = base.split(":")[2].split("/")[0] if base.count(":") > 1 else "80"
         lines.append(
             f"That is a local preview: `python3 -m http.server -d _build/html {port}` serves it; "
-            "set html.baseurl to the public URL before hosting the book (README: Hosting)."
+            "set html.baseurl to the public URL before hosting the book "
+            "(book/instructor/hosting.md)."
         )
     return "\n".join(lines)
 
@@ -306,6 +309,24 @@ def cmd_test(args: argparse.Namespace, extra: list[str]) -> int:
     return run(cmd, child_env())
 
 
+#: What ``lint`` checks: ruff on the repository (configured in pyproject.toml), then mypy on
+#: the two typed packages (the [tool.mypy] section of pyproject.toml).
+LINT_COMMANDS = (
+    ("ruff", "check", "."),
+    ("mypy",),
+)
+
+
+def cmd_lint() -> int:
+    """Run every command of LINT_COMMANDS (all of them, even after a failure); 1 if one failed."""
+    ensure_venv("all")
+    failed = [cmd[0] for cmd in LINT_COMMANDS if run([BIN / cmd[0], *cmd[1:]], child_env())]
+    if failed:
+        print(f"dev.py: lint FAILED: {', '.join(failed)}", file=sys.stderr, flush=True)
+        return 1
+    return 0
+
+
 def cmd_lab(extra: list[str]) -> int:
     """JupyterLab at the repository root: book/ (chapters open as notebooks), exercises/, ..."""
     ensure_venv("all")
@@ -335,6 +356,7 @@ def main(argv: list[str] | None = None) -> int:
         "changed pages (does NOT notice edits to rikin/)",
     )
     sub.add_parser("test", help="set up .venv and run every test; pytest args after --")
+    sub.add_parser("lint", help="set up .venv and run ruff and mypy (pyproject.toml)")
     sub.add_parser("lab", help="set up .venv and start JupyterLab at the repository root; "
                    "jupyter lab args after --")
     args = p.parse_args(argv)
@@ -344,6 +366,10 @@ def main(argv: list[str] | None = None) -> int:
         return cmd_book(args)
     if args.command == "lab":
         return cmd_lab(extra)
+    if args.command == "lint":
+        if extra:
+            p.error("lint takes no arguments after --")
+        return cmd_lint()
     return cmd_test(args, extra)
 
 

@@ -28,7 +28,7 @@ _WORD = re.compile(r"[^\W\d]\w*")
 _SCOPES = (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda, ast.ClassDef)
 
 
-def _free(node: ast.AST) -> set[str]:
+def _free(node: ast.FunctionDef | ast.AsyncFunctionDef | ast.Lambda | ast.ClassDef) -> set[str]:
     """Names a function, lambda or class body reads from outside (its globals)."""
     args = getattr(node, "args", None)
     local: set[str] = set()

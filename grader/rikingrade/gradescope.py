@@ -198,16 +198,63 @@ def gradescope_bundle(
     Gradescope's own times (``submission_metadata.json``: the hand-in time against the
     student's due date, extensions included).
     """
-    import rikin
-
     a = load_assignment(assignment)
     out = Path(out)
-    rikin_dir = package_dir("rikin")
-    grader_dir = package_dir("rikingrade")
-    assert rikin_dir is not None and grader_dir is not None
     is_path = str(assignment).endswith(".py") or Path(str(assignment)).is_file()
     exercise = None if is_path else _exercise_of(a)
-    target = '"$ROOT/source/assignment.py"' if is_path else a.name
+    opts = _run_options(
+        seed=seed,
+        reveal=reveal,
+        timeout=timeout,
+        cell_timeout=cell_timeout,
+        memory_mb=memory_mb,
+        late_per_day=late_per_day,
+        late_cap=late_cap,
+        grace_minutes=grace_minutes,
+        unsafe_no_sandbox=unsafe_no_sandbox,
+    )
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
+        _add_text(
+            z,
+            "setup.sh",
+            SETUP_SH.format(on_failure=SETUP_FAIL_UNSAFE if unsafe_no_sandbox else SETUP_FAIL),
+            executable=True,
+        )
+        target = '"$ROOT/source/assignment.py"' if is_path else a.name
+        _add_text(
+            z,
+            "run_autograder",
+            RUN_AUTOGRADER.format(assignment=target, options=" ".join(opts)),
+            executable=True,
+        )
+        _add_packages(z, exercise)
+        if is_path and a.source_path is not None:
+            z.write(a.source_path, "assignment.py")
+        _add_text(
+            z,
+            "README.txt",
+            f"rikin-grade {__version__} autograder for {a.exercise} "
+            f"({len(a.tests)} tests, max {a.max_score:g} points). Built by "
+            "`rikin-grade gradescope-bundle`.\n",
+        )
+    atomic_write(out, buf.getvalue())
+    return out
+
+
+def _run_options(
+    *,
+    seed: int,
+    reveal: bool,
+    timeout: float | None,
+    cell_timeout: float,
+    memory_mb: int,
+    late_per_day: float,
+    late_cap: float,
+    grace_minutes: float,
+    unsafe_no_sandbox: bool,
+) -> list[str]:
+    """The options ``run_autograder`` passes to ``rikin-grade gradescope-run``."""
     opts = [
         f"--seed {int(seed)}",
         f"--cell-timeout {float(cell_timeout):g}",
@@ -225,63 +272,49 @@ def gradescope_bundle(
         ]
     if unsafe_no_sandbox:
         opts.append("--unsafe-no-sandbox")
+    return opts
+
+
+def _add_packages(z: zipfile.ZipFile, exercise: str | None) -> None:
+    """``packages/rikin`` and ``packages/rikingrade`` (only ``exercise``'s hidden tests and
+    reference, none for a custom assignment), each with a pyproject.toml to install it."""
+    import rikin
+
+    rikin_dir = package_dir("rikin")
+    grader_dir = package_dir("rikingrade")
+    assert rikin_dir is not None and grader_dir is not None
+    _add_text(
+        z,
+        "packages/rikin/pyproject.toml",
+        PYPROJECT.format(
+            name="rikin",
+            version=rikin.__version__,
+            deps='"numpy>=1.24,<3", "sympy>=1.12,<2", "matplotlib>=3.7,<4"',
+        ),
+    )
+    _add_tree(z, rikin_dir, "packages/rikin/rikin")
+    _add_text(
+        z,
+        "packages/rikingrade/pyproject.toml",
+        PYPROJECT.format(
+            name="rikingrade",
+            version=__version__,
+            deps='"rikin", "numpy>=1.24,<3", "ipython>=8,<10"',
+        ),
+    )
     kept = [exercise] if exercise else []
-    buf = io.BytesIO()
-    with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
-        _add_text(
-            z,
-            "setup.sh",
-            SETUP_SH.format(on_failure=SETUP_FAIL_UNSAFE if unsafe_no_sandbox else SETUP_FAIL),
-            executable=True,
-        )
-        _add_text(
-            z,
-            "run_autograder",
-            RUN_AUTOGRADER.format(assignment=target, options=" ".join(opts)),
-            executable=True,
-        )
-        _add_text(
-            z,
-            "packages/rikin/pyproject.toml",
-            PYPROJECT.format(
-                name="rikin",
-                version=rikin.__version__,
-                deps='"numpy>=1.24,<3", "sympy>=1.12,<2", "matplotlib>=3.7,<4"',
-            ),
-        )
-        _add_tree(z, rikin_dir, "packages/rikin/rikin")
-        _add_text(
-            z,
-            "packages/rikingrade/pyproject.toml",
-            PYPROJECT.format(
-                name="rikingrade",
-                version=__version__,
-                deps='"rikin", "numpy>=1.24,<3", "ipython>=8,<10"',
-            ),
-        )
-        pkg = "packages/rikingrade/rikingrade"
-        _add_tree(z, grader_dir, pkg, _skip_other_exercises(exercise))
-        _add_text(z, f"{pkg}/hidden/__init__.py", HIDDEN_INIT.format(exercises=tuple(kept)))
-        _add_text(
-            z,
-            f"{pkg}/reference/__init__.py",
-            REFERENCE_INIT.format(
-                imports="".join(f"from . import {e}\n" for e in kept),
-                arms=", ".join(f"{e}.ARM.name: {e}.ARM" for e in kept),
-                names="".join(f', "{e}"' for e in kept),
-            ),
-        )
-        if is_path and a.source_path is not None:
-            z.write(a.source_path, "assignment.py")
-        _add_text(
-            z,
-            "README.txt",
-            f"rikin-grade {__version__} autograder for {a.exercise} "
-            f"({len(a.tests)} tests, max {a.max_score:g} points). Built by "
-            "`rikin-grade gradescope-bundle`.\n",
-        )
-    atomic_write(out, buf.getvalue())
-    return out
+    pkg = "packages/rikingrade/rikingrade"
+    _add_tree(z, grader_dir, pkg, _skip_other_exercises(exercise))
+    _add_text(z, f"{pkg}/hidden/__init__.py", HIDDEN_INIT.format(exercises=tuple(kept)))
+    _add_text(
+        z,
+        f"{pkg}/reference/__init__.py",
+        REFERENCE_INIT.format(
+            imports="".join(f"from . import {e}\n" for e in kept),
+            arms=", ".join(f"{e}.ARM.name: {e}.ARM" for e in kept),
+            names="".join(f', "{e}"' for e in kept),
+        ),
+    )
 
 
 def gradescope_run(
@@ -315,41 +348,14 @@ def gradescope_run(
     """
     a = load_assignment(assignment)
     sub_dir = Path(submission)
-    nb, note = pick_notebook(_notebooks_in(sub_dir) if sub_dir.is_dir() else [], a.notebook)
     results_path = Path(results)
-    if nb is None:
-        atomic_write(results_path, json.dumps(_no_notebook(a), indent=2))
-        return SubmissionResult(
-            student="submission",
-            path="",
-            sha256="",
-            status="invalid",
-            reason="no notebook",
-            max_score=a.max_score,
-        )
-    try:  # the upload is Gradescope's (read as root), but a link in it is not followed
-        data = read_in_process(nb, MAX_NOTEBOOK_BYTES)
-    except ReadFailed as exc:
-        large = exc.kind == TOO_LARGE
-        why = _too_large(exc.size) if large else f"not read: {exc.why}"
-        atomic_write(results_path, json.dumps(_no_notebook(a, f"The upload: {why}.")))
-        return SubmissionResult(
-            student="submission",
-            path=str(nb),
-            sha256="",
-            status="invalid",
-            reason=why,
-            max_score=a.max_score,
-            refused="" if large else exc.why,
-        )
+    upload = _read_upload(a, sub_dir, results_path)
+    if isinstance(upload, SubmissionResult):
+        return upload
+    nb, note, data = upload
     work = Path(tempfile.mkdtemp(prefix="rikingrade-gs-"))  # 0700: unreadable to the sandbox
     try:
-        staged = work / "in" / "submission.ipynb"
-        staged.parent.mkdir()
-        # the copy is readable by the grader's unprivileged file reader, inside ``work``
-        os.chmod(staged.parent, 0o755)
-        staged.write_bytes(data)
-        os.chmod(staged, 0o644)
+        staged = _stage(work, data)
         try:
             report = grade(
                 a.source_path if a.source_path and str(assignment).endswith(".py") else assignment,
@@ -369,30 +375,73 @@ def gradescope_run(
             )
         except SandboxUnavailable as exc:
             _not_graded(results_path, f"the sandbox could not start:\n{exc}")
-            return SubmissionResult(
-                student="submission",
-                path=str(nb),
-                sha256="",
-                status=GRADER_ERROR,
-                reason=f"the sandbox could not start: {exc}",
-                max_score=a.max_score,
-            )
-        log_text = (work / "out" / "grading.log").read_text(errors="replace")
-        mode = re.search(r"sandbox: (\w+)", log_text)
-        print(f"rikin-grade: student code ran in the {mode.group(1) if mode else '?'} sandbox")
-        res = report.results[0]
-        if res.status == GRADER_ERROR:
-            _not_graded(results_path, f"{res.reason}\n\n{log_text[-5000:]}")
-            return res
-        data = json.loads((work / "out" / "results" / f"{res.student}.json").read_text())
-        data.get("extra_data", {}).pop("rikin", None)  # the local gradebook's record
-        if note:
-            data["output"] = note + "\n\n" + data.get("output", "")
-        _late(data, res, sub_dir, Rules(None, late_per_day, late_cap, grace_minutes))
-        atomic_write(results_path, json.dumps(data, indent=2))
-        return res
+            return _unread(a, nb, GRADER_ERROR, f"the sandbox could not start: {exc}")
+        rules = Rules(None, late_per_day, late_cap, grace_minutes)
+        return _write_results(report.results[0], work / "out", results_path, note, sub_dir, rules)
     finally:
         shutil.rmtree(work, ignore_errors=True)
+
+
+def _unread(a, nb: Path | None, status: str, why: str, refused: str = "") -> SubmissionResult:
+    """The result of an upload that was not graded (no notebook, unreadable, no sandbox)."""
+    return SubmissionResult(
+        student="submission",
+        path="" if nb is None else str(nb),
+        sha256="",
+        status=status,
+        reason=why,
+        max_score=a.max_score,
+        refused=refused,
+    )
+
+
+def _read_upload(
+    a, sub_dir: Path, results_path: Path
+) -> tuple[Path, str, bytes] | SubmissionResult:
+    """(the notebook, the note on how it was picked, its bytes) from the upload; when there
+    is none to grade, results.json says so (0 points) and its result is returned instead."""
+    nb, note = pick_notebook(_notebooks_in(sub_dir) if sub_dir.is_dir() else [], a.notebook)
+    if nb is None:
+        atomic_write(results_path, json.dumps(_no_notebook(a), indent=2))
+        return _unread(a, None, "invalid", "no notebook")
+    try:  # the upload is Gradescope's (read as root), but a link in it is not followed
+        data = read_in_process(nb, MAX_NOTEBOOK_BYTES)
+    except ReadFailed as exc:
+        large = exc.kind == TOO_LARGE
+        why = _too_large(exc.size) if large else f"not read: {exc.why}"
+        atomic_write(results_path, json.dumps(_no_notebook(a, f"The upload: {why}.")))
+        return _unread(a, nb, "invalid", why, refused="" if large else exc.why)
+    return nb, note, data
+
+
+def _stage(work: Path, data: bytes) -> Path:
+    """The upload's copy inside ``work``, readable by the grader's unprivileged file reader."""
+    staged = work / "in" / "submission.ipynb"
+    staged.parent.mkdir()
+    os.chmod(staged.parent, 0o755)
+    staged.write_bytes(data)
+    os.chmod(staged, 0o644)
+    return staged
+
+
+def _write_results(
+    res: SubmissionResult, out: Path, results_path: Path, note: str, sub_dir: Path, rules: Rules
+) -> SubmissionResult:
+    """Gradescope's results.json from the grader's own results of the one submission, with
+    the late rules applied; none (an autograder failure) when the grader failed."""
+    log_text = (out / "grading.log").read_text(errors="replace")
+    mode = re.search(r"sandbox: (\w+)", log_text)
+    print(f"rikin-grade: student code ran in the {mode.group(1) if mode else '?'} sandbox")
+    if res.status == GRADER_ERROR:
+        _not_graded(results_path, f"{res.reason}\n\n{log_text[-5000:]}")
+        return res
+    data = json.loads((out / "results" / f"{res.student}.json").read_text())
+    data.get("extra_data", {}).pop("rikin", None)  # the local gradebook's record
+    if note:
+        data["output"] = note + "\n\n" + data.get("output", "")
+    _late(data, res, sub_dir, rules)
+    atomic_write(results_path, json.dumps(data, indent=2))
+    return res
 
 
 def submission_times(metadata: dict) -> tuple[float | None, float | None]:

@@ -147,6 +147,7 @@ def apply(
             g.excused = True
             g.notes.append(f"Excused by your instructor: {reason}")
         else:
+            assert score is not None, "a score override carries its score"
             g.final = float(score)
             g.notes.append(
                 f"Grade set to {_pts(g.final)}/{_pts(max_score)} by your instructor "

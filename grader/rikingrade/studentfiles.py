@@ -37,9 +37,13 @@ import sys
 import threading
 from collections import OrderedDict
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from . import filereader
 from .filereader import DENIED, GONE, REFUSED, TOO_LARGE, ReadFailed
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .sandbox.uidmode import UidLease
 
 HELPER = Path(filereader.__file__).resolve()
 #: Helper processes kept at once (one per reading identity; the least recent is closed).
@@ -146,7 +150,7 @@ class StudentFiles:
         self._roots: dict[str, int] = {}
         self._helpers: OrderedDict[tuple[int, int], _Helper] = OrderedDict()
         self._lock = threading.Lock()
-        self._lease = None  # the uid leased for root-owned folders
+        self._lease: UidLease | None = None  # the uid leased for root-owned folders
         self.root = os.geteuid() == 0
 
     def _root_fd(self, root: Path) -> int:
@@ -228,10 +232,10 @@ class StudentFiles:
         if uid:
             try:
                 pw = pwd.getpwuid(uid)
-                gid, name = (pw.pw_gid or NOGROUP), f"{pw.pw_name} (uid {uid})"
+                gid, who = (pw.pw_gid or NOGROUP), f"{pw.pw_name} (uid {uid})"
             except KeyError:
-                gid, name = NOGROUP, f"uid {uid}"
-            return uid, gid, f"the folder's owner {name}", root_only
+                gid, who = NOGROUP, f"uid {uid}"
+            return uid, gid, f"the folder's owner {who}", root_only
         with self._lock:
             if self._lease is None:
                 from .sandbox.uidmode import UidLease

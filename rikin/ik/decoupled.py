@@ -589,108 +589,145 @@ class SingleKernel:
         ``T`` is the validated world pose as nested lists. None: near a singularity,
         or nothing reachable (let the general solver decide and explain).
         """
-        (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz) = T[0], T[1], T[2]
-        if self.plain:  # G and H are the identity (no base rotation, no tool twist)
-            S0, S1, S2 = [r00, r01, r02], [r10, r11, r12], [r20, r21, r22]
-        else:
-            S0, S1, S2 = self._GRH([[r00, r01, r02], [r10, r11, r12], [r20, r21, r22]])
-        c0, c1_, c2 = self.c
-        v0 = r00 * c0 + r01 * c1_ + r02 * c2 + px
-        v1 = r10 * c0 + r11 * c1_ + r12 * c2 + py
-        v2 = r20 * c0 + r21 * c1_ + r22 * c2 + pz
-        if self.no_base:
-            x, y, z = v0, v1, v2
-        else:
-            B, b = self.base_R, self.base_p
-            x = B[0][0] * v0 + B[0][1] * v1 + B[0][2] * v2 + b[0]
-            y = B[1][0] * v0 + B[1][1] * v1 + B[1][2] * v2 + b[1]
-            z = B[2][0] * v0 + B[2][1] * v1 + B[2][2] * v2 + b[2]
-        z0, r0, L2, L3, phi2, phi3 = self.g
+        S, (x, y, z) = self._goal(T)
         rho = hypot(x, y)
         if rho < self.sus_sin * self.size:
             return None
         q1 = atan2(y, x)
+        z0, r0 = self.g[0], self.g[1]
         w = z - z0
-        Lp, Lm = L2 + L3, abs(L2 - L3)
-        tol = REACH_TOL * Lp
-        edge = self.sus_edge * Lp
-        o1, o2, o3, o4, o5, o6 = self.offsets
-        e1, k6 = self.twists
-        ek = -e1 * k6
-        sig, s_w, sus_sin = self.sigma, self.s, self.sus_sin
-        labels = self.labels
-        pairs = None if o5 else self.pair_labels
+        o1 = self.offsets[0]
+        c1q, s1q = cos(q1 + o1), sin(q1 + o1)
         q_out: list[float] = []
         branches: list[Branch] = []
-        vertical_tol = SINGULAR_TOL * L2
-        rem, tau = remainder, 2.0 * pi
-        s00, s01, s02 = S0
-        s10, s11, s12 = S1
-        V10, V11, V12 = e1 * S2[0], e1 * S2[1], e1 * S2[2]
-        c1q, s1q = cos(q1 + o1), sin(q1 + o1)
         for side, u in ((0, rho - r0), (1, -rho - r0)):
-            r = hypot(u, w)
-            if not Lm - tol <= r <= Lp + tol:
-                continue
-            dp, dm = Lp - r, r - Lm
-            if dp < edge or dm < edge:  # at or near the edge of the reach
+            triangle = self._triangle(u, w)
+            if triangle is None:
                 return None
-            sp, sm = Lp + r, r + Lm
-            B0 = 2.0 * atan2(sqrt(dp * sp), sqrt(dm * sm))
-            if L2 >= L3:
-                beta = 2.0 * atan2(sqrt(dm * dp), sqrt(sp * sm))
-            else:
-                beta = 2.0 * atan2(sqrt(sm * dp), sqrt(sp * dm))
-            base = atan2(w, u)
-            vertical = abs(u) <= vertical_tol
+            if not triangle:
+                continue
             if side:  # joint 1 turned by pi: q1 + pi in (-pi, pi], its cos and sin negated
                 a1, ct, st = q1 - pi if q1 > 0.0 else q1 + pi, -c1q, -s1q
             else:  # atan2's range [-pi, pi]
                 a1, ct, st = q1, c1q, s1q
-            # U = Rz(-th1) S (rows 0, 1), then V = E1^T U
-            u00, u01, u02 = ct * s00 + st * s10, ct * s01 + st * s11, ct * s02 + st * s12
-            u10, u11, u12 = ct * s10 - st * s00, ct * s11 - st * s01, ct * s12 - st * s02
-            # V = E1^T U with E1^T = [[1, 0, 0], [0, 0, e1], [0, -e1, 0]] (its row 1, V1*,
-            # is the same for both sides); M = K W likewise, so M's row 1 is -e1 k6 U's
-            # row 1 whatever the elbow
-            V00, V01, V02 = u00, u01, u02
-            m10, m11, m12 = ek * u10, ek * u11, ek * u12
-            for elbow, (A, Bv) in enumerate(((base - beta, B0), (base + beta, -B0))):
-                q2, q3 = A - phi2, Bv - phi3
-                ph = (q2 + o2) + sig * (q3 + o3)
-                cp, sq = cos(ph), sin(ph)
-                m00, m01, m02 = cp * V00 + sq * V10, cp * V01 + sq * V11, cp * V02 + sq * V12
-                m22 = -k6 * (cp * V12 - sq * V02)
-                sw = sqrt(m02 * m02 + m12 * m12)
-                if sw < sus_sin:
-                    return None
-                theta = atan2(sw, m22)
-                phw = atan2(m12, m02)
-                cph, sph = m02 / sw, m12 / sw
-                psi = atan2(cph * m10 - sph * m00, cph * m11 - sph * m01)
-                # elbow up: the elbow (L2 along A) lies on the upper side of the line from
-                # the shoulder to the wrist centre (direction ``base``): sign(sin(A - base))
-                # = sign(-+beta), beta in (0, pi) here; a vertical line compares heights
-                is_up = cos(A) > 0 if vertical else (u > 0) == (elbow == 1)
-                t5 = s_w * theta
-                q5a, q5b = rem(-t5 - o5, tau), rem(t5 - o5, tau)
-                a2, a3 = rem(q2, tau), rem(q3, tau)
-                a4, a6 = rem(phw - o4, tau), rem(psi - o6, tau)
-                # the flip: q4 + pi and q6 + pi, in (-pi, pi] from a4, a6 in [-pi, pi]
-                q_out += (a1, a2, a3, a4, q5a, a6,
-                          a1, a2, a3, a4 - pi if a4 > 0.0 else a4 + pi, q5b,
-                          a6 - pi if a6 > 0.0 else a6 + pi)
-                slot = 4 * side + 2 * elbow
-                if pairs is None:  # sin(q5) of each flip: its label
-                    branches += (labels[slot][is_up][sin(q5a) >= 0.0],
-                             labels[slot + 1][is_up][sin(q5b) >= 0.0])
-                else:  # no offset on joint 5: sin(q5) = -+s_w sin(theta), theta in (0, pi)
-                    branches += pairs[slot + is_up]
+            if not self._side(side, a1, ct, st, S, u, triangle, q_out, branches):
+                return None
         if not q_out:
             return None
         if -pi in q_out:  # remainder's range is [-pi, pi]; wrap_angle's is (-pi, pi]
             q_out = [pi if v == -pi else v for v in q_out]
         return q_out, branches
+
+    def _goal(self, T: list[list[float]]) -> tuple[list[list[float]], tuple[float, ...]]:
+        """Rows of ``S = G R H`` and the wrist centre ``(x, y, z)`` in the arm's base frame
+        (after the base) for the world pose ``T``."""
+        (r00, r01, r02, px), (r10, r11, r12, py), (r20, r21, r22, pz) = T[0], T[1], T[2]
+        if self.plain:  # G and H are the identity (no base rotation, no tool twist)
+            S = [[r00, r01, r02], [r10, r11, r12], [r20, r21, r22]]
+        else:
+            S = self._GRH([[r00, r01, r02], [r10, r11, r12], [r20, r21, r22]])
+        c0, c1_, c2 = self.c
+        v0 = r00 * c0 + r01 * c1_ + r02 * c2 + px
+        v1 = r10 * c0 + r11 * c1_ + r12 * c2 + py
+        v2 = r20 * c0 + r21 * c1_ + r22 * c2 + pz
+        if self.no_base:
+            return S, (v0, v1, v2)
+        B, b = self.base_R, self.base_p
+        return S, (
+            B[0][0] * v0 + B[0][1] * v1 + B[0][2] * v2 + b[0],
+            B[1][0] * v0 + B[1][1] * v1 + B[1][2] * v2 + b[1],
+            B[2][0] * v0 + B[2][1] * v1 + B[2][2] * v2 + b[2],
+        )
+
+    def _triangle(
+        self, u: float, w: float
+    ) -> tuple[float, float, float, bool] | tuple[()] | None:
+        """Links 2-3 reaching ``(u, w)`` (the wrist centre in the plane of joint 1, from the
+        shoulder): ``(base, beta, B0, vertical)`` (the law of cosines), ``()`` when out of
+        reach on this side, None at or near the edge of the reach."""
+        L2, L3 = self.g[2], self.g[3]
+        r = hypot(u, w)
+        Lp, Lm = L2 + L3, abs(L2 - L3)
+        tol = REACH_TOL * Lp
+        if not Lm - tol <= r <= Lp + tol:
+            return ()
+        dp, dm = Lp - r, r - Lm
+        edge = self.sus_edge * Lp
+        if dp < edge or dm < edge:  # at or near the edge of the reach
+            return None
+        sp, sm = Lp + r, r + Lm
+        B0 = 2.0 * atan2(sqrt(dp * sp), sqrt(dm * sm))
+        if L2 >= L3:
+            beta = 2.0 * atan2(sqrt(dm * dp), sqrt(sp * sm))
+        else:
+            beta = 2.0 * atan2(sqrt(sm * dp), sqrt(sp * dm))
+        return atan2(w, u), beta, B0, abs(u) <= SINGULAR_TOL * L2
+
+    def _side(
+        self,
+        side: int,
+        a1: float,
+        ct: float,
+        st: float,
+        S: list[list[float]],
+        u: float,
+        triangle: tuple[float, float, float, bool],
+        q_out: list[float],
+        branches: list[Branch],
+    ) -> bool:
+        """Append both elbows' solutions (each with its wrist flip) of one side of joint 1
+        (``a1``, its cosine ``ct`` and sine ``st``) to ``q_out`` and ``branches``; False
+        near the wrist singularity."""
+        base, beta, B0, vertical = triangle
+        _, _, _, _, phi2, phi3 = self.g
+        _, o2, o3, o4, o5, o6 = self.offsets
+        e1, k6 = self.twists
+        ek = -e1 * k6
+        sig, s_w, sus_sin = self.sigma, self.s, self.sus_sin
+        rem, tau = remainder, 2.0 * pi
+        (s00, s01, s02), (s10, s11, s12), S2 = S
+        V10, V11, V12 = e1 * S2[0], e1 * S2[1], e1 * S2[2]
+        # U = Rz(-th1) S (rows 0, 1), then V = E1^T U
+        u00, u01, u02 = ct * s00 + st * s10, ct * s01 + st * s11, ct * s02 + st * s12
+        u10, u11, u12 = ct * s10 - st * s00, ct * s11 - st * s01, ct * s12 - st * s02
+        # V = E1^T U with E1^T = [[1, 0, 0], [0, 0, e1], [0, -e1, 0]] (its row 1, V1*,
+        # is the same for both sides); M = K W likewise, so M's row 1 is -e1 k6 U's
+        # row 1 whatever the elbow
+        V00, V01, V02 = u00, u01, u02
+        m10, m11, m12 = ek * u10, ek * u11, ek * u12
+        pairs = None if o5 else self.pair_labels
+        for elbow, (A, Bv) in enumerate(((base - beta, B0), (base + beta, -B0))):
+            q2, q3 = A - phi2, Bv - phi3
+            ph = (q2 + o2) + sig * (q3 + o3)
+            cp, sq = cos(ph), sin(ph)
+            m00, m01, m02 = cp * V00 + sq * V10, cp * V01 + sq * V11, cp * V02 + sq * V12
+            m22 = -k6 * (cp * V12 - sq * V02)
+            sw = sqrt(m02 * m02 + m12 * m12)
+            if sw < sus_sin:
+                return False
+            theta = atan2(sw, m22)
+            phw = atan2(m12, m02)
+            cph, sph = m02 / sw, m12 / sw
+            psi = atan2(cph * m10 - sph * m00, cph * m11 - sph * m01)
+            # elbow up: the elbow (L2 along A) lies on the upper side of the line from
+            # the shoulder to the wrist centre (direction ``base``): sign(sin(A - base))
+            # = sign(-+beta), beta in (0, pi) here; a vertical line compares heights
+            is_up = cos(A) > 0 if vertical else (u > 0) == (elbow == 1)
+            t5 = s_w * theta
+            q5a, q5b = rem(-t5 - o5, tau), rem(t5 - o5, tau)
+            a2, a3 = rem(q2, tau), rem(q3, tau)
+            a4, a6 = rem(phw - o4, tau), rem(psi - o6, tau)
+            # the flip: q4 + pi and q6 + pi, in (-pi, pi] from a4, a6 in [-pi, pi]
+            q_out += (a1, a2, a3, a4, q5a, a6,
+                      a1, a2, a3, a4 - pi if a4 > 0.0 else a4 + pi, q5b,
+                      a6 - pi if a6 > 0.0 else a6 + pi)
+            slot = 4 * side + 2 * elbow
+            if pairs is None:  # sin(q5) of each flip: its label
+                branches += (self.labels[slot][is_up][sin(q5a) >= 0.0],
+                             self.labels[slot + 1][is_up][sin(q5b) >= 0.0])
+            else:  # no offset on joint 5: sin(q5) = -+s_w sin(theta), theta in (0, pi)
+                branches += pairs[slot + is_up]
+        return True
 
 
 def _rx_quarter(A: FloatArray) -> float:

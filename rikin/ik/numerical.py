@@ -369,42 +369,38 @@ def ik_numerical(
     q0 : array_like, shape (n,), optional
         Start (rad / length units). Default: a random start drawn from ``rng``.
     method : {"lm", "dls"}
-        "lm": Levenberg-Marquardt with adaptive damping (a step is kept only if
-        it lowers the error; the damping shrinks after good steps and grows
-        after bad ones). "dls": damped least squares with the fixed damping
-        ``DLS_DAMPING``, every step kept.
+        "lm": Levenberg-Marquardt with adaptive damping (a step is kept only if it lowers
+        the error; the damping shrinks after good steps and grows after bad ones).
+        "dls": damped least squares with the fixed damping ``DLS_DAMPING``.
     tol : float
-        Convergence threshold on the masked error: position error relative to
-        ``arm.scale`` and rotation error in rad.
+        Convergence threshold on the masked error (position / ``arm.scale``; rotation, rad).
     max_iter : int
         Maximum number of iterations (Jacobian evaluations).
     rng : None, int or numpy.random.Generator
         For the random start; None means seed 0 (reproducible).
     within_limits : bool
-        Keep the iterates inside the joint limits (clamping each step) and
-        draw the random start inside them.
+        Keep the iterates inside the joint limits (clamping each step), start inside them.
     mask : array_like of 6 values 0/1, optional
-        Which error components count (x, y, z, rx, ry, rz). Required for arms
-        with fewer than 6 joints, e.g. ``(1, 1, 1, 0, 0, 0)``: position only,
-        except the 5-DOF lesson arms (PPRRR, RPRRR), which take a whole pose as
-        ``arm.ik`` does: a pose they miss by rounding (within ``ROUNDED_POSE_TOL``)
-        is solved for the nearest reachable pose (``reach_distance``), as is a
-        6R's with a closed form rounded beyond its reach.
+        Which error components count (x, y, z, rx, ry, rz). Required for arms with fewer
+        than 6 joints, e.g. ``(1, 1, 1, 0, 0, 0)``: position only, except the 5-DOF lesson
+        arms (PPRRR, RPRRR), which take a whole pose as ``arm.ik`` does: a pose they miss by
+        rounding (within ``ROUNDED_POSE_TOL``) is solved for the nearest reachable pose
+        (``reach_distance``), as is a 6R's with a closed form rounded beyond its reach.
 
     Returns
     -------
     NumericalIKResult
-        ``success`` False (never an exception, never NaN) when the iteration
-        stalls or runs out of iterations, e.g. for an unreachable target.
+        ``success`` False (never an exception, never NaN) when the iteration stalls or runs
+        out of iterations, e.g. for an unreachable target.
 
     Raises
     ------
     InputError
         Malformed ``T``, ``q0`` (shape, NaN, degrees), ``mask`` or settings.
     UnreachableError
-        A whole pose that a 5-DOF lesson arm misses by more than ``ROUNDED_POSE_TOL``:
-        the same error, message and ``excess`` (the wrist centre's distance from the
-        poses the arm reaches) as ``arm.ik`` raises.
+        A whole pose that a 5-DOF lesson arm misses by more than ``ROUNDED_POSE_TOL``: the
+        error, message and ``excess`` (the wrist centre's distance from the poses the arm
+        reaches) that ``arm.ik`` raises.
 
     Examples
     --------
@@ -420,85 +416,142 @@ def ik_numerical(
     within_limits = as_flag(within_limits, "within_limits")
     T_t, rot_dist = _clean_target(T)
     weights = _check_mask(arm, mask)
-    if q0 is None:
-        q = _random_start(arm, _as_rng(rng), within_limits)
-    else:
-        q = arm.check_q(q0, "q0").copy()
-        if q.ndim != 1:
-            raise InputError(f"q0 must have shape ({arm.n},), got shape {q.shape}")
+    q = _start(arm, q0, rng, within_limits)
     T_t, reach = _reachable_target(arm, T_t, weights, tol)
-    lim = _limits(arm)
+    run = _Iteration(arm, method, tol, max_iter, weights, within_limits)
+    q, reason, it = run.towards(run.settle(q), T_t)
+    if reason != "converged" and reach == 0.0:  # a 6R's pose rounded beyond its reach?
+        q, reason, it, T_t, reach = _retry_on_nearest(run, q, reason, it, T_t)
+    return _result(arm, q, reason, it, T_t, rot_dist, reach, within_limits)
 
-    def settle(qq: FloatArray) -> FloatArray:
+
+def _retry_on_nearest(
+    run: _Iteration, q: FloatArray, reason: str, it: int, T_t: FloatArray
+) -> tuple[FloatArray, str, int, FloatArray, float]:
+    """``(q, reason, iterations, target, reach_distance)``: when ``T_t`` is a 6R's pose
+    rounded beyond its reach, which no iteration reaches, the iteration goes on from ``q``
+    towards the nearest reachable pose; else the first run's end, unchanged."""
+    T_near, d = _rounded_beyond_reach(run.arm, T_t, run.weights, run.tol)
+    if T_near is None:
+        return q, reason, it, T_t, 0.0
+    q, reason, more = run.towards(q, T_near)
+    return q, reason, it + more, T_near, d
+
+
+def _start(arm: SerialArm, q0: Any, rng: Any, within_limits: bool) -> FloatArray:
+    """The first iterate: ``q0`` checked, or a random start drawn from ``rng``."""
+    if q0 is None:
+        return _random_start(arm, _as_rng(rng), within_limits)
+    q = arm.check_q(q0, "q0").copy()
+    if q.ndim != 1:
+        raise InputError(f"q0 must have shape ({arm.n},), got shape {q.shape}")
+    return q
+
+
+class _Damping:
+    """The Levenberg-Marquardt damping and its growth factor, carried between steps."""
+
+    def __init__(self) -> None:
+        self.damping, self.nu = -1.0, 2.0
+
+
+class _Iteration:
+    """The damped Gauss-Newton iteration of one arm (``method`` "lm" or "dls"), with the
+    error mask ``weights`` (6,), the convergence ``tol`` and ``max_iter``."""
+
+    def __init__(
+        self,
+        arm: SerialArm,
+        method: str,
+        tol: float,
+        max_iter: int,
+        weights: FloatArray,
+        within_limits: bool,
+    ) -> None:
+        self.arm, self.method, self.tol, self.max_iter = arm, method, tol, max_iter
+        self.weights, self.within_limits = weights, within_limits
+        self.lim = _limits(arm)
+        self.scale_J = np.concatenate([np.full(3, 1.0 / arm.scale), np.ones(3)]) * weights
+
+    def settle(self, q: FloatArray) -> FloatArray:
         """Keep the iterate where arm.fk accepts it: clamped or wrapped."""
-        return np.clip(qq, lim[:, 0], lim[:, 1]) if within_limits else _wrap_revolute(arm, qq)
+        if self.within_limits:
+            return np.clip(q, self.lim[:, 0], self.lim[:, 1])
+        return _wrap_revolute(self.arm, q)
 
-    scale_J = np.concatenate([np.full(3, 1.0 / arm.scale), np.ones(3)]) * weights
+    def evaluate(self, q: FloatArray, T_t: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """Masked error (6,) and scaled, masked Jacobian (6, n) at ``q``."""
+        F, J_geo = _pose_and_jacobian(self.arm, q)
+        return _error_from_pose(self.arm, F, T_t) * self.weights, self.scale_J[:, None] * J_geo
 
-    def iterate(q: FloatArray, T_t: FloatArray) -> tuple[FloatArray, str, int]:
+    def towards(self, q: FloatArray, T_t: FloatArray) -> tuple[FloatArray, str, int]:
         """The iteration from ``q`` towards ``T_t``: where it ends, why, in how many steps."""
-
-        def evaluate(qq: FloatArray) -> tuple[FloatArray, FloatArray]:
-            """Masked error (6,) and scaled, masked Jacobian (6, n) at ``qq``."""
-            F, J_geo = _pose_and_jacobian(arm, qq)
-            return _error_from_pose(arm, F, T_t) * weights, scale_J[:, None] * J_geo
-
-        e, J = evaluate(q)
-        damping, nu = -1.0, 2.0
-        reason, it = "", 0
+        e, J = self.evaluate(q, T_t)
+        lm = _Damping()
+        it = 0
         costs: list[float] = []
         while True:
             err = float(np.abs(e).max())
-            if err < tol:
-                reason = "converged"
-                break
-            if it >= max_iter:
-                reason = f"max_iter reached (error {err:.3g})"
-                break
+            if err < self.tol:
+                return q, "converged", it
+            if it >= self.max_iter:
+                return q, f"max_iter reached (error {err:.3g})", it
+            stalled = f"stalled at a singularity / local minimum (error {err:.3g})"
             costs.append(min(float(e @ e), costs[-1] if costs else np.inf))  # best so far
             if len(costs) > LM_WINDOW and costs[-LM_WINDOW - 1] - costs[-1] <= LM_CREEP * costs[-1]:
-                reason = f"stalled at a singularity / local minimum (error {err:.3g})"
-                break
+                return q, stalled, it
             it += 1
-            if method == "dls":
-                q = settle(q + _step(J, e, DLS_DAMPING))
-                e, J = evaluate(q)
+            if self.method == "dls":
+                q = self.settle(q + _step(J, e, DLS_DAMPING))
+                e, J = self.evaluate(q, T_t)
                 continue
-            diag_max = float(np.max(np.diag(J.T @ J), initial=0.0)) or 1.0
-            if damping < 0:
-                damping = 1e-3 * diag_max
-            g = J.T @ e
-            if float(np.abs(g).max()) < LM_FLAT_GRADIENT:
-                reason = f"stalled at a singularity / local minimum (error {err:.3g})"
-                break
-            dq = _step(J, e, damping)
-            if float(np.linalg.norm(dq)) < LM_TINY_STEP * (1.0 + float(np.linalg.norm(q))):
-                reason = f"stalled at a singularity / local minimum (error {err:.3g})"
-                break
-            q_new = settle(q + dq)
-            e_new, J_new = evaluate(q_new)
-            gain = float(e @ e - e_new @ e_new)
-            predicted = float(dq @ (damping * dq + g))
-            if gain > 0 and predicted > 0:
-                q, e, J = q_new, e_new, J_new
-                rho = gain / predicted
-                damping *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
-                nu = 2.0
-            else:
-                damping *= nu
-                nu *= 2.0
-                if damping > LM_MAX_DAMPING * diag_max:
-                    reason = f"stalled at a singularity / local minimum (error {err:.3g})"
-                    break
-        return q, reason, it
+            moved = self._lm_step(q, e, J, T_t, lm)
+            if moved is None:
+                return q, stalled, it
+            q, e, J = moved
 
-    q, reason, it = iterate(settle(q), T_t)
-    if reason != "converged" and reach == 0.0:  # a 6R's pose rounded beyond its reach?
-        T_near, d = _rounded_beyond_reach(arm, T_t, weights, tol)
-        if T_near is not None:
-            T_t, reach = T_near, d
-            q, reason, more = iterate(q, T_t)
-            it += more
+    def _lm_step(
+        self, q: FloatArray, e: FloatArray, J: FloatArray, T_t: FloatArray, lm: _Damping
+    ) -> tuple[FloatArray, FloatArray, FloatArray] | None:
+        """One Levenberg-Marquardt trial: the new ``(q, e, J)`` when the step lowers the
+        error, the old ones when it does not (the damping grows), None when stalled."""
+        diag_max = float(np.max(np.diag(J.T @ J), initial=0.0)) or 1.0
+        if lm.damping < 0:
+            lm.damping = 1e-3 * diag_max
+        g = J.T @ e
+        if float(np.abs(g).max()) < LM_FLAT_GRADIENT:
+            return None
+        dq = _step(J, e, lm.damping)
+        if float(np.linalg.norm(dq)) < LM_TINY_STEP * (1.0 + float(np.linalg.norm(q))):
+            return None
+        q_new = self.settle(q + dq)
+        e_new, J_new = self.evaluate(q_new, T_t)
+        gain = float(e @ e - e_new @ e_new)
+        predicted = float(dq @ (lm.damping * dq + g))
+        if gain > 0 and predicted > 0:
+            rho = gain / predicted
+            lm.damping *= max(1.0 / 3.0, 1.0 - (2.0 * rho - 1.0) ** 3)
+            lm.nu = 2.0
+            return q_new, e_new, J_new
+        lm.damping *= lm.nu
+        lm.nu *= 2.0
+        if lm.damping > LM_MAX_DAMPING * diag_max:
+            return None
+        return q, e, J
+
+
+def _result(
+    arm: SerialArm,
+    q: FloatArray,
+    reason: str,
+    it: int,
+    T_t: FloatArray,
+    rot_dist: float,
+    reach: float,
+    within_limits: bool,
+) -> NumericalIKResult:
+    """Where the iteration ended as a result: wrapped (moved inside the joint limits when
+    asked) and measured against the target ``T_t`` it iterated on."""
     q_out = _wrap_revolute(arm, q)
     if within_limits:
         from .api import _limits_filter

@@ -38,18 +38,79 @@ from __future__ import annotations
 
 from cmath import sqrt as csqrt
 from math import acos, atan2, cos, hypot, pi, remainder, sin, sqrt
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from .._validate import FloatArray
 from ..tolerances import REACH_TOL, SINGULAR_TOL
+from ..transforms import _inv_transform
 from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
-    from .pieper import Pieper6RSolver
 
 __all__ = ["PieperKernel", "single_kernel"]
+
+
+# What the kernel reads from the general solver, once per arm. The solver
+# (:class:`rikin.ik.pieper.Pieper6RSolver`) imports this module, never the reverse: these
+# protocols name the few attributes the kernel needs instead of the solver's classes.
+class _Model(Protocol):
+    """The arm as ``M0 Rz(th1) M1 ... Rz(th6) M6`` (``pieper.ChainModel``)."""
+
+    @property
+    def M(self) -> FloatArray: ...  # (7, 4, 4)
+    @property
+    def offsets(self) -> FloatArray: ...  # (6,), rad
+    @property
+    def scale(self) -> float: ...
+
+
+class _Wrist(Protocol):
+    """The wrist centre and twists (``pieper.WristGeometry``)."""
+
+    @property
+    def c_flange(self) -> FloatArray: ...  # (3,), the centre in the flange frame
+    @property
+    def v(self) -> FloatArray: ...  # (3,), the centre after Rz(th3)
+    @property
+    def b1(self) -> float: ...
+    @property
+    def b2(self) -> float: ...
+
+
+class KernelSource(Protocol):
+    """The per-arm constants of the general solver that :class:`PieperKernel` reads."""
+
+    @property
+    def model(self) -> _Model: ...
+    @property
+    def wrist(self) -> _Wrist: ...
+    @property
+    def unit(self) -> float: ...
+    @property
+    def case(self) -> str: ...
+    @property
+    def M0_inv(self) -> FloatArray: ...
+    @property
+    def a1(self) -> float: ...
+    @property
+    def d1(self) -> float: ...
+    @property
+    def ca1(self) -> float: ...
+    @property
+    def sa1(self) -> float: ...
+    @property
+    def orthogonal(self) -> bool: ...
+    @property
+    def sigma(self) -> float: ...
+    @property
+    def kappa(self) -> float: ...
+
+    def _to_unit(self, T: FloatArray) -> FloatArray: ...
+    def _arm_constants(self) -> tuple[FloatArray, ...]: ...
+
 
 #: Relative distances below this send the pose to the general path: the wrist centre
 #: from axis 1 or 2 (times the arm's size), |sin q5| (and what the wrist formulas divide
@@ -92,7 +153,7 @@ WRAP_EDGE = pi - 1e-10
 _TAU = 2.0 * pi
 _CUBE_ROOTS_OF_1 = (complex(-0.5, 0.8660254037844386), complex(-0.5, -0.8660254037844386))
 
-def single_kernel(solver: Pieper6RSolver, arm: SerialArm) -> PieperKernel | None:
+def single_kernel(solver: KernelSource, arm: SerialArm) -> PieperKernel | None:
     """The plain-float kernel of ``solver`` for ``arm``, or None when the arm's position
     problem is of a degree the kernel does not take (a skew arm whose quartic has no
     z^4 term: the general solver's degree-1 branch)."""
@@ -109,9 +170,7 @@ class PieperKernel:
     module docstring). Built once per arm; :meth:`solve` is the one-pose interface of
     :func:`rikin.ik.api.solve` (it hands back each solution's Branch from ``labels``)."""
 
-    def __init__(self, solver: Pieper6RSolver, arm: SerialArm) -> None:
-        from ..transforms import _inv_transform
-
+    def __init__(self, solver: KernelSource, arm: SerialArm) -> None:
         model, wg = solver.model, solver.wrist
         M = [_rows(m) for m in model.M]
         self.L = float(model.scale)
@@ -378,96 +437,26 @@ class PieperKernel:
 
     def _finish(self, positions, px, py, r00, r01, r02, r10, r11, r12, r20, r21, r22):
         """Joint 1, the wrist and the labels of every position (see :meth:`solve`)."""
-        L = self.L
-        ca1s, sa1s = self.x1
-        ca2, sa2 = self.x2
-        ca3, sa3 = self.x3
-        t1x, t1y, _ = self.t1
-        t2x, t2y, _ = self.t2
-        ux, uy = self.up1
         o1, o2, o3, o4, o5, o6 = self.offsets
         phi_p = atan2(py, px)
         rem, tau = remainder, _TAU
-        orth = self.orthogonal
-        sig, kappa = self.sigma, self.kappa
-        kpi = kappa * pi
-        Hc = self.Hcols
-        # columns of S = G_R R H (0 and 2; all three for a non-orthogonal wrist)
-        (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = self.G
-        cols = []
-        for j in ((0, 2) if orth else (0, 1, 2)):
-            h0, h1, h2 = Hc[j]
-            x = r00 * h0 + r01 * h1 + r02 * h2
-            y = r10 * h0 + r11 * h1 + r12 * h2
-            z = r20 * h0 + r21 * h1 + r22 * h2
-            cols.append((g00 * x + g01 * y + g02 * z, g10 * x + g11 * y + g12 * z,
-                         g20 * x + g21 * y + g22 * z))
+        ca3, sa3 = self.x3
+        cols = self._goal_columns(r00, r01, r02, r10, r11, r12, r20, r21, r22)
         q_out: list[float] = []
         branches: list[Branch] = []
         labels = self.labels
-        label_tol = LABEL * L
         for th2, c2, s2, th3, c3, s3, gx, gy, gz in positions:
-            # joint 1 turns r = M1 Rz(th2) g onto p'
-            xp, yp = c2 * gx - s2 * gy, s2 * gx + c2 * gy
-            rx, ry = xp + t1x, ca1s * yp - sa1s * gz + t1y
-            th1 = phi_p - atan2(ry, rx)
-            c1, s1 = cos(th1), sin(th1)
-            # labels: front (p' ahead of axis 1 along the turned x axis), elbow up
-            fr = px * c1 + py * s1
-            if abs(fr) < label_tol:
+            arm = self._joint1_and_labels(px, py, phi_p, c2, s2, gx, gy, gz)
+            if arm is None:
                 return None
-            front = fr >= 0.0
-            ex, ey = c2 * t2x - s2 * t2y, s2 * t2x + c2 * t2y
-            nl = xp * xp + yp * yp
-            el = ex * xp + ey * yp
-            across = abs(xp * uy - yp * ux)
-            span = sqrt(nl) + L
-            if across <= SINGULAR_TOL * span:
-                hu = ex - el / nl * xp  # h . (1, 0)
-                hn = 1.0
-            elif across < 1e-7 * span:
+            th1, c1, s1, front, up = arm
+            rw = self._wrist_columns(cols, c1, s1, c2, s2, c3, s3)
+            wrist = self._wrist_orthogonal(rw) if self.orthogonal else self._wrist_general(
+                [(rw[i], ca3 * rw[i + 1] + sa3 * rw[i + 2], ca3 * rw[i + 2] - sa3 * rw[i + 1])
+                 for i in (0, 3, 6)])
+            if wrist is None:
                 return None
-            else:
-                hu = ex * ux + ey * uy - el * (xp * ux + yp * uy) / nl
-                hn = hypot(ux, uy)
-            if abs(hu) < label_tol * hn:
-                return None
-            up = hu > 0.0
-            # R_w columns: Rx(-al3) Rz(-th3) Rx(-al2) Rz(-th2) Rx(-al1) Rz(-th1) S
-            rw: list[float] = []
-            for x, y, z in cols:
-                x1 = c1 * x + s1 * y
-                y1 = c1 * y - s1 * x
-                y2 = ca1s * y1 + sa1s * z
-                z2 = ca1s * z - sa1s * y1
-                x3 = c2 * x1 + s2 * y2
-                y3 = c2 * y2 - s2 * x1
-                y4 = ca2 * y3 + sa2 * z2
-                z4 = ca2 * z2 - sa2 * y3
-                rw += (c3 * x3 + s3 * y4, c3 * y4 - s3 * x3, z4)
-            a1 = rem(th1 - o1, tau)
-            a2 = rem(th2 - o2, tau)
-            a3 = rem(th3 - o3, tau)
-            if orth:  # ZYZ angles of R_w C^T (Pieper6RSolver._wrist), columns 0 and 2
-                m00, y5, z4, m02, y5b, z4b = rw
-                m10, m20 = ca3 * y5 + sa3 * z4, ca3 * z4 - sa3 * y5
-                m12, m22 = ca3 * y5b + sa3 * z4b, ca3 * z4b - sa3 * y5b
-                if kappa < 0:  # C = diag(1, -1, -1)
-                    m02, m12, m22 = -m02, -m12, -m22
-                sw = hypot(m02, m12)
-                if sw < NEAR:
-                    return None
-                theta = sig * atan2(sw, m22)
-                phi = atan2(m12, m02)
-                cp, sp = m02 / sw, m12 / sw
-                psi = kappa * atan2(cp * m10 - sp * m00, m22 * (cp * m00 + sp * m10) - sw * m20)
-                wrist = ((phi, -theta, psi), (phi + pi, theta, psi + kpi))
-            else:
-                wrist = self._wrist_general(
-                    [(rw[i], ca3 * rw[i + 1] + sa3 * rw[i + 2], ca3 * rw[i + 2] - sa3 * rw[i + 1])
-                     for i in (0, 3, 6)])
-                if wrist is None:
-                    return None
+            a1, a2, a3 = rem(th1 - o1, tau), rem(th2 - o2, tau), rem(th3 - o3, tau)
             for th4, th5, th6 in wrist:
                 q5 = rem(th5 - o5, tau)
                 sq5 = sin(q5)
@@ -480,6 +469,92 @@ class PieperKernel:
         if max(map(abs, q_out)) > WRAP_EDGE:
             return None
         return q_out, branches
+
+    def _goal_columns(self, r00, r01, r02, r10, r11, r12, r20, r21, r22):
+        """Columns of ``S = G_R R H`` (0 and 2; all three for a non-orthogonal wrist)."""
+        (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = self.G
+        Hc = self.Hcols
+        cols = []
+        for j in ((0, 2) if self.orthogonal else (0, 1, 2)):
+            h0, h1, h2 = Hc[j]
+            x = r00 * h0 + r01 * h1 + r02 * h2
+            y = r10 * h0 + r11 * h1 + r12 * h2
+            z = r20 * h0 + r21 * h1 + r22 * h2
+            cols.append((g00 * x + g01 * y + g02 * z, g10 * x + g11 * y + g12 * z,
+                         g20 * x + g21 * y + g22 * z))
+        return cols
+
+    def _joint1_and_labels(self, px, py, phi_p, c2, s2, gx, gy, gz):
+        """``(th1, cos th1, sin th1, front, elbow up)`` of one position, or None when a
+        label is too near its boundary to be decided the same way as the general path."""
+        L = self.L
+        ca1s, sa1s = self.x1
+        t1x, t1y, _ = self.t1
+        t2x, t2y, _ = self.t2
+        ux, uy = self.up1
+        label_tol = LABEL * L
+        # joint 1 turns r = M1 Rz(th2) g onto p'
+        xp, yp = c2 * gx - s2 * gy, s2 * gx + c2 * gy
+        rx, ry = xp + t1x, ca1s * yp - sa1s * gz + t1y
+        th1 = phi_p - atan2(ry, rx)
+        c1, s1 = cos(th1), sin(th1)
+        # labels: front (p' ahead of axis 1 along the turned x axis), elbow up
+        fr = px * c1 + py * s1
+        if abs(fr) < label_tol:
+            return None
+        ex, ey = c2 * t2x - s2 * t2y, s2 * t2x + c2 * t2y
+        nl = xp * xp + yp * yp
+        el = ex * xp + ey * yp
+        across = abs(xp * uy - yp * ux)
+        span = sqrt(nl) + L
+        if across <= SINGULAR_TOL * span:
+            hu = ex - el / nl * xp  # h . (1, 0)
+            hn = 1.0
+        elif across < 1e-7 * span:
+            return None
+        else:
+            hu = ex * ux + ey * uy - el * (xp * ux + yp * uy) / nl
+            hn = hypot(ux, uy)
+        if abs(hu) < label_tol * hn:
+            return None
+        return th1, c1, s1, fr >= 0.0, hu > 0.0
+
+    def _wrist_columns(self, cols, c1, s1, c2, s2, c3, s3) -> list[float]:
+        """``R_w``'s columns, flat: Rx(-al3) Rz(-th3) Rx(-al2) Rz(-th2) Rx(-al1) Rz(-th1) S
+        (the last Rx(-al3) left to the wrist)."""
+        ca1s, sa1s = self.x1
+        ca2, sa2 = self.x2
+        rw: list[float] = []
+        for x, y, z in cols:
+            x1 = c1 * x + s1 * y
+            y1 = c1 * y - s1 * x
+            y2 = ca1s * y1 + sa1s * z
+            z2 = ca1s * z - sa1s * y1
+            x3 = c2 * x1 + s2 * y2
+            y3 = c2 * y2 - s2 * x1
+            y4 = ca2 * y3 + sa2 * z2
+            z4 = ca2 * z2 - sa2 * y3
+            rw += (c3 * x3 + s3 * y4, c3 * y4 - s3 * x3, z4)
+        return rw
+
+    def _wrist_orthogonal(self, rw: list[float]):
+        """Both wrist slots of an orthogonal wrist: ZYZ angles of ``R_w C^T``
+        (:meth:`Pieper6RSolver._wrist`) from columns 0 and 2; None near the wrist fold."""
+        ca3, sa3 = self.x3
+        kappa = self.kappa
+        m00, y5, z4, m02, y5b, z4b = rw
+        m10, m20 = ca3 * y5 + sa3 * z4, ca3 * z4 - sa3 * y5
+        m12, m22 = ca3 * y5b + sa3 * z4b, ca3 * z4b - sa3 * y5b
+        if kappa < 0:  # C = diag(1, -1, -1)
+            m02, m12, m22 = -m02, -m12, -m22
+        sw = hypot(m02, m12)
+        if sw < NEAR:
+            return None
+        theta = self.sigma * atan2(sw, m22)
+        phi = atan2(m12, m02)
+        cp, sp = m02 / sw, m12 / sw
+        psi = kappa * atan2(cp * m10 - sp * m00, m22 * (cp * m00 + sp * m10) - sw * m20)
+        return ((phi, -theta, psi), (phi + pi, theta, psi + kappa * pi))
 
     def _wrist_general(self, rw):
         """Both wrist slots of a wrist with any twists (:meth:`Pieper6RSolver._wrist`);
