@@ -52,9 +52,10 @@ from .errors import InputError, UnreachableError
 from .ik.kernels import elbow_above, reach_excess, two_link
 from .ik.result import IKResult
 
-__all__ = ["MARKER_KEY", "gripper_path", "is_planar", "joint_points", "link_path", "plot_arm",
-           "plot_dh_frames", "plot_solutions", "plot_two_link_triangle", "plot_workspace_3d",
-           "plot_workspace_planar", "plot_wrist_centre", "same_joint_points", "wrist_centre"]
+__all__ = ["MARKER_KEY", "book_style", "gripper_path", "is_planar", "joint_points", "link_path",
+           "plot_arm", "plot_dh_frames", "plot_solutions", "plot_two_link_triangle",
+           "plot_workspace_3d", "plot_workspace_planar", "plot_wrist_centre", "same_joint_points",
+           "turned_axes", "wrist_centre"]
 
 #: Colours of the frame triads' x, y and z axes.
 AXIS_COLOURS = ("tab:red", "tab:green", "tab:blue")
@@ -77,6 +78,47 @@ MARKER_KEY = ("frame axes: x red, y green, z blue  ·  ○ revolute joint, □ p
               "red ring: the target")
 #: A joint point within this fraction of the arm's scale of another counts as the same point.
 SAME_POINT_TOL = 1e-6
+#: The smallest font (points) of the book's figures: a figure at most 7.5 inches wide is
+#: shown at its natural size in the book's 1280 px layout, where this is 10 px high.
+SMALLEST_FONT_PT = 7.5
+#: Font size (points) of each subplot's title in :func:`plot_solutions`.
+SOLUTION_TITLE_PT = 8.5
+#: Colour of the other solutions drawn faintly behind each subplot of plot_solutions.
+GHOST_COLOUR = "0.8"
+#: Colour of the :func:`knuckles` that tell apart solutions whose stick figures coincide.
+TWIN_COLOUR = "tab:purple"
+#: matplotlib settings of the book's figures (:func:`book_style`): text kept as text in
+#: the SVG (sharp, searchable, measurable), fixed element ids (the same file at every
+#: build), and fonts no smaller than SMALLEST_FONT_PT.
+BOOK_RC = {"svg.fonttype": "none", "svg.hashsalt": "rikin", "font.size": 10.0,
+           "axes.titlesize": 10.0, "axes.labelsize": 9.0, "xtick.labelsize": SMALLEST_FONT_PT,
+           "ytick.labelsize": SMALLEST_FONT_PT, "legend.fontsize": SMALLEST_FONT_PT,
+           "figure.titlesize": 11.0}
+
+
+def book_style() -> None:
+    """Draw the following figures as the book does: SVG with text, no smaller than 8 pt.
+
+    Sets :data:`BOOK_RC` in matplotlib's rcParams and, inside IPython with the
+    inline backend (a notebook, the book's build), makes figures SVG without a
+    timestamp, so that a rebuilt page is byte for byte the same and its text
+    stays sharp at any zoom. Outside IPython only the rcParams change.
+
+    Examples
+    --------
+    >>> book_style()
+    >>> plt.rcParams["svg.fonttype"]
+    'none'
+    """
+    plt.rcParams.update(BOOK_RC)
+    try:
+        from IPython import get_ipython
+        from matplotlib_inline.backend_inline import set_matplotlib_formats
+    except ImportError:  # no IPython: figures are saved by the caller, rcParams suffice
+        return
+    if get_ipython() is None:
+        return
+    set_matplotlib_formats("svg", bbox_inches="tight", metadata={"Date": None})
 
 
 # ------------------------------------------------------------------ helpers
@@ -548,7 +590,42 @@ def same_joint_points(arm: SerialArm, Q: Any) -> list[list[int]]:
     return [[int(j) + 1 for j in np.flatnonzero(row <= tol) if j != i] for i, row in enumerate(gap)]
 
 
-def _few_ticks(ax: Axes, n: int = 3, labelsize: float | None = 6) -> None:
+def turned_axes(arm: SerialArm, q: Any, q_other: Any) -> list[int]:
+    """The joints (numbered from 1) whose axis points the other way in ``q_other``.
+
+    Two solutions whose stick figures coincide (:func:`same_joint_points`: a
+    wrist flip, or a front and a back branch without shoulder offset) still
+    differ: some joint axes are reversed, and those joints turn the other way
+    to reach the same pose. :func:`plot_solutions` draws these axes.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    q, q_other : array_like, shape (n,)
+
+    Returns
+    -------
+    list of int
+        The revolute joints whose axis directions (world frame) point more
+        than 90 degrees apart in the two configurations.
+
+    Examples
+    --------
+    >>> from rikin import robots
+    >>> arm = robots.pprrr()
+    >>> res = arm.ik(arm.fk([1, 2, 0.5, 0.7, 0.2]))
+    >>> turned_axes(arm, res.q[0], res.q[1])
+    [4]
+    """
+    _check_arm(arm)
+    a, b = _check_q(arm, q), _check_q(arm, q_other)
+    _, axes_a = arm.joint_axes(a)
+    _, axes_b = arm.joint_axes(b)
+    dots = np.einsum("ij,ij->i", axes_a, axes_b)
+    return [i + 1 for i in range(arm.n) if arm.revolute[i] and dots[i] < 0.0]
+
+
+def _few_ticks(ax: Axes, n: int = 3, labelsize: float | None = SMALLEST_FONT_PT) -> None:
     """At most ``n`` ticks per axis (small labels): tick labels never run together."""
     axes = (ax.xaxis, ax.yaxis, ax.zaxis) if ax.name == "3d" else (ax.xaxis, ax.yaxis)
     for axis in axes:
@@ -557,17 +634,66 @@ def _few_ticks(ax: Axes, n: int = 3, labelsize: float | None = 6) -> None:
         ax.tick_params(labelsize=labelsize, pad=0)
 
 
-def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
+def _solutions_input(arm: SerialArm, result: Any,
+                     target: Any) -> tuple[FloatArray, Sequence[str], Any, str | None]:
+    """The solutions ``(k, n)``, their labels, the target to mark and a note."""
+    if isinstance(result, IKResult):
+        Q = np.asarray(result.q, dtype=np.float64)
+        note = f"singular: {result.singularity}" if result.singular else None
+        return Q, result.labels, result.target if target is None else target, note
+    Q = arm.check_q(result, "result")
+    Q = Q[None] if Q.ndim == 1 else Q
+    return Q, [""] * len(Q), target, None
+
+
+def _figsize(figsize: Any) -> tuple[float, float] | None:
+    if figsize is None:
+        return None
+    size = as_float_array(figsize, "figsize")
+    if size.shape != (2,) or not (size > 0).all() or size.max() > 100:
+        raise InputError(f"figsize must be (width, height) in inches, each 0 to 100, got "
+                         f"{figsize!r:.80}")
+    return float(size[0]), float(size[1])
+
+
+def _draw_ghosts(ax: Axes, arm: SerialArm, F: FloatArray, others: Sequence[int]) -> None:
+    """The other solutions' links, faint, behind the panel's own arm."""
+    dims = 3 if ax.name == "3d" else 2
+    for j in others:
+        ax.plot(*_link_path(arm, F[j])[:, :dims].T, "-", color=GHOST_COLOUR, lw=2.0,
+                solid_capstyle="round", gid="ghost", zorder=1)
+
+
+def _draw_turned_axes(ax: Axes, arm: SerialArm, F: FloatArray, joints: Sequence[int],
+                      length: float) -> None:
+    """Arrows along the given joints' axes from their joint points (purple)."""
+    dims = 3 if ax.name == "3d" else 2
+    points = _joint_points(arm, F)
+    idx = np.arange(arm.n) if arm.convention == "standard" else np.arange(1, arm.n + 1)
+    for j in joints:
+        p, z = points[j - 1], F[idx[j - 1], :3, 2]
+        seg = np.stack([p, p + length * z])
+        ax.plot(*seg[:, :dims].T, "-", color=TWIN_COLOUR, lw=3.0, solid_capstyle="round",
+                gid="turned-axis", zorder=5)
+        ax.plot(*seg[1, :dims], "o", ms=6, color=TWIN_COLOUR, ls="none", gid="turned-axis",
+                zorder=5)
+
+
+def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
                    figsize: tuple[float, float] | None = None, frames: bool = True,
                    target: Any = None, gripper: bool = True,
-                   view: tuple[float, float] | None = None, key: bool = True) -> Figure:
+                   view: tuple[float, float] | None = None, key: bool = True,
+                   ghosts: bool = True) -> Figure:
     """Every IK solution side by side: one subplot per solution, same view in all.
 
-    Each subplot shows the links, the joints, every joint frame (so that
-    solutions whose joints coincide, such as a front and a back branch
-    without shoulder offset, or a wrist flip, still look different) and a
-    gripper at the TCP. Subplots whose stick figures coincide say so in their
-    titles (:func:`same_joint_points`).
+    Each subplot shows the links, the joints, every joint frame and a
+    gripper at the TCP, with the other solutions' links faint behind it
+    (``ghosts``), so that what changes from one solution to the next shows.
+    Solutions whose stick figures coincide (a wrist flip, or a front and a
+    back branch without shoulder offset) say so in their titles
+    (:func:`same_joint_points`) and draw in purple the axes of the joints that
+    point the other way in their twin (:func:`turned_axes`): those joints turn
+    the other way to reach the same pose.
 
     Parameters
     ----------
@@ -576,9 +702,11 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
         The solutions. Titles show the branch label (for an IKResult) and
         the joint values (degrees for revolute joints).
     ncols : int
-        Subplots per row.
+        Subplots per row. The default 2 keeps the figure 7.2 inches wide, so
+        that its smallest text (SMALLEST_FONT_PT) is still 9 px or more in
+        the book's text column.
     figsize : (float, float), optional
-        Inches; default 3.3 x 3.8 per subplot.
+        Inches; default 3.6 x 3.9 per subplot.
     frames : bool
         Draw the frame triads (x red, y green, z blue).
     target : array_like, shape (4, 4), optional
@@ -590,6 +718,8 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
         3D camera ``(elevation, azimuth)`` in degrees, the same in every subplot.
     key : bool
         Write :data:`MARKER_KEY` under the subplots.
+    ghosts : bool
+        Draw the other solutions' links faintly behind each subplot's arm.
 
     Returns
     -------
@@ -611,29 +741,15 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
     2
     """
     _check_arm(arm)
-    if isinstance(result, IKResult):
-        Q = np.asarray(result.q, dtype=np.float64)
-        labels: Sequence[str] = result.labels
-        tgt = result.target if target is None else target
-        note = f"singular: {result.singularity}" if result.singular else None
-    else:
-        Q = arm.check_q(result, "result")
-        Q = Q[None] if Q.ndim == 1 else Q
-        labels = [""] * len(Q)
-        tgt, note = target, None
+    Q, labels, tgt, note = _solutions_input(arm, result, target)
     if Q.ndim != 2 or Q.shape[0] == 0:
         raise InputError("there are no solutions to draw (the IK result is empty)")
     Q = arm.check_q(Q, "result.q")
     ncols = as_count(ncols, "ncols", minimum=1)
     frames, gripper = as_flag(frames, "frames"), as_flag(gripper, "gripper")
-    key = as_flag(key, "key")
+    key, ghosts = as_flag(key, "key"), as_flag(ghosts, "ghosts")
     view = _check_view(view)
-    if figsize is not None:
-        size = as_float_array(figsize, "figsize")
-        if size.shape != (2,) or not (size > 0).all() or size.max() > 100:
-            raise InputError(f"figsize must be (width, height) in inches, each 0 to 100, got "
-                             f"{figsize!r:.80}")
-        figsize = (float(size[0]), float(size[1]))
+    figsize = _figsize(figsize)
     T_target = None
     if tgt is not None:
         T_target = as_float_array(tgt, "target")
@@ -643,7 +759,7 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
     cols = min(int(ncols), k)
     rows = math.ceil(k / cols)
     three_d = not is_planar(arm)
-    figsize = (3.3 * cols, 3.8 * rows + (0.3 if key else 0.0)) if figsize is None else figsize
+    figsize = (3.6 * cols, 3.6 * rows + 0.45 + (0.5 if key else 0.0)) if figsize is None else figsize
     fig = plt.figure(figsize=figsize)
     F = arm._fk(Q, frames=True)
     if three_d:
@@ -656,8 +772,13 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
     twins = same_joint_points(arm, Q)
     for i in range(k):
         ax = fig.add_subplot(rows, cols, i + 1, projection="3d" if three_d else None)
+        if ghosts:
+            _draw_ghosts(ax, arm, F, [j for j in range(k) if j != i and j + 1 not in twins[i]])
         _draw_arm(ax, arm, Q[i], frames=frames, frame_scale=fs, color=None,
                   label_joints=False, gripper=gripper)
+        if twins[i]:
+            turned = sorted({j for t in twins[i] for j in turned_axes(arm, Q[i], Q[t - 1])})
+            _draw_turned_axes(ax, arm, F[i], turned, 1.5 * fs)
         if T_target is not None:
             p = T_target[:3, 3]
             ax.plot(*p[:3 if three_d else 2], "o", ms=13, mfc="none", mec="tab:red", mew=1.8,
@@ -667,24 +788,35 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 4,
         title = f"{head}\n{_q_text(arm, Q[i])}"
         if twins[i]:
             title += "\njoints where #" + ", #".join(map(str, twins[i])) + " has them"
-        # six joint values in a quarter of a page: a smaller title keeps panels apart
-        ax.set_title(title, fontsize=7 if arm.n >= 6 and cols >= 4 else 8)
+        ax.set_title(title, fontsize=SOLUTION_TITLE_PT)
         _few_ticks(ax)
         if three_d:
             for label in (ax.xaxis.label, ax.yaxis.label, ax.zaxis.label):
-                label.set_fontsize(7)
+                label.set_fontsize(SMALLEST_FONT_PT)
     sup = f"{arm.name}: {k} IK solution{'s' if k != 1 else ''}"
-    fig.suptitle(sup if note is None else f"{sup}\n{note}", fontsize=10)
-    fig.tight_layout(rect=(0.0, 0.04 if key else 0.0, 1.0, 1.0))
+    fig.suptitle(sup if note is None else f"{sup}\n{note}", fontsize=11)
+    height = fig.get_size_inches()[1]
+    top = 1.0 - (0.45 + (0.2 if note else 0.0)) / height   # room for the suptitle
+    fig.tight_layout(rect=(0.0, 0.5 / height if key else 0.0, 1.0, top))
     if three_d:
         # tight_layout ignores the 3D axis labels: leave room for them at both sides
         fig.subplots_adjust(left=0.04, right=0.96, wspace=0.3)
     if key:
-        words = MARKER_KEY if three_d else MARKER_KEY.replace("approach along z",
-                                                              "approach along x")
-        fig.text(0.5, 0.005, words, ha="center", va="bottom", fontsize=7, color="0.25",
-                 wrap=True, gid="key")
+        _solutions_key(fig, three_d, ghosts and k > 1, any(twins))
     return fig
+
+
+def _solutions_key(fig: Figure, three_d: bool, ghosts: bool, twins: bool) -> None:
+    words = MARKER_KEY if three_d else MARKER_KEY.replace("approach along z", "approach along x")
+    extra = []
+    if ghosts:
+        extra.append("light grey: the other solutions")
+    if twins:
+        extra.append("purple arrow: a joint axis reversed in the twin solution")
+    if extra:
+        words += "  ·  " + "  ·  ".join(extra)
+    fig.text(0.5, 0.005, words, ha="center", va="bottom", fontsize=SMALLEST_FONT_PT,
+             color="0.25", wrap=True, gid="key")
 
 
 # ------------------------------------------------------------------ the geometric method

@@ -26,6 +26,7 @@ from rikin.plot import (
     plot_workspace_planar,
     plot_wrist_centre,
     same_joint_points,
+    turned_axes,
     wrist_centre,
 )
 
@@ -432,7 +433,8 @@ def test_plot_solutions_says_which_solutions_coincide_and_has_a_key():
     titles = [ax.get_title() for ax in fig.axes]
     assert "#2, #7, #8" in titles[0]
     keys = [t for t in fig.texts if t.get_gid() == "key"]
-    assert len(keys) == 1 and keys[0].get_text() == MARKER_KEY
+    assert len(keys) == 1 and keys[0].get_text().startswith(MARKER_KEY)
+    assert "the other solutions" in keys[0].get_text() and "reversed" in keys[0].get_text()
     # the frames are drawn (default) and differ between solutions 1 and 7, whose joints
     # coincide: what tells them apart is drawn
     v1 = line_vertices(lines(fig.axes[0], "frame-z")[0], True)
@@ -506,3 +508,87 @@ def test_workspace_3d_points_are_fk_of_joints_in_the_limits():
         plot_workspace_3d(arm, n=5)
     with pytest.raises(InputError, match="limits"):
         plot_workspace_3d(robots.pprrr())
+
+
+# ---------------------------------------------------------------- readable, telling panels
+def _font_sizes(fig):
+    """Every text's size (points) in a drawn figure, tick labels included."""
+    fig.canvas.draw()
+    return [t.get_fontsize() for t in fig.findobj(matplotlib.text.Text)
+            if t.get_text().strip() and t.get_visible()]
+
+
+@pytest.mark.parametrize("name, q_deg", [
+    ("aula10_6r", AULA10_Q_DEG), ("angular_3r", [140.4, 21.6, 50.4]),
+    ("epson_c4", [10, 20, 30, 40, 50, 60])])
+def test_plot_solutions_fits_the_book_column_with_readable_text(name, q_deg):
+    """At most 7.5 inches wide (shown at its natural size, 720 px, in the book) and no text
+    under SMALLEST_FONT_PT: 10 px on the page. The old 4-column layout was 13 inches wide
+    with 6 pt ticks: 5 px once shrunk to the column."""
+    arm = getattr(robots, name)()
+    res = arm.ik(arm.fk(rikin.rad(q_deg)))
+    fig = plot_solutions(arm, res)
+    assert fig.get_size_inches()[0] <= 7.5
+    assert min(_font_sizes(fig)) >= rikin.plot.SMALLEST_FONT_PT
+
+
+def test_plot_solutions_ghosts_the_other_solutions():
+    """Each panel draws the solutions whose stick figure differs from its own, faintly."""
+    arm = robots.aula10_6r()
+    res = arm.ik(arm.fk(rikin.rad(AULA10_Q_DEG)))
+    fig = plot_solutions(arm, res)
+    twins = same_joint_points(arm, res.q)
+    F = arm.fk(res.q, frames=True)
+    for i, ax in enumerate(fig.axes):
+        ghosts = lines(ax, "ghost")
+        others = [j for j in range(len(res)) if j != i and j + 1 not in twins[i]]
+        assert len(ghosts) == len(others) == 4
+        for g, j in zip(ghosts, others, strict=True):
+            assert np.allclose(line_vertices(g, True)[0::2], F[j, :-1, :3, 3])
+    assert all(lines(ax, "ghost") == [] for ax in plot_solutions(arm, res, ghosts=False).axes)
+
+
+def test_turned_axes_are_the_joints_that_turn_the_other_way():
+    """Independent: a wrist flip (q4 + pi, -q5, q6 + pi) reverses the axis of joint 5 only;
+    the PPRRR's flip reverses joint 4's; a front/back pair of the angular 3R reverses the
+    axes of joints 2 and 3 (z1, z2) and not joint 1's."""
+    arm = robots.aula10_6r()
+    q = rikin.rad(AULA10_Q_DEG)
+    flip = q + np.array([0, 0, 0, np.pi, 0, np.pi])
+    flip[4] = -q[4]
+    assert turned_axes(arm, q, flip) == [5]
+    p = robots.pprrr()
+    res = p.ik(p.fk([2.0, 3.0, 0.5, 0.7, 0.2]))
+    assert turned_axes(p, res.q[0], res.q[1]) == [4]
+    a = robots.angular_3r()
+    qa = rikin.rad([140.4, 21.6, 50.4])
+    back = np.array([qa[0] + np.pi, np.pi - qa[1], -qa[2]])
+    assert np.allclose(a.fk(qa)[:3, 3], a.fk(back)[:3, 3], atol=1e-9)  # one TCP position
+    assert turned_axes(a, qa, back) == [2, 3]
+
+
+def test_twin_panels_differ_where_the_stick_figures_coincide():
+    """The PPRRR's two solutions (a wrist flip) have the same stick figure: the old panels
+    were identical but for small frame triads. Each panel now draws the reversed axis
+    (purple), and the two drawings point opposite ways."""
+    arm = robots.pprrr()
+    res = arm.ik(arm.fk([2.0, 3.0, 0.5, 0.7, 0.2]))
+    fig = plot_solutions(arm, res)
+    a, b = (lines(ax, "turned-axis")[0] for ax in fig.axes)
+    va, vb = line_vertices(a, True), line_vertices(b, True)
+    assert np.allclose(va[0], vb[0])                       # from the same joint point
+    da, db = va[1] - va[0], vb[1] - vb[0]
+    assert np.dot(da, db) < -0.99 * np.dot(da, da)         # pointing opposite ways
+    solo = plot_solutions(robots.planar_2r(), robots.planar_2r().ik([15.0, 5.0]))
+    assert all(lines(ax, "turned-axis") == [] for ax in solo.axes)  # no twins: none drawn
+
+
+def test_book_style_makes_text_svg_text_without_a_date(tmp_path):
+    rikin.plot.book_style()
+    fig = plot_solutions(robots.planar_2r(), robots.planar_2r().ik([15.0, 5.0]))
+    fig.savefig(tmp_path / "a.svg", metadata={"Date": None})
+    fig.savefig(tmp_path / "b.svg", metadata={"Date": None})
+    text = (tmp_path / "a.svg").read_text()
+    assert "<text" in text and "font-size" in text       # text, not glyph outlines
+    assert "dc:date" not in text
+    assert text == (tmp_path / "b.svg").read_text()        # the same file every time
