@@ -333,17 +333,55 @@ def _arm_traces(go: Any, dims: int, colour: str, name: str, group: str,
     return traces
 
 
+#: Characters per line of a title or of the key, so that no line runs past the figure on
+#: a phone (a 390 px screen leaves the figure about 330 px: 13 px text, ~7 px a character).
+LINE_CHARS = 44
+#: Lines of the title (the arm and what is shown) the top margin leaves room for.
+TITLE_LINES = 3
+
+
+def _lines(text: str, width: int = LINE_CHARS) -> list[str]:
+    """``text`` broken at spaces into lines of at most ``width`` characters (where it can)."""
+    out: list[str] = []
+    for part in text.split("<br>"):
+        line = ""
+        for word in part.split(" "):
+            if line and len(line) + 1 + len(word) > width:
+                out.append(line)
+                line = word
+            else:
+                line = f"{line} {word}" if line else word
+        out.append(line)
+    return out
+
+
+def _title(text: str, max_lines: int = TITLE_LINES) -> str:
+    """A title of at most ``max_lines`` short lines (plotly does not wrap a title)."""
+    lines = _lines(text)
+    if len(lines) > max_lines:
+        lines = lines[:max_lines]
+        lines[-1] = lines[-1][:LINE_CHARS - 1] + "…"
+    return "<br>".join(lines)
+
+
+def _key(dims: int) -> str:
+    """The marker key, one item a line."""
+    key = MARKER_KEY.replace("★", "◆")
+    if dims == 2:
+        key = key.replace("approach along z", "approach along x").replace(", z blue", "")
+    return "<br>".join(line for item in key.split("  ·  ") for line in _lines(item))
+
+
 def _layout(go: Any, arm: SerialArm, lim: FloatArray, dims: int, title: str,
             height: int) -> dict[str, Any]:
     u = f" ({arm.units})" if arm.units else ""
-    key = MARKER_KEY.replace("  ·  ★", "<br>◆")
-    if dims == 2:
-        key = key.replace("approach along z", "approach along x").replace(", z blue", "")
+    key = _key(dims)
+    key_lines = key.count("<br>") + 1
     layout: dict[str, Any] = {
-        "title": {"text": title, "font": {"size": 14}, "x": 0.01, "xanchor": "left",
+        "title": {"text": _title(title), "font": {"size": 13}, "x": 0.01, "xanchor": "left",
                   "y": 0.985, "yanchor": "top", "yref": "container", "pad": {"t": 6}},
-        "height": height,
-        "margin": {"l": 10, "r": 10, "t": 100, "b": 40},
+        "height": height + 14 * key_lines,
+        "margin": {"l": 10, "r": 10, "t": 30 + 17 * TITLE_LINES + 28, "b": 20 + 14 * key_lines},
         # the legend sits on top of the plot, the controls under it, the key at the bottom
         "legend": {"orientation": "h", "x": 0.0, "y": 1.0, "yanchor": "bottom",
                    "font": {"size": 11}},
@@ -351,7 +389,7 @@ def _layout(go: Any, arm: SerialArm, lim: FloatArray, dims: int, title: str,
         "uirevision": "keep",     # keep the user's rotation when the data change
         "annotations": [{"text": key, "showarrow": False, "align": "left",
                          "xref": "paper", "yref": "paper", "x": 0.0, "y": 0.0,
-                         "xanchor": "left", "yanchor": "bottom", "yshift": -36,
+                         "xanchor": "left", "yanchor": "top", "yshift": -10,
                          "font": {"size": 10, "color": "#555"}}],
     }
     if dims == 3:
@@ -456,7 +494,7 @@ def solutions_figure(arm: SerialArm, result: Any, *, frames: bool = True, height
     heads = []
     for i in range(k):
         head = f"{i + 1}: {labels[i]}" if labels[i] else f"solution {i + 1}"
-        heads.append(f"{head}   q = {_q_text(arm, Q[i])}")
+        heads.append(f"{head}<br>q = {_q_text(arm, Q[i])}")
         geo = _arm_geometry(arm, Q[i], fs, dims, frames)
         traces += _arm_traces(go, dims, SLOT_COLOURS[i % len(SLOT_COLOURS)], head, f"s{i}", geo,
                               heads[-1])
@@ -473,9 +511,9 @@ def solutions_figure(arm: SerialArm, result: Any, *, frames: bool = True, height
     for tr, v in zip(traces, visible(selected - 1), strict=True):
         tr.visible = v
     buttons = [{"label": str(i + 1), "method": "update",
-                "args": [{"visible": visible(i)}, {"title.text": f"{base}<br>{heads[i]}"}]}
+                "args": [{"visible": visible(i)}, {"title.text": _title(f"{base}<br>{heads[i]}")}]}
                for i in range(k)]
-    every = f"{base}<br>all {k} solutions (legend: click to hide)"
+    every = _title(f"{base}<br>all {k} solutions (legend: click to hide)")
     buttons.append({"label": "all", "method": "update",
                     "args": [{"visible": visible(None)}, {"title.text": every}]})
     layout = _layout(go, arm, lim, dims, f"{base}<br>{heads[selected - 1]}", height)
@@ -483,8 +521,8 @@ def solutions_figure(arm: SerialArm, result: Any, *, frames: bool = True, height
                               "active": selected - 1, "showactive": True, "x": 0.0, "y": -0.06,
                               "xanchor": "left", "yanchor": "top", "pad": {"t": 4},
                               "font": {"size": 12}}]
-    layout["margin"]["b"] = 110
-    layout["annotations"][0]["yshift"] = -106
+    layout["margin"]["b"] += 60
+    layout["annotations"][0]["yshift"] = -70
     fig = go.Figure(data=traces, layout=layout)
     return InteractiveFigure(fig, _div_id("solutions", arm, Q))
 
@@ -634,12 +672,12 @@ def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: i
         frames_out.append(go.Frame(
             name=f"step{s}", traces=moving,
             data=[Scatter(**d) for d in data],
-            layout={"title": {"text": f"{base}<br>{_short(text)}"}}))
+            layout={"title": {"text": _title(f"{base}<br>{text}")}}))
         slider_steps.append({"label": name, "method": "animate",
                              "args": [[f"step{s}"], {"mode": "immediate",
                                                      "frame": {"duration": 0, "redraw": True},
                                                      "transition": {"duration": 0}}]})
-    layout = _layout(go, arm, lim, dims, f"{base}<br>{_short(first_text)}", height)
+    layout = _layout(go, arm, lim, dims, f"{base}<br>{first_text}", height)
     # the slider starts clear of the play button (about 65 px) on a phone too, and says
     # which step it is at its right end, away from the button
     layout["sliders"] = [{"active": 0, "steps": slider_steps, "x": 0.2, "len": 0.8, "y": -0.02,
@@ -654,14 +692,10 @@ def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: i
                                                                      "redraw": True},
                                                            "fromcurrent": True,
                                                            "transition": {"duration": 0}}]}]}]
-    layout["margin"]["b"] = 150
-    layout["annotations"][0]["yshift"] = -146
+    layout["margin"]["b"] += 100
+    layout["annotations"][0]["yshift"] = -110
     fig = go.Figure(data=traces, layout=layout, frames=frames_out)
     return InteractiveFigure(fig, _div_id("path", arm, tpos))
-
-
-def _short(text: str, width: int = 110) -> str:
-    return text if len(text) <= width else text[:width - 1] + "…"
 
 
 def _pose_position(arm: SerialArm, result: IKResult | None, target: Any) -> FloatArray:

@@ -660,3 +660,320 @@ def test_interactive_figure_steps_through_the_solutions(book_html: Path, server:
     assert after_png != before_png, "the drawing did not change"
     severe = [e["message"] for e in driver.get_log("browser") if e.get("level") == "SEVERE"]
     assert not severe, severe
+
+
+# ------------------------------------------------------------------ figures a reader can read
+#: The smallest text a figure may show in the 1280 px layout (CSS px of its font size).
+MIN_FIGURE_TEXT_PX = 9.0
+
+#: Every figure image of the article: its source, shown width, and for an SVG the size of
+#: each text in CSS px on the page (the font size in the SVG's own units times the image's
+#: shown width over the SVG's width). A PNG's text cannot be measured (and blurs when the
+#: image is shrunk): figures are SVG with their text kept as text.
+_FIGURE_TEXT = r"""
+const done = arguments[arguments.length - 1];
+const column = document.querySelector('article.bd-article') || document.querySelector('main');
+const imgs = Array.from(column.querySelectorAll('img'))
+  .filter(i => i.getBoundingClientRect().width > 0);
+const sizeOf = style => {
+  const m = /font-size:\s*([\d.]+)px/.exec(style || '')
+         || /font:\s*(?:[a-z-]+\s+)*([\d.]+)px/.exec(style || '');
+  return m ? parseFloat(m[1]) : NaN;
+};
+(async () => {
+  const out = [];
+  for (const img of imgs) {
+    const src = img.currentSrc || img.src;
+    const shown = img.getBoundingClientRect().width;
+    const item = {src: img.getAttribute('src'), alt: img.getAttribute('alt') || '',
+                  shown: Math.round(shown), svg: /\.svg([?#]|$)/i.test(src), texts: 0,
+                  min: null, smallest: ''};
+    if (item.svg) {
+      const doc = new DOMParser().parseFromString(await (await fetch(src)).text(),
+                                                  'image/svg+xml');
+      const svg = doc.documentElement;
+      const vb = (svg.getAttribute('viewBox') || '').trim().split(/[\s,]+/).map(Number);
+      const width = vb.length === 4 ? vb[2] : parseFloat(svg.getAttribute('width'));
+      for (const t of doc.querySelectorAll('text')) {
+        if (!t.textContent.trim()) continue;
+        let size = sizeOf(t.getAttribute('style'));
+        if (!isFinite(size)) size = parseFloat(t.getAttribute('font-size'));
+        if (!isFinite(size)) continue;
+        const px = size * shown / width;
+        item.texts++;
+        if (item.min === null || px < item.min) {
+          item.min = px; item.smallest = t.textContent.trim().slice(0, 40);
+        }
+      }
+    }
+    out.push(item);
+  }
+  // the interactive figures are drawn in the page: their text is measured directly
+  for (const fig of column.querySelectorAll('.rikin-interactive')) {
+    for (const t of fig.querySelectorAll('svg text')) {
+      const r = t.getBoundingClientRect();
+      if (!t.textContent.trim() || r.width === 0) continue;
+      const px = parseFloat(getComputedStyle(t).fontSize);
+      out.push({src: 'interactive ' + fig.id, alt: 'an interactive figure in the page',
+                shown: 0, svg: true, texts: 1, min: px,
+                smallest: t.textContent.trim().slice(0, 40)});
+    }
+  }
+  done(out);
+})().catch(e => done(String(e)));
+"""
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", CHAPTER_PAGES)
+def test_figure_text_is_readable_at_1280(page: str, book_html: Path, server: str,
+                                         driver: object) -> None:
+    """At 1280 px every figure is an SVG whose text is text, and no text of it, shrunk or
+    not to the column, is smaller than MIN_FIGURE_TEXT_PX; every figure has alt text."""
+    _set_width(driver, DESKTOP_PX)
+    _open(driver, f"{server}/{page}")
+    figures = driver.execute_async_script(_FIGURE_TEXT)
+    assert isinstance(figures, list), figures
+    problems = []
+    for f in figures:
+        name = f["src"]
+        if not f["svg"]:
+            problems.append(f"{page}: {name} is a raster image: its text cannot be measured "
+                            "and blurs when shrunk (draw it as SVG: rikin.plot.book_style())")
+        elif f["texts"] == 0:
+            problems.append(f"{page}: {name} has no text elements (text drawn as outlines?)")
+        elif f["min"] < MIN_FIGURE_TEXT_PX:
+            problems.append(f"{page}: {name} shown {f['shown']}px wide: text "
+                            f"{f['smallest']!r} is {f['min']:.1f}px high "
+                            f"(< {MIN_FIGURE_TEXT_PX})")
+        if len(f["alt"].split()) < 5:
+            problems.append(f"{page}: {name} has no real alt text: {f['alt']!r}")
+    assert not problems, "\n".join(problems)
+
+
+#: The text of every interactive figure that lies outside the figure's own box (cut off:
+#: plotly does not wrap a title).
+_INTERACTIVE_CLIPPING = r"""
+const out = [];
+for (const fig of document.querySelectorAll('.rikin-interactive')) {
+  const box = fig.getBoundingClientRect();
+  if (box.width === 0) continue;
+  for (const t of fig.querySelectorAll('svg text')) {
+    const r = t.getBoundingClientRect();
+    if (!t.textContent.trim() || r.width === 0) continue;
+    if (r.left < box.left - 1 || r.right > box.right + 1) {
+      out.push({text: t.textContent.trim().slice(0, 60), left: Math.round(r.left - box.left),
+                right: Math.round(r.right - box.right), width: Math.round(box.width)});
+    }
+  }
+}
+return out;
+"""
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", CHAPTER_PAGES)
+def test_no_figure_text_is_clipped_on_a_phone(page: str, book_html: Path, server: str,
+                                              driver: object) -> None:
+    """At 390 px every title, legend entry, button and note of an interactive figure lies
+    inside the figure (plotly cuts off text that runs past its edge)."""
+    try:
+        _set_width(driver, PHONE_PX)
+        _open(driver, f"{server}/{page}")
+        time.sleep(0.5)
+        cut = driver.execute_script(_INTERACTIVE_CLIPPING)
+    finally:
+        _set_width(driver, DESKTOP_PX)
+    assert not cut, "\n".join(
+        f"{page} at {PHONE_PX}px: {c['text']!r} runs {max(-c['left'], c['right'])}px past "
+        f"the {c['width']}px figure" for c in cut)
+
+
+#: Lines of code that wrap (they are wider than their box when kept on one line).
+_WRAPPED_CODE = r"""
+document.querySelectorAll('details').forEach(d => { d.open = true; });
+document.querySelectorAll('.toggle-hidden').forEach(el => el.classList.remove('toggle-hidden'));
+const out = [];
+const column = document.querySelector('article.bd-article') || document.querySelector('main');
+for (const pre of column.querySelectorAll('div.cell_input pre, div.highlight pre')) {
+  if (pre.closest('.cell_output, .output') || pre.clientWidth === 0) continue;
+  const old = pre.style.whiteSpace;
+  pre.style.whiteSpace = 'pre';
+  const wide = pre.scrollWidth > pre.clientWidth + 1;
+  pre.style.whiteSpace = old;
+  if (wide) {
+    const longest = pre.textContent.split('\n').reduce((a, b) => b.length > a.length ? b : a, '');
+    out.push({chars: longest.length, line: longest.trim().slice(0, 70)});
+  }
+}
+return out;
+"""
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", CHAPTER_PAGES)
+def test_no_line_of_code_wraps_at_1280(page: str, book_html: Path, server: str,
+                                       driver: object) -> None:
+    """Every code line, folded cells opened, fits its box at 1280 px: a wrapped line of
+    Python reads as a new statement."""
+    _set_width(driver, DESKTOP_PX)
+    _open(driver, f"{server}/{page}")
+    wrapped = driver.execute_script(_WRAPPED_CODE)
+    assert not wrapped, "\n".join(
+        f"{page}: a {w['chars']}-character line wraps at {DESKTOP_PX}px: {w['line']!r}"
+        for w in wrapped)
+
+
+#: Per figure (image or interactive), the mean lightness of its pixels and of its
+#: lightest 3 %, from a screenshot of the element (0 black .. 1 white).
+def _lightness(png: bytes) -> tuple[float, float]:
+    import io
+
+    from PIL import Image
+
+    img = Image.open(io.BytesIO(png)).convert("L")
+    values = sorted(img.getdata())
+    mean = sum(values) / len(values) / 255.0
+    top = values[int(0.97 * (len(values) - 1))] / 255.0
+    return mean, top
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", CHAPTER_PAGES)
+def test_figures_are_dark_in_dark_mode(page: str, book_html: Path, server: str,
+                                       driver: object) -> None:
+    """With the theme's dark mode (data-theme="dark") no figure is a white box on the dark
+    page: each figure, drawn image or interactive, is mostly dark, and its lines and text
+    are light."""
+    from selenium.webdriver.common.by import By
+
+    _set_width(driver, DESKTOP_PX)
+    driver.get(f"{server}/{page}")
+    driver.execute_script("localStorage.setItem('mode', 'dark')")
+    try:
+        _open(driver, f"{server}/{page}")
+        assert driver.execute_script("return document.documentElement.dataset.theme") == "dark"
+        time.sleep(0.5)
+        problems = []
+        figures = driver.find_elements(
+            By.CSS_SELECTOR, "article.bd-article img, article.bd-article .rikin-interactive")
+        for el in figures:
+            if el.size["width"] < 50 or el.size["height"] < 50:
+                continue
+            driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", el)
+            time.sleep(0.1)
+            mean, top = _lightness(el.screenshot_as_png)
+            name = el.get_attribute("src") or "interactive " + (el.get_attribute("id") or "")
+            if mean > 0.4:
+                problems.append(f"{page}: {name.rsplit('/', 1)[-1]} is light in dark mode "
+                                f"(mean lightness {mean:.2f})")
+            elif top < 0.5:
+                problems.append(f"{page}: {name.rsplit('/', 1)[-1]} shows nothing light in "
+                                f"dark mode (its text is dark on dark)")
+        html = (book_html / page).read_text(encoding="utf-8")
+        if "<img" in html or "rikin-interactive" in html:
+            assert figures, f"{page}: no figure was found"
+    finally:
+        driver.execute_script("localStorage.setItem('mode', 'light')")
+    assert not problems, "\n".join(problems)
+
+
+#: Text a reader should never see: a MyST role that did not parse ({term}`x`), and a
+#: punctuation mark that a line break has parted from the formula before it (a period
+#: alone at the start of a line).
+_LEFTOVER = r"""
+const column = document.querySelector('article.bd-article') || document.querySelector('main');
+const out = [];
+const walker = document.createTreeWalker(column, NodeFilter.SHOW_TEXT, {
+  acceptNode(node) {
+    return node.parentElement.closest('pre, code, script, style, mjx-container')
+      ? NodeFilter.FILTER_REJECT : NodeFilter.FILTER_ACCEPT;
+  }
+});
+for (let n = walker.nextNode(); n; n = walker.nextNode()) {
+  const t = n.textContent;
+  const role = /\{(term|numref|doc|ref|download|eq|math|glue:text)\}`/.exec(t);
+  if (role) out.push('role shown as text: ' + t.trim().slice(0, 60));
+  const prev = n.previousSibling;
+  const math = prev && (prev.matches && prev.matches('mjx-container, span.math')
+    ? prev : null);
+  if (math && /^[.,;:)]/.test(t)) {
+    const range = document.createRange();
+    range.setStart(n, 0);
+    range.setEnd(n, 1);
+    const r = range.getBoundingClientRect(), m = math.getBoundingClientRect();
+    if (r.width > 0 && r.left < m.right - 1 && r.top >= m.bottom - 2) {
+      out.push('punctuation alone at the start of a line after a formula: '
+               + (math.textContent.trim().slice(-30)) + ' / ' + t.trim().slice(0, 30));
+    }
+  }
+}
+return out;
+"""
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", CHAPTER_PAGES)
+def test_no_leftover_markup(page: str, book_html: Path, server: str, driver: object) -> None:
+    """No MyST role is shown as text, and no period or comma is parted from its formula by a
+    line break, at 1280 px and at 390 px."""
+    problems = []
+    try:
+        for px in (DESKTOP_PX, PHONE_PX):
+            _set_width(driver, px)
+            _open(driver, f"{server}/{page}")
+            problems += [f"{page} at {px}px: {p}" for p in driver.execute_script(_LEFTOVER)]
+    finally:
+        _set_width(driver, DESKTOP_PX)
+    assert not problems, "\n".join(problems)
+
+
+_SEARCH_FIELDS = r"""
+return Array.from(document.querySelectorAll('.search-button-field, form.bd-search input'))
+  .filter(e => { const r = e.getBoundingClientRect();
+                 return r.width > 0 && r.height > 0
+                        && getComputedStyle(e).visibility !== 'hidden'; })
+  .map(e => e.closest('[class]').parentElement.className || e.className);
+"""
+
+
+@pytest.mark.book
+@pytest.mark.slow
+def test_one_search_field(book_html: Path, server: str, driver: object) -> None:
+    """At 1280 px the page shows one search field (the sidebar's), not a second one in a
+    bar above it."""
+    _set_width(driver, DESKTOP_PX)
+    _open(driver, f"{server}/book/planar.html")
+    fields = driver.execute_script(_SEARCH_FIELDS)
+    assert len(fields) == 1, fields
+
+
+_TABLES_SCROLL = r"""
+return Array.from(document.querySelectorAll('article.bd-article table.rikin-table'))
+  .filter(t => t.getBoundingClientRect().width > 0)
+  .map(t => { const box = t.closest('.rikin-table-wrap') || t.parentElement;
+              return {wide: box.scrollWidth > box.clientWidth + 1, cols: t.rows[0].cells.length,
+                      text: t.textContent.trim().slice(0, 60)}; })
+  .filter(t => t.wide);
+"""
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", CHAPTER_PAGES)
+def test_tables_fit_a_phone(page: str, book_html: Path, server: str, driver: object) -> None:
+    """At 390 px no table of results (every solution with its joints) needs scrolling
+    sideways: a wide one is laid out in fewer columns."""
+    try:
+        _set_width(driver, PHONE_PX)
+        _open(driver, f"{server}/{page}")
+        wide = driver.execute_script(_TABLES_SCROLL)
+    finally:
+        _set_width(driver, DESKTOP_PX)
+    assert not wide, "\n".join(f"{page}: a {w['cols']}-column table scrolls sideways at "
+                               f"{PHONE_PX}px: {w['text']!r}" for w in wide)

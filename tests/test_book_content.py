@@ -41,14 +41,17 @@ REFERENCE_PAGES = ["book/glossary", "book/references", *INSTRUCTOR]
 NOTEBOOK_PAGES = [p for p in PAGES if p not in REFERENCE_PAGES]
 #: Sections that teach beyond the lessons (no lesson, so no errata of one).
 SECTIONS = ["book/own_arm"]
+#: Chapters and appendices beyond the lessons: no lesson, so no errata of one.
+BEYOND = ["book/what_is_ik", "book/path", "book/numbers"]
 CHAPTERS = [p for p in NOTEBOOK_PAGES[1:]
-            if p != "book/what_is_ik" and p not in SECTIONS]  # the lessons' chapters
-#: Chapters with the full teaching apparatus (item 5 of issue 16).
-TAUGHT = ["book/what_is_ik", "book/planar", "book/angular", "book/dh_product",
-          "book/decoupling", "book/epson_c4"]
+            if p not in BEYOND and p not in SECTIONS]  # the lessons' chapters
+#: Chapters with the full teaching apparatus (item 5 of issue 16; issue 30: every one).
+TAUGHT = ["book/what_is_ik", "book/conventions", "book/planar", "book/angular",
+          "book/dh_product", "book/decoupling", "book/epson_c4", "book/path"]
 #: Chapters whose asserting cells are all folded away.
-FOLDED = ["book/what_is_ik", "book/planar", "book/angular", "book/dh_product",
-          "book/decoupling", "book/own_arm", "book/epson_c4"]
+FOLDED = ["book/what_is_ik", "book/conventions", "book/planar", "book/angular",
+          "book/dh_product", "book/decoupling", "book/own_arm", "book/epson_c4",
+          "book/path", "book/numbers"]
 CODE_CELL = re.compile(r"^```\{code-cell\}[^\n]*\n(.*?)^```", re.S | re.M)
 
 
@@ -71,7 +74,9 @@ def test_toc_lists_the_chapters() -> None:
         "decoupling",
         "own_arm",
         "epson_c4",
+        "path",
         "exercises",
+        "numbers",
         "glossary",
         "references",
     ], names
@@ -336,3 +341,104 @@ def test_directives_open_with_a_fence_that_allows_their_title(page: str) -> None
         if re.match(r"^`{3,}\{[a-z-]+\}", line) and "`" in line.lstrip("`")
     ]
     assert not bad, "use :::{directive} ... ::: for these:\n" + "\n".join(bad)
+
+
+# ------------------------------------------------------------------ issue 30
+#: Columns of code that fit the text column at 1280 px (the book's stylesheet sets the
+#: code font so; tests/test_book_browser.py checks that nothing wraps there).
+CODE_COLUMNS = 80
+PYTHON_BLOCK = re.compile(r"^```python\n(.*?)^```", re.S | re.M)
+
+
+@pytest.mark.parametrize("page", NOTEBOOK_PAGES)
+def test_code_lines_fit_80_columns(page: str) -> None:
+    """Every line of code on the page, folded cells too (a reader unfolds them), is at most
+    80 characters: a longer one wraps on a laptop and reads as a new statement."""
+    text = _source(page)
+    # a cell's options (its caption, alt text, tags) are not shown as code
+    code = [b.split("\n---\n", 1)[1] if b.startswith("---\n") else b
+            for b in _code_cells(text)]
+    blocks = code + PYTHON_BLOCK.findall(text)
+    long = [line for block in blocks for line in block.splitlines()
+            if len(line) > CODE_COLUMNS and not line.startswith(":")]
+    assert not long, f"{page}: {len(long)} code lines over {CODE_COLUMNS} columns: {long[:3]}"
+
+
+def _first_ik_page() -> int:
+    for i, page in enumerate(PAGES):
+        if re.search(r"\.ik\(", "\n".join(_code_cells(_source(page)))):
+            return i
+    raise AssertionError("no page solves IK")
+
+
+def test_tolerances_are_introduced_where_needed() -> None:
+    """No tolerance of rikin.tolerances is named before the book has solved IK once, and
+    Conventions names none: each is introduced in the chapter that first needs it (the
+    Numbers appendix collects them)."""
+    from rikin import tolerances
+
+    names = [n for n in dir(tolerances) if n.endswith("_TOL")]
+    assert len(names) >= 8, names
+    first_ik = _first_ik_page()
+    for name in names:
+        pages = [i for i, p in enumerate(PAGES) if name in _source(p)]
+        assert pages, f"{name} is never introduced in the book"
+        assert pages[0] >= first_ik, (
+            f"{name} is first named in {PAGES[pages[0]]}, before any IK is shown "
+            f"({PAGES[first_ik]})")
+    assert not [n for n in names if n in _source("book/conventions")]
+    assert "| name | value |" not in _source("book/conventions")
+
+
+#: Pages whose prose must link the glossary where a glossary term first appears.
+GLOSSED = TAUGHT
+#: Glossary terms to look for in prose, with the plain words that count as a use.
+_PROSE_FORMS = {
+    "wrist centre": ["wrist centre"],
+    "spherical wrist": ["spherical wrist"],
+    "kinematic decoupling": ["kinematic decoupling"],
+    "singularity": ["singularity", "singular"],
+    "workspace": ["workspace"],
+    "joint limits": ["joint limits"],
+    "redundancy": ["redundancy", "redundant"],
+    "law of cosines": ["law of cosines"],
+    "wrist flip": ["wrist flip"],
+    "branch": ["branch"],
+    "homogeneous transform": ["homogeneous transform"],
+    "reachable": ["reachable"],
+}
+
+
+def _prose(text: str) -> str:
+    """The page's prose: no front matter, code cells, math, headings or directive lines."""
+    text = text.split("---", 2)[2]
+    text = re.sub(r"^```\{code-cell\}.*?^```", "", text, flags=re.S | re.M)
+    text = re.sub(r"^```(?!\{).*?^```", "", text, flags=re.S | re.M)
+    text = re.sub(r"\$\$.*?\$\$", "", text, flags=re.S)
+    text = re.sub(r"\$[^$\n]+\$", "", text)
+    text = re.sub(r"^#.*$", "", text, flags=re.M)
+    text = re.sub(r"^(?:```|:::)\{[^\n]*$|^:\w+:.*$", "", text, flags=re.M)
+    return text
+
+
+@pytest.mark.parametrize("page", GLOSSED)
+def test_glossary_linked_where_a_term_first_appears(page: str) -> None:
+    """Where a chapter's prose first uses a glossary term, it links the glossary
+    ({term}`...`), so a reader meeting the word for the first time can look it up."""
+    prose = _prose(_source(page))
+    problems = []
+    for term, forms in _PROSE_FORMS.items():
+        pattern = "|".join(re.escape(f) for f in forms)
+        first = re.search(rf"(?i)(?<![\w`<-])(?:{pattern})(?!\w)", prose)
+        if first is None:
+            continue
+        before = prose[max(0, first.start() - 60):first.start()]
+        linked = re.search(r"\{term\}`[^`]*$", before)
+        if not linked:
+            problems.append(f"{term!r}: {prose[first.start() - 30:first.end() + 20]!r}")
+    assert not problems, f"{page}: first use without a glossary link: " + "; ".join(problems)
+
+
+def test_glossary_gives_juntas() -> None:
+    """The handwritten notes write 'Juntas' (joints): the glossary has the plural."""
+    assert "juntas" in _source("book/glossary").lower()

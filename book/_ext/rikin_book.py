@@ -133,9 +133,10 @@ def copy_plotly(app: Sphinx, exc: Exception | None) -> None:
     shutil.copy2(interactive.plotly_js(), dest)
 
 
-#: The book's own static folder (its stylesheet) and the stylesheet's name.
+#: The book's own static folder (its stylesheet and script) and their names.
 BOOK_STATIC = Path(__file__).resolve().parent.parent / "_static"
 BOOK_CSS = "rikin.css"
+BOOK_JS = "rikin.js"
 
 
 def add_book_static(app: Sphinx, config: Any) -> None:
@@ -429,6 +430,7 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("config-inited", set_mathjax_path)
     app.connect("config-inited", add_book_static)
     app.add_css_file(BOOK_CSS)
+    app.add_js_file(BOOK_JS)
     app.connect("builder-inited", build_rikin_dists)
     app.connect("build-finished", copy_mathjax)
     app.connect("build-finished", copy_plotly)
