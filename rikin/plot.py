@@ -53,7 +53,7 @@ from .ik.kernels import elbow_above, reach_excess, two_link
 from .ik.result import IKResult
 
 __all__ = ["MARKER_KEY", "book_style", "gripper_path", "is_planar", "joint_points", "link_path",
-           "plot_arm", "plot_dh_frames", "plot_solutions", "plot_two_link_triangle",
+           "plot_arm", "plot_dh_frames", "plot_solutions", "plot_two_link_triangle", "plot_view",
            "plot_workspace_3d", "plot_workspace_planar", "plot_wrist_centre", "same_joint_points",
            "turned_axes", "wrist_centre"]
 
@@ -759,7 +759,8 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
     cols = min(int(ncols), k)
     rows = math.ceil(k / cols)
     three_d = not is_planar(arm)
-    figsize = (3.6 * cols, 3.6 * rows + 0.45 + (0.5 if key else 0.0)) if figsize is None else figsize
+    if figsize is None:
+        figsize = (3.6 * cols, 3.6 * rows + 0.45 + (0.5 if key else 0.0))
     fig = plt.figure(figsize=figsize)
     F = arm._fk(Q, frames=True)
     if three_d:
@@ -1252,4 +1253,110 @@ def plot_dh_frames(arm: SerialArm, q: Any = None, ax: Axes | None = None,
                 ax.text(*tip, text, **kw)
             else:
                 ax.text(*tip[:2], text, **kw)
+    return ax
+
+
+# ------------------------------------------------------------------ orthographic views
+#: The world axes of each view of :func:`plot_view` (horizontal, vertical on the page).
+VIEWS = {"xy": (0, 1), "xz": (0, 2), "yz": (1, 2)}
+
+
+def _dimension(ax: Axes, start: FloatArray, end: FloatArray, text: str, offset: FloatArray,
+               colour: str) -> None:
+    """A dimension line ("cota"): from start to end, moved by offset, arrows at both ends."""
+    a, b = start + offset, end + offset
+    for p in (start, end):  # extension lines from the measured points
+        ax.plot(*np.stack([p, p + 1.08 * offset]).T, color=colour, lw=0.8, gid="dimension")
+    ax.annotate("", xy=b, xytext=a, gid="dimension",
+                arrowprops={"arrowstyle": "<->", "color": colour, "lw": 1.2,
+                            "shrinkA": 0, "shrinkB": 0})
+    ax.text(*((a + b) / 2), text, color=colour, fontsize=9, ha="center", va="center",
+            gid="dimension-text", bbox={"fc": "white", "ec": "none", "pad": 1.0})
+
+
+def plot_view(arm: SerialArm, q: Any, view: str = "xz", ax: Axes | None = None,
+              dimensions: bool = True, color: Any = None, title: str | None = None) -> Axes:
+    """The arm at ``q`` seen along a world axis, with the TCP's coordinates dimensioned.
+
+    An orthographic drawing, as a technical drawing or the lab's GUI shows:
+    ``"xz"`` looks along the world y axis (front view), ``"yz"`` along x (side
+    view), ``"xy"`` down the z axis (the view from above). The links, joints and
+    TCP are FK's, projected; with ``dimensions`` the TCP's two coordinates in the
+    view are marked as dimension lines from the world origin.
+
+    Parameters
+    ----------
+    arm : SerialArm
+    q : array_like, shape (n,)
+    view : {"xz", "yz", "xy"}
+    ax : matplotlib Axes, optional
+        2D Axes; a new figure when None.
+    dimensions : bool
+        Draw the dimension lines of the TCP's two coordinates.
+    color : matplotlib colour, optional
+        Colour of the links.
+    title : str, optional
+        Default: which view it is.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Raises
+    ------
+    InputError
+        Bad ``q`` or ``view``, or 3D Axes.
+
+    Examples
+    --------
+    >>> from rikin import robots
+    >>> ax = plot_view(robots.epson_c4(), [0, 0, 0, 0, 0, 0], "xz")
+    >>> ax.get_xlabel()
+    'x (mm)'
+    """
+    _check_arm(arm)
+    qv = _check_q(arm, q)
+    _check_ax(ax)
+    view = as_choice(view, "view", tuple(VIEWS))
+    dimensions = as_flag(dimensions, "dimensions")
+    color = _check_colour(color)
+    title = as_text(title, "title", optional=True)
+    if ax is not None and ax.name == "3d":
+        raise InputError("plot_view draws on 2D Axes (it is a flat view), got 3D Axes")
+    if ax is None:
+        ax = plt.figure(figsize=(4.5, 4.5)).add_subplot()
+    h, v = VIEWS[view]
+    F = arm._fk(qv, frames=True)
+    col = ARM_COLOUR if color is None else color
+    path = _link_path(arm, F)[:, [h, v]]
+    ax.plot(*path.T, "-", color=col, lw=3.0, solid_capstyle="round", gid="arm", zorder=2)
+    joints = _joint_points(arm, F)[:, [h, v]]
+    ax.plot(*joints.T, "o", ms=7, mfc="white", mec=col, mew=2.0, ls="none", gid="joints",
+            zorder=4)
+    tcp = F[-1, :3, 3]
+    ax.plot(tcp[h], tcp[v], "*", ms=14, color="tab:orange", mec="k", mew=0.6, ls="none",
+            gid="tcp", zorder=5)
+    names = "xyz"
+    u = _units(arm)
+    pts = np.vstack([path, [[0.0, 0.0]], [[tcp[h], tcp[v]]]])
+    span = float(np.ptp(pts, axis=0).max()) or 1.0
+    if dimensions:
+        low = pts[:, 1].min() - 0.12 * span
+        right = pts[:, 0].max() + 0.12 * span
+        _dimension(ax, np.array([0.0, 0.0]), np.array([tcp[h], 0.0]),
+                   f"{names[h]} = {tcp[h]:.4g}", np.array([0.0, low]), "tab:blue")
+        _dimension(ax, np.array([0.0, 0.0]), np.array([0.0, tcp[v]]),
+                   f"{names[v]} = {tcp[v]:.4g}", np.array([right, 0.0]), "tab:blue")
+        pts = np.vstack([pts, [[0.0, low * 1.1]], [[right * 1.1, 0.0]]])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.08 * span
+    ax.set_xlim(lo[0] - pad, hi[0] + pad)
+    ax.set_ylim(lo[1] - pad, hi[1] + pad)
+    ax.set_aspect("equal", adjustable="box")
+    ax.set_xlabel(f"{names[h]}{u}")
+    ax.set_ylabel(f"{names[v]}{u}")
+    ax.grid(True, lw=0.4, alpha=0.5)
+    across = "xyz"[3 - h - v]
+    default = "view from above" if view == "xy" else f"view along {across}"
+    ax.set_title(default if title is None else title, fontsize=10)
     return ax

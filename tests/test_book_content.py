@@ -413,7 +413,7 @@ def _prose(text: str) -> str:
     """The page's prose: no front matter, code cells, math, headings or directive lines."""
     text = text.split("---", 2)[2]
     text = re.sub(r"^```\{code-cell\}.*?^```", "", text, flags=re.S | re.M)
-    text = re.sub(r"^```(?!\{).*?^```", "", text, flags=re.S | re.M)
+    text = re.sub(r"^```[a-z]+\n.*?^```[ \t]*$", "", text, flags=re.S | re.M)
     text = re.sub(r"\$\$.*?\$\$", "", text, flags=re.S)
     text = re.sub(r"\$[^$\n]+\$", "", text)
     text = re.sub(r"^#.*$", "", text, flags=re.M)
@@ -429,7 +429,7 @@ def test_glossary_linked_where_a_term_first_appears(page: str) -> None:
     problems = []
     for term, forms in _PROSE_FORMS.items():
         pattern = "|".join(re.escape(f) for f in forms)
-        first = re.search(rf"(?i)(?<![\w`<-])(?:{pattern})(?!\w)", prose)
+        first = re.search(rf"(?i)(?<![\w-])(?:{pattern})(?!\w)", prose)
         if first is None:
             continue
         before = prose[max(0, first.start() - 60):first.start()]

@@ -592,3 +592,36 @@ def test_book_style_makes_text_svg_text_without_a_date(tmp_path):
     assert "<text" in text and "font-size" in text       # text, not glyph outlines
     assert "dc:date" not in text
     assert text == (tmp_path / "b.svg").read_text()        # the same file every time
+
+
+# ---------------------------------------------------------------- flat views with dimensions
+@pytest.mark.parametrize("view, axes", [("xz", (0, 2)), ("yz", (1, 2)), ("xy", (0, 1))])
+def test_plot_view_projects_fk_and_dimensions_the_tcp(view, axes):
+    """The drawn links are FK's frame origins projected onto the view's two world axes, and
+    the two dimension lines ("cotas") end at the TCP's coordinates and say them."""
+    arm = robots.epson_c4()
+    q = rikin.rad([20, -10, 40, 30, 50, 60])
+    ax = rikin.plot.plot_view(arm, q, view)
+    F = arm.fk(q, frames=True)
+    (stick,) = lines(ax, "arm")
+    drawn = line_vertices(stick, False)
+    assert np.allclose(drawn[0::2][:len(F) - 1], F[:-1, :3, 3][:, axes])
+    tcp = F[-1, :3, 3]
+    texts = [t.get_text() for t in ax.texts if t.get_gid() == "dimension-text"]
+    names = "xyz"
+    assert texts == [f"{names[axes[0]]} = {tcp[axes[0]]:.4g}",
+                     f"{names[axes[1]]} = {tcp[axes[1]]:.4g}"]
+    arrows = [a for a in ax.texts if a.get_gid() == "dimension" and hasattr(a, "xy")]
+    ends = sorted(abs(a.xy[0] - a.xyann[0]) + abs(a.xy[1] - a.xyann[1]) for a in arrows)
+    assert np.allclose(sorted(abs(tcp[list(axes)])), ends)
+    assert not [t for t in rikin.plot.plot_view(arm, q, view, dimensions=False).texts
+                if t.get_gid() == "dimension-text"]
+
+
+def test_plot_view_bad_input():
+    arm = robots.epson_c4()
+    with pytest.raises(InputError, match="view"):
+        rikin.plot.plot_view(arm, np.zeros(6), "xq")
+    ax3 = plt.figure().add_subplot(projection="3d")
+    with pytest.raises(InputError, match="2D"):
+        rikin.plot.plot_view(arm, np.zeros(6), ax=ax3)
