@@ -276,7 +276,7 @@ def test_exercises_chapter_states_the_problems() -> None:
     list of notebook headings and grader weights)."""
     text = _source("book/exercises")
     for arm in ("cartesian", "cylindrical", "spherical", "scara"):
-        assert f'arm_figure("{arm}")' in text, f"exercises: no drawing of the {arm} arm"
+        assert f'arm_figure("{arm}",' in text, f"exercises: no drawing of the {arm} arm"
         assert f"{{download}}`{arm}.ipynb" in text, f"exercises: no link to {arm}.ipynb"
     for heading in ("Cartesian", "Cylindrical", "Spherical", "SCARA", "Angular"):
         assert re.search(rf"^### \d\. {heading}", text, re.M), f"exercises: no problem {heading}"
