@@ -78,9 +78,10 @@ MARKER_KEY = ("frame axes: x red, y green, z blue  ·  ○ revolute joint, □ p
               "red ring: the target")
 #: A joint point within this fraction of the arm's scale of another counts as the same point.
 SAME_POINT_TOL = 1e-6
-#: The smallest font (points) of the book's figures: a figure at most 7.5 inches wide is
-#: shown at its natural size in the book's 1280 px layout, where this is 10 px high.
-SMALLEST_FONT_PT = 7.5
+#: The smallest font (points) of the book's figures: in the book's 1280 px layout a figure
+#: is shown at most 660 px wide, where this is 9 px high or more for a figure up to
+#: 8.1 inches wide (10.7 px at its natural size, up to 6.9 inches).
+SMALLEST_FONT_PT = 8.0
 #: Font size (points) of each subplot's title in :func:`plot_solutions`.
 SOLUTION_TITLE_PT = 8.5
 #: Colour of the other solutions drawn faintly behind each subplot of plot_solutions.
@@ -702,11 +703,11 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
         The solutions. Titles show the branch label (for an IKResult) and
         the joint values (degrees for revolute joints).
     ncols : int
-        Subplots per row. The default 2 keeps the figure 7.2 inches wide, so
+        Subplots per row. The default 2 keeps the figure 7 inches wide, so
         that its smallest text (SMALLEST_FONT_PT) is still 9 px or more in
         the book's text column.
     figsize : (float, float), optional
-        Inches; default 3.6 x 3.9 per subplot.
+        Inches; default 3.5 x 3.6 per subplot.
     frames : bool
         Draw the frame triads (x red, y green, z blue).
     target : array_like, shape (4, 4), optional
@@ -760,7 +761,7 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
     rows = math.ceil(k / cols)
     three_d = not is_planar(arm)
     if figsize is None:
-        figsize = (3.6 * cols, 3.6 * rows + 0.45 + (0.5 if key else 0.0))
+        figsize = (3.5 * cols, 3.6 * rows + 0.45 + (0.5 if key else 0.0))
     fig = plt.figure(figsize=figsize)
     F = arm._fk(Q, frames=True)
     if three_d:
