@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, cast
 
 import matplotlib.colors
 import matplotlib.pyplot as plt
@@ -111,7 +111,7 @@ def book_style() -> None:
     >>> plt.rcParams["svg.fonttype"]
     'none'
     """
-    plt.rcParams.update(BOOK_RC)
+    cast(Any, plt.rcParams).update(BOOK_RC)  # (its stubs type every key)
     try:
         from IPython import get_ipython
         from matplotlib_inline.backend_inline import set_matplotlib_formats
@@ -1268,11 +1268,12 @@ def _dimension(ax: Axes, start: FloatArray, end: FloatArray, text: str, offset: 
     a, b = start + offset, end + offset
     for p in (start, end):  # extension lines from the measured points
         ax.plot(*np.stack([p, p + 1.08 * offset]).T, color=colour, lw=0.8, gid="dimension")
-    ax.annotate("", xy=b, xytext=a, gid="dimension",
-                arrowprops={"arrowstyle": "<->", "color": colour, "lw": 1.2,
-                            "shrinkA": 0, "shrinkB": 0})
-    ax.text(*((a + b) / 2), text, color=colour, fontsize=9, ha="center", va="center",
-            gid="dimension-text", bbox={"fc": "white", "ec": "none", "pad": 1.0})
+    ax.annotate("", xy=(float(b[0]), float(b[1])), xytext=(float(a[0]), float(a[1])),
+                gid="dimension", arrowprops={"arrowstyle": "<->", "color": colour, "lw": 1.2,
+                                             "shrinkA": 0, "shrinkB": 0})
+    mid = (a + b) / 2
+    ax.text(float(mid[0]), float(mid[1]), text, color=colour, fontsize=9, ha="center",
+            va="center", gid="dimension-text", bbox={"fc": "white", "ec": "none", "pad": 1.0})
 
 
 def plot_view(arm: SerialArm, q: Any, view: str = "xz", ax: Axes | None = None,
