@@ -483,6 +483,8 @@ def _set_width(driver: object, px: int) -> None:
 
 
 CHAPTER_PAGES = [p for p in PAGES if p.startswith("book/")]
+#: The course's chapters (the instructor's guide is prose and screenshots for teachers).
+COURSE_PAGES = [p for p in CHAPTER_PAGES if not p.startswith("book/instructor/")]
 
 
 
@@ -726,7 +728,7 @@ const sizeOf = style => {
 
 @pytest.mark.book
 @pytest.mark.slow
-@pytest.mark.parametrize("page", CHAPTER_PAGES)
+@pytest.mark.parametrize("page", COURSE_PAGES)
 def test_figure_text_is_readable_at_1280(page: str, book_html: Path, server: str,
                                          driver: object) -> None:
     """At 1280 px every figure is an SVG whose text is text, and no text of it, shrunk or
@@ -814,7 +816,7 @@ return out;
 
 @pytest.mark.book
 @pytest.mark.slow
-@pytest.mark.parametrize("page", CHAPTER_PAGES)
+@pytest.mark.parametrize("page", COURSE_PAGES)
 def test_no_line_of_code_wraps_at_1280(page: str, book_html: Path, server: str,
                                        driver: object) -> None:
     """Every code line, folded cells opened, fits its box at 1280 px: a wrapped line of
