@@ -1031,8 +1031,11 @@ def plot_workspace_planar(arm: SerialArm, ax: Axes | None = None, n: int = 256) 
                           label=f"TCP: {r_in:.4g} ≤ r ≤ {r_out:.4g}"))
     if arm.n >= 3:
         w_in, w_out = _radii(lengths[:-1])
-        ax.add_patch(_annulus(centre, w_in, w_out, int(n), facecolor="tab:orange", alpha=0.35,
-                              edgecolor="tab:orange", lw=1.0, hatch="//", gid="wrist-region",
+        # the face is translucent, the edge and hatch opaque and darker: one alpha for the
+        # whole patch would draw the hatch in the face's own colour (invisible in SVG)
+        ax.add_patch(_annulus(centre, w_in, w_out, int(n),
+                              facecolor=matplotlib.colors.to_rgba("tab:orange", 0.35),
+                              edgecolor="#b35806", lw=1.0, hatch="//", gid="wrist-region",
                               label=f"wrist point: {w_in:.4g} ≤ r ≤ {w_out:.4g}"))
     ax.plot(*centre, "k+", ms=10)
     lim = np.stack([centre - r_out * (1 + MARGIN), centre + r_out * (1 + MARGIN)], axis=1)
