@@ -336,8 +336,9 @@ def _arm_traces(go: Any, dims: int, colour: str, name: str, group: str,
 #: Characters per line of a title or of the key, so that no line runs past the figure on
 #: a phone (a 390 px screen leaves the figure about 330 px: 13 px text, ~7 px a character).
 LINE_CHARS = 44
-#: Lines of the title (the arm and what is shown) the top margin leaves room for.
-TITLE_LINES = 3
+#: Lines of the title the top margin leaves room for: the arm, the solution shown, and
+#: its joints (six of them take two lines).
+TITLE_LINES = 4
 
 
 def _lines(text: str, width: int = LINE_CHARS) -> list[str]:

@@ -789,7 +789,8 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
         head = f"{i + 1}: {labels[i]}" if labels[i] else f"solution {i + 1}"
         title = f"{head}\n{_q_text(arm, Q[i])}"
         if twins[i]:
-            title += "\njoints where #" + ", #".join(map(str, twins[i])) + " has them"
+            verb = "has" if len(twins[i]) == 1 else "have"
+            title += "\njoints where #" + ", #".join(map(str, twins[i])) + f" {verb} them"
         ax.set_title(title, fontsize=SOLUTION_TITLE_PT)
         _few_ticks(ax)
         if three_d:
@@ -802,7 +803,10 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
     fig.tight_layout(rect=(0.0, 0.5 / height if key else 0.0, 1.0, top))
     if three_d:
         # tight_layout ignores the 3D axis labels: leave room for them at both sides
-        fig.subplots_adjust(left=0.04, right=0.96, wspace=0.3)
+        # and between rows, where the x tick labels hang below the panel into the titles
+        fig.subplots_adjust(left=0.04, right=0.96, wspace=0.3,
+                            hspace=fig.subplotpars.hspace + 0.45 if rows > 1 else None,
+                            bottom=fig.subplotpars.bottom + 0.55 / height if key else None)
     if key:
         _solutions_key(fig, three_d, ghosts and k > 1, any(twins))
     return fig
