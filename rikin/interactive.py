@@ -35,6 +35,7 @@ import importlib
 import json
 import os
 import sys
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -440,6 +441,42 @@ def _check_height(height: Any) -> int:
     return int(height)
 
 
+def _solution_traces(go: Any, arm: SerialArm, Q: FloatArray, labels: Any, fs: float,
+                     dims: int, frames: bool) -> tuple[list[Any], list[str]]:
+    """Every solution's traces (TRACES_PER_ARM each, in its slot's colour) and its heading:
+    number, branch and joints."""
+    traces: list[Any] = []
+    heads = []
+    for i in range(len(Q)):
+        head = f"{i + 1}: {labels[i]}" if labels[i] else f"solution {i + 1}"
+        heads.append(f"{head}<br>q = {_q_text(arm, Q[i])}")
+        geo = _arm_geometry(arm, Q[i], fs, dims, frames)
+        traces += _arm_traces(go, dims, SLOT_COLOURS[i % len(SLOT_COLOURS)], head, f"s{i}", geo,
+                              heads[-1])
+    return traces, heads
+
+
+def _visible(k: int, n_target: int, which: int | None) -> list[bool]:
+    """Which traces show solution ``which`` (from 0; None: all k) and the target's."""
+    vis = [which is None or i == which for i in range(k) for _ in range(TRACES_PER_ARM)]
+    return vis + [True] * n_target
+
+
+def _solution_buttons(k: int, n_target: int, base: str, heads: list[str],
+                      selected: int) -> dict[str, Any]:
+    """The row of buttons ``1 .. k`` and ``all`` under the figure, ``selected`` pressed."""
+    buttons = [{"label": str(i + 1), "method": "update",
+                "args": [{"visible": _visible(k, n_target, i)},
+                         {"title.text": _title(f"{base}<br>{heads[i]}")}]}
+               for i in range(k)]
+    every = _title(f"{base}<br>all {k} solutions (legend: click to hide)")
+    buttons.append({"label": "all", "method": "update",
+                    "args": [{"visible": _visible(k, n_target, None)}, {"title.text": every}]})
+    return {"type": "buttons", "direction": "right", "buttons": buttons,
+            "active": selected - 1, "showactive": True, "x": 0.0, "y": -0.06,
+            "xanchor": "left", "yanchor": "top", "pad": {"t": 4}, "font": {"size": 12}}
+
+
 # ------------------------------------------------------------------ the public figures
 def solutions_figure(arm: SerialArm, result: Any, *, frames: bool = True, height: int = 560,
                      title: str | None = None, selected: int = 1) -> InteractiveFigure:
@@ -491,37 +528,16 @@ def solutions_figure(arm: SerialArm, result: Any, *, frames: bool = True, height
         pts = np.vstack([pts, target[None, :3, 3]])
     lim = _limits(arm, pts, dims)
     fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
-    traces: list[Any] = []
-    heads = []
-    for i in range(k):
-        head = f"{i + 1}: {labels[i]}" if labels[i] else f"solution {i + 1}"
-        heads.append(f"{head}<br>q = {_q_text(arm, Q[i])}")
-        geo = _arm_geometry(arm, Q[i], fs, dims, frames)
-        traces += _arm_traces(go, dims, SLOT_COLOURS[i % len(SLOT_COLOURS)], head, f"s{i}", geo,
-                              heads[-1])
+    traces, heads = _solution_traces(go, arm, Q, labels, fs, dims, frames)
     n_target = 0
     if target is not None:
         traces.append(_target_trace(go, dims, target[:3, 3]))
         n_target = 1
     base = f"{arm.name}: {k} IK solution{'s' if k != 1 else ''}" if title is None else title
-
-    def visible(which: int | None) -> list[bool]:
-        vis = [which is None or i == which for i in range(k) for _ in range(TRACES_PER_ARM)]
-        return vis + [True] * n_target
-
-    for tr, v in zip(traces, visible(selected - 1), strict=True):
+    for tr, v in zip(traces, _visible(k, n_target, selected - 1), strict=True):
         tr.visible = v
-    buttons = [{"label": str(i + 1), "method": "update",
-                "args": [{"visible": visible(i)}, {"title.text": _title(f"{base}<br>{heads[i]}")}]}
-               for i in range(k)]
-    every = _title(f"{base}<br>all {k} solutions (legend: click to hide)")
-    buttons.append({"label": "all", "method": "update",
-                    "args": [{"visible": visible(None)}, {"title.text": every}]})
     layout = _layout(go, arm, lim, dims, f"{base}<br>{heads[selected - 1]}", height)
-    layout["updatemenus"] = [{"type": "buttons", "direction": "right", "buttons": buttons,
-                              "active": selected - 1, "showactive": True, "x": 0.0, "y": -0.06,
-                              "xanchor": "left", "yanchor": "top", "pad": {"t": 4},
-                              "font": {"size": 12}}]
+    layout["updatemenus"] = [_solution_buttons(k, n_target, base, heads, selected)]
     layout["margin"]["b"] += 60
     layout["annotations"][0]["yshift"] = -70
     fig = go.Figure(data=traces, layout=layout)
@@ -598,46 +614,19 @@ def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: i
     """
     _check_arm(arm)
     go = _plotly()
-    if isinstance(targets, (str, bytes)) or not hasattr(targets, "__len__") or (
-            isinstance(targets, np.ndarray) and targets.ndim == 0):
-        raise InputError(f"targets must be a sequence of targets (e.g. an array (m, 4, 4)), "
-                         f"got {type(targets).__name__}")
-    steps = list(targets)
+    steps = _check_targets(targets)
     m = len(steps)
-    if m < 2:
-        raise InputError(f"a path needs at least 2 targets, got {m}")
     labels_given = None if step_labels is None else list(as_texts(step_labels, "step_labels", m))
     height = _check_height(height)
     frames = as_flag(frames, "frames")
     title = as_text(title, "title", optional=True)
     dims = 2 if is_planar(arm) else 3
-    results: list[IKResult | None] = []
-    why: list[str] = []
-    for t in steps:
-        try:
-            results.append(arm.ik(t))
-            why.append("")
-        except InputError as exc:
-            raise InputError(f"targets[{len(results)}]: {exc}") from None
-        except RikinError as exc:       # unreachable (or another IK error): say why
-            results.append(None)
-            why.append(str(exc))
-    branch_names: list[str] = []
-    for r in results:
-        for lab in (r.labels if r is not None else ()):
-            if lab not in branch_names:
-                branch_names.append(lab)
-    if not branch_names:
-        raise InputError("no target on the path is reachable: there is nothing to draw")
+    results, why = _solve_steps(arm, steps)
+    branch_names = _branch_names(results)
     tpos = np.stack([_pose_position(arm, r, t) for r, t in zip(results, steps, strict=True)])
-    allpts = [tpos]
-    for r in results:
-        if r is not None:
-            allpts.append(arm._fk(np.asarray(r.q), frames=True)[:, :, :3, 3].reshape(-1, 3))
-    lim = _limits(arm, np.vstack(allpts), dims)
+    lim = _limits(arm, _path_points(arm, results, tpos), dims)
     fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
     base = f"{arm.name}: the target along a path" if title is None else title
-    nb = len(branch_names)
 
     def step_data(s: int) -> tuple[list[dict[str, Any]], str]:
         r = results[s]
@@ -655,48 +644,124 @@ def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: i
         return data, text
 
     first, first_text = step_data(0)
-    traces: list[Any] = []
-    for j, b in enumerate(branch_names):
-        traces += _arm_traces(go, dims, SLOT_COLOURS[j % len(SLOT_COLOURS)], b, f"b{j}",
-                              first[j * TRACES_PER_ARM:(j + 1) * TRACES_PER_ARM], b)
+    traces = _branch_traces(go, dims, branch_names, first)
     Scatter = go.Scatter3d if dims == 3 else go.Scatter
     traces.append(_target_trace(go, dims, tpos[0]))
     traces.append(Scatter(mode="lines", name="path", hoverinfo="skip",
                           line={"color": "#d62728", "width": 2, "dash": "dot"},
                           **_xyz(tpos, dims)))
-    moving = list(range(nb * TRACES_PER_ARM + 1))
-    frames_out = []
-    slider_steps = []
-    for s in range(m):
-        data, text = step_data(s)
-        name = labels_given[s] if labels_given is not None else str(s + 1)
-        frames_out.append(go.Frame(
-            name=f"step{s}", traces=moving,
-            data=[Scatter(**d) for d in data],
-            layout={"title": {"text": _title(f"{base}<br>{text}")}}))
-        slider_steps.append({"label": name, "method": "animate",
-                             "args": [[f"step{s}"], {"mode": "immediate",
-                                                     "frame": {"duration": 0, "redraw": True},
-                                                     "transition": {"duration": 0}}]})
+    frames_out = _path_frames(go, Scatter, m, len(branch_names), step_data, base)
+    names = labels_given if labels_given is not None else [str(s + 1) for s in range(m)]
     layout = _layout(go, arm, lim, dims, f"{base}<br>{first_text}", height)
-    # the slider starts clear of the play button (about 65 px) on a phone too, and says
-    # which step it is at its right end, away from the button
-    layout["sliders"] = [{"active": 0, "steps": slider_steps, "x": 0.2, "len": 0.8, "y": -0.02,
-                          "yanchor": "top", "currentvalue": {"prefix": "target ",
-                                                             "xanchor": "right",
-                                                             "font": {"size": 12}},
-                          "pad": {"t": 30}}]
-    layout["updatemenus"] = [{"type": "buttons", "showactive": False, "x": 0.0, "y": -0.02,
-                              "xanchor": "left", "yanchor": "top", "pad": {"t": 40},
-                              "buttons": [{"label": "▶ play", "method": "animate",
-                                           "args": [None, {"frame": {"duration": 120,
-                                                                     "redraw": True},
-                                                           "fromcurrent": True,
-                                                           "transition": {"duration": 0}}]}]}]
+    layout["sliders"] = [_path_slider(names)]
+    layout["updatemenus"] = [_play_button()]
     layout["margin"]["b"] += 100
     layout["annotations"][0]["yshift"] = -110
     fig = go.Figure(data=traces, layout=layout, frames=frames_out)
     return InteractiveFigure(fig, _div_id("path", arm, tpos))
+
+
+def _path_points(arm: SerialArm, results: list[IKResult | None],
+                 tpos: FloatArray) -> FloatArray:
+    """Every point the path's figure must hold ``(k, 3)``: the targets' positions and
+    every frame origin of every solution at every step."""
+    allpts = [tpos]
+    for r in results:
+        if r is not None:
+            allpts.append(arm._fk(np.asarray(r.q), frames=True)[:, :, :3, 3].reshape(-1, 3))
+    return np.vstack(allpts)
+
+
+def _branch_traces(go: Any, dims: int, branch_names: list[str],
+                   first: list[dict[str, Any]]) -> list[Any]:
+    """One arm's traces per branch, in the branch's colour, drawn at the first step's data
+    (TRACES_PER_ARM geometries per branch in ``first``)."""
+    traces: list[Any] = []
+    for j, b in enumerate(branch_names):
+        traces += _arm_traces(go, dims, SLOT_COLOURS[j % len(SLOT_COLOURS)], b, f"b{j}",
+                              first[j * TRACES_PER_ARM:(j + 1) * TRACES_PER_ARM], b)
+    return traces
+
+
+def _path_frames(go: Any, Scatter: Any, m: int, nb: int,
+                 step_data: Callable[[int], tuple[list[dict[str, Any]], str]],
+                 base: str) -> list[Any]:
+    """The animation's frames ``step0 .. step{m-1}``: each moves the ``nb`` branches' arms
+    and the target (the first traces) to ``step_data(s)`` and retitles the figure."""
+    moving = list(range(nb * TRACES_PER_ARM + 1))
+    frames_out = []
+    for s in range(m):
+        data, text = step_data(s)
+        frames_out.append(go.Frame(
+            name=f"step{s}", traces=moving,
+            data=[Scatter(**d) for d in data],
+            layout={"title": {"text": _title(f"{base}<br>{text}")}}))
+    return frames_out
+
+
+def _check_targets(targets: Any) -> list[Any]:
+    """The path's targets as a list, at least 2 (each is checked by ``arm.ik``)."""
+    if isinstance(targets, (str, bytes)) or not hasattr(targets, "__len__") or (
+            isinstance(targets, np.ndarray) and targets.ndim == 0):
+        raise InputError(f"targets must be a sequence of targets (e.g. an array (m, 4, 4)), "
+                         f"got {type(targets).__name__}")
+    steps = list(targets)
+    if len(steps) < 2:
+        raise InputError(f"a path needs at least 2 targets, got {len(steps)}")
+    return steps
+
+
+def _solve_steps(arm: SerialArm, steps: list[Any]) -> tuple[list[IKResult | None], list[str]]:
+    """Every step's IK result, or None and why (unreachable); a bad target is an error."""
+    results: list[IKResult | None] = []
+    why: list[str] = []
+    for t in steps:
+        try:
+            results.append(arm.ik(t))
+            why.append("")
+        except InputError as exc:
+            raise InputError(f"targets[{len(results)}]: {exc}") from None
+        except RikinError as exc:       # unreachable (or another IK error): say why
+            results.append(None)
+            why.append(str(exc))
+    return results, why
+
+
+def _branch_names(results: list[IKResult | None]) -> list[str]:
+    """Every branch that reaches some step, in the order they first appear."""
+    branch_names: list[str] = []
+    for r in results:
+        for lab in (r.labels if r is not None else ()):
+            if lab not in branch_names:
+                branch_names.append(lab)
+    if not branch_names:
+        raise InputError("no target on the path is reachable: there is nothing to draw")
+    return branch_names
+
+
+def _path_slider(names: list[str]) -> dict[str, Any]:
+    """The slider that moves the target: one step per name (frames ``step0``, ...).
+
+    It starts clear of the play button (about 65 px) on a phone too, and says which step
+    it is at its right end, away from the button."""
+    steps = [{"label": name, "method": "animate",
+              "args": [[f"step{s}"], {"mode": "immediate",
+                                      "frame": {"duration": 0, "redraw": True},
+                                      "transition": {"duration": 0}}]}
+             for s, name in enumerate(names)]
+    return {"active": 0, "steps": steps, "x": 0.2, "len": 0.8, "y": -0.02,
+            "yanchor": "top", "currentvalue": {"prefix": "target ", "xanchor": "right",
+                                               "font": {"size": 12}},
+            "pad": {"t": 30}}
+
+
+def _play_button() -> dict[str, Any]:
+    """The play button, left of :func:`_path_slider`: it runs through the steps."""
+    return {"type": "buttons", "showactive": False, "x": 0.0, "y": -0.02, "xanchor": "left",
+            "yanchor": "top", "pad": {"t": 40},
+            "buttons": [{"label": "▶ play", "method": "animate",
+                         "args": [None, {"frame": {"duration": 120, "redraw": True},
+                                         "fromcurrent": True, "transition": {"duration": 0}}]}]}
 
 
 def _pose_position(arm: SerialArm, result: IKResult | None, target: Any) -> FloatArray:

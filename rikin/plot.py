@@ -34,6 +34,7 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Arc, PathPatch
 from matplotlib.path import Path
 from matplotlib.ticker import MaxNLocator
+from mpl_toolkits.mplot3d import Axes3D
 
 from ._validate import (
     FloatArray,
@@ -521,25 +522,14 @@ def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True
     _check_ax(ax)
     frames, label_joints = as_flag(frames, "frames"), as_flag(label_joints, "label_joints")
     gripper = as_flag(gripper, "gripper")
-    title = as_text(title, "title", optional=True)
-    color = _check_colour(color)
-    frame_scale = _frame_scale(frame_scale)
-    view = _check_view(view)
+    title, color = as_text(title, "title", optional=True), _check_colour(color)
+    frame_scale, view = _frame_scale(frame_scale), _check_view(view)
     three_d = not is_planar(arm) or (ax is not None and ax.name == "3d")
     ax = _make_axes(three_d, ax)
-    dims = 3 if three_d else 2
     F = arm._fk(qv, frames=True)
     elev, azim = _view(arm, F[:, :3, 3], view)
-    if limits is None:
-        if three_d:
-            lim = _square_limits(_view_points(arm, F), 3, _min_half(arm))
-        else:
-            lim = _planar_limits(arm)
-    else:
-        lim = as_float_array(limits, "limits")
-        if lim.shape != (dims, 2):
-            raise InputError(f"limits must have shape ({dims}, 2), got {lim.shape}")
-    fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0])) if frame_scale is None else frame_scale
+    lim = _arm_limits(arm, F, three_d, limits)
+    fs = _frame_length(lim, FRAME_FRACTION) if frame_scale is None else frame_scale
     _draw_arm(ax, arm, qv, frames=frames, frame_scale=fs, color=color, label_joints=label_joints,
               gripper=gripper)
     _apply_limits(ax, lim, arm, azim, elev)
@@ -547,6 +537,25 @@ def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True
         _few_ticks(ax, 5, labelsize=None)
     ax.set_title(f"{arm.name} at q = {_q_text(arm, qv)}" if title is None else title, fontsize=10)
     return ax
+
+
+def _arm_limits(arm: SerialArm, F: FloatArray, three_d: bool, limits: Any) -> FloatArray:
+    """Axis limits ``(dims, 2)`` of one drawn configuration (frames ``F``): ``limits`` when
+    given, else a cube around the drawing (3D) or a square around a planar arm's reach."""
+    if limits is not None:
+        dims = 3 if three_d else 2
+        lim = as_float_array(limits, "limits")
+        if lim.shape != (dims, 2):
+            raise InputError(f"limits must have shape ({dims}, 2), got {lim.shape}")
+        return lim
+    if three_d:
+        return _square_limits(_view_points(arm, F), 3, _min_half(arm))
+    return _planar_limits(arm)
+
+
+def _frame_length(lim: FloatArray, fraction: float) -> float:
+    """A frame triad's length: ``fraction`` of the view's side (its x extent)."""
+    return float(fraction * (lim[0, 1] - lim[0, 0]))
 
 
 def _planar_reach(arm: SerialArm) -> float:
@@ -624,6 +633,17 @@ def turned_axes(arm: SerialArm, q: Any, q_other: Any) -> list[int]:
     _, axes_b = arm.joint_axes(b)
     dots = np.einsum("ij,ij->i", axes_a, axes_b)
     return [i + 1 for i in range(arm.n) if arm.revolute[i] and dots[i] < 0.0]
+
+
+def _as_3d(ax: Axes) -> Axes3D:
+    """``ax`` as the 3D Axes it is (``ax.name == "3d"``), for its z axis and camera."""
+    if not isinstance(ax, Axes3D):
+        raise TypeError(f"3D Axes expected, got {type(ax).__name__}")
+    return ax
+
+
+def _zaxis(ax: Axes) -> Any:
+    return _as_3d(ax).zaxis
 
 
 def _few_ticks(ax: Axes, n: int = 3, labelsize: float | None = SMALLEST_FONT_PT) -> None:
@@ -734,7 +754,6 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
 
     Examples
     --------
-    >>> import numpy as np
     >>> from rikin import robots
     >>> arm = robots.planar_2r()
     >>> fig = plot_solutions(arm, arm.ik([15.0, 5.0]))
@@ -742,61 +761,114 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
     2
     """
     _check_arm(arm)
+    Q, labels, T_target, note = _checked_solutions(arm, result, target)
+    ncols = as_count(ncols, "ncols", minimum=1)
+    frames, gripper = as_flag(frames, "frames"), as_flag(gripper, "gripper")
+    key, ghosts = as_flag(key, "key"), as_flag(ghosts, "ghosts")
+    view, figsize = _check_view(view), _figsize(figsize)
+    k = Q.shape[0]
+    fig, rows, cols = _solutions_grid(k, int(ncols), figsize, key)
+    three_d = not is_planar(arm)
+    F = arm._fk(Q, frames=True)
+    lim, camera = _solutions_view(arm, F, T_target, three_d, view)
+    twins = same_joint_points(arm, Q)
+    for i in range(k):
+        ax = fig.add_subplot(rows, cols, i + 1, projection="3d" if three_d else None)
+        _solution_panel(ax, arm, Q, F, i, labels[i], twins[i], lim, camera, ghosts=ghosts,
+                        frames=frames, gripper=gripper, T_target=T_target)
+    _lay_out_solutions(fig, arm.name, k, note, rows, three_d, key)
+    if key:
+        _solutions_key(fig, three_d, ghosts and k > 1, any(twins))
+    return fig
+
+
+def _solutions_grid(k: int, ncols: int, figsize: tuple[float, float] | None,
+                    key: bool) -> tuple[Figure, int, int]:
+    """A figure for k panels, ``ncols`` (at most k) to a row: (figure, rows, columns).
+
+    Default size: 3.5 x 3.6 inches per panel, with room for the suptitle and the key."""
+    cols = min(ncols, k)
+    rows = math.ceil(k / cols)
+    if figsize is None:
+        figsize = (3.5 * cols, 3.6 * rows + 0.45 + (0.5 if key else 0.0))
+    return plt.figure(figsize=figsize), rows, cols
+
+
+def _checked_solutions(arm: SerialArm, result: Any, target: Any
+                       ) -> tuple[FloatArray, Sequence[str], FloatArray | None, str | None]:
+    """:func:`_solutions_input` checked: at least one solution, and a 4x4 target or None."""
     Q, labels, tgt, note = _solutions_input(arm, result, target)
     if Q.ndim != 2 or Q.shape[0] == 0:
         raise InputError("there are no solutions to draw (the IK result is empty)")
     Q = arm.check_q(Q, "result.q")
-    ncols = as_count(ncols, "ncols", minimum=1)
-    frames, gripper = as_flag(frames, "frames"), as_flag(gripper, "gripper")
-    key, ghosts = as_flag(key, "key"), as_flag(ghosts, "ghosts")
-    view = _check_view(view)
-    figsize = _figsize(figsize)
-    T_target = None
-    if tgt is not None:
-        T_target = as_float_array(tgt, "target")
-        if T_target.shape != (4, 4):
-            raise InputError(f"target must be a 4x4 pose, got shape {T_target.shape}")
-    k = Q.shape[0]
-    cols = min(int(ncols), k)
-    rows = math.ceil(k / cols)
-    three_d = not is_planar(arm)
-    if figsize is None:
-        figsize = (3.5 * cols, 3.6 * rows + 0.45 + (0.5 if key else 0.0))
-    fig = plt.figure(figsize=figsize)
-    F = arm._fk(Q, frames=True)
+    if tgt is None:
+        return Q, labels, None, note
+    T_target = as_float_array(tgt, "target")
+    if T_target.shape != (4, 4):
+        raise InputError(f"target must be a 4x4 pose, got shape {T_target.shape}")
+    return Q, labels, T_target, note
+
+
+def _solutions_view(arm: SerialArm, F: FloatArray, T_target: FloatArray | None,
+                    three_d: bool, view: Any) -> tuple[FloatArray, tuple[float, float]]:
+    """The limits and the camera ``(elevation, azimuth)`` shared by every panel: a cube
+    around all solutions ``F`` (k, n + 2, 4, 4) and the target (3D), or a square around a
+    planar arm's reach; the camera ``view``, else the default for the target (or the
+    first solution)."""
     if three_d:
         extra = None if T_target is None else T_target[:3, 3]
         lim = _square_limits(_view_points(arm, F, extra), 3, _min_half(arm))
     else:
         lim = _planar_limits(arm)
-    fs = float(SOLUTIONS_FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
-    elev, azim = _view(arm, F[0, :, :3, 3] if T_target is None else T_target[None, :3, 3], view)
-    twins = same_joint_points(arm, Q)
-    for i in range(k):
-        ax = fig.add_subplot(rows, cols, i + 1, projection="3d" if three_d else None)
-        if ghosts:
-            _draw_ghosts(ax, arm, F, [j for j in range(k) if j != i and j + 1 not in twins[i]])
-        _draw_arm(ax, arm, Q[i], frames=frames, frame_scale=fs, color=None,
-                  label_joints=False, gripper=gripper)
-        if twins[i]:
-            turned = sorted({j for t in twins[i] for j in turned_axes(arm, Q[i], Q[t - 1])})
-            _draw_turned_axes(ax, arm, F[i], turned, 1.5 * fs)
-        if T_target is not None:
-            p = T_target[:3, 3]
-            ax.plot(*p[:3 if three_d else 2], "o", ms=13, mfc="none", mec="tab:red", mew=1.8,
-                    ls="none", gid="target", zorder=6)
-        _apply_limits(ax, lim, arm, azim, elev, zoom=SOLUTIONS_ZOOM)
-        head = f"{i + 1}: {labels[i]}" if labels[i] else f"solution {i + 1}"
-        title = f"{head}\n{_q_text(arm, Q[i])}"
-        if twins[i]:
-            verb = "has" if len(twins[i]) == 1 else "have"
-            title += "\njoints where #" + ", #".join(map(str, twins[i])) + f" {verb} them"
-        ax.set_title(title, fontsize=SOLUTION_TITLE_PT)
-        _few_ticks(ax)
-        if three_d:
-            for label in (ax.xaxis.label, ax.yaxis.label, ax.zaxis.label):
-                label.set_fontsize(SMALLEST_FONT_PT)
-    sup = f"{arm.name}: {k} IK solution{'s' if k != 1 else ''}"
+    points = F[0, :, :3, 3] if T_target is None else T_target[None, :3, 3]
+    return lim, _view(arm, points, view)
+
+
+def _solution_panel(ax: Axes, arm: SerialArm, Q: FloatArray, F: FloatArray, i: int,
+                    label: str, twins: Sequence[int], lim: FloatArray,
+                    camera: tuple[float, float], *, ghosts: bool, frames: bool, gripper: bool,
+                    T_target: FloatArray | None) -> None:
+    """Solution ``i`` (from 0) in its panel: with ``ghosts`` the other solutions faint
+    behind it (not its ``twins``, numbered from 1, :func:`same_joint_points`, which lie
+    under it), the arm, the axes reversed in its twins, the target's ring, the shared
+    limits and camera ``(elevation, azimuth)``, and its title."""
+    fs = _frame_length(lim, SOLUTIONS_FRAME_FRACTION)
+    if ghosts:
+        _draw_ghosts(ax, arm, F, [j for j in range(len(Q)) if j != i and j + 1 not in twins])
+    _draw_arm(ax, arm, Q[i], frames=frames, frame_scale=fs, color=None,
+              label_joints=False, gripper=gripper)
+    if twins:
+        turned = sorted({j for t in twins for j in turned_axes(arm, Q[i], Q[t - 1])})
+        _draw_turned_axes(ax, arm, F[i], turned, 1.5 * fs)
+    if T_target is not None:
+        p = T_target[:3, 3]
+        ax.plot(*p[:3 if ax.name == "3d" else 2], "o", ms=13, mfc="none", mec="tab:red",
+                mew=1.8, ls="none", gid="target", zorder=6)
+    elev, azim = camera
+    _apply_limits(ax, lim, arm, azim, elev, zoom=SOLUTIONS_ZOOM)
+    ax.set_title(_solution_title(arm, Q[i], i, label, twins), fontsize=SOLUTION_TITLE_PT)
+    _few_ticks(ax)
+    if ax.name == "3d":
+        for text in (ax.xaxis.label, ax.yaxis.label, _zaxis(ax).label):
+            text.set_fontsize(SMALLEST_FONT_PT)
+
+
+def _solution_title(arm: SerialArm, q: FloatArray, i: int, label: str,
+                    twins: Sequence[int]) -> str:
+    """A panel's title: its number and branch, its joints, and its twins if any."""
+    head = f"{i + 1}: {label}" if label else f"solution {i + 1}"
+    title = f"{head}\n{_q_text(arm, q)}"
+    if twins:
+        verb = "has" if len(twins) == 1 else "have"
+        title += "\njoints where #" + ", #".join(map(str, twins)) + f" {verb} them"
+    return title
+
+
+def _lay_out_solutions(fig: Figure, name: str, k: int, note: str | None, rows: int,
+                       three_d: bool, key: bool) -> None:
+    """The suptitle (the arm's name, k solutions, the note), and the panels spaced to
+    leave room for it, the 3D axis labels and the key."""
+    sup = f"{name}: {k} IK solution{'s' if k != 1 else ''}"
     fig.suptitle(sup if note is None else f"{sup}\n{note}", fontsize=11)
     height = fig.get_size_inches()[1]
     top = 1.0 - (0.45 + (0.2 if note else 0.0)) / height   # room for the suptitle
@@ -807,9 +879,6 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
         fig.subplots_adjust(left=0.04, right=0.96, wspace=0.3,
                             hspace=fig.subplotpars.hspace + 0.45 if rows > 1 else None,
                             bottom=fig.subplotpars.bottom + 0.55 / height if key else None)
-    if key:
-        _solutions_key(fig, three_d, ghosts and k > 1, any(twins))
-    return fig
 
 
 def _solutions_key(fig: Figure, three_d: bool, ghosts: bool, twins: bool) -> None:
@@ -897,8 +966,69 @@ def plot_two_link_triangle(L1: float, L2: float, target_uv: Any, elbow: str = "b
     _check_ax(ax)
     as_texts(labels, "labels", 2)
     as_texts(angle_labels, "angle_labels", 3)
-    if elbow not in ("both", "up", "down"):
-        raise InputError(f"elbow must be 'both', 'up' or 'down', got {elbow!r}")
+    A, B, chosen, names = _triangle_chains(l1, l2, uv, elbow)
+    if ax is None:
+        ax = plt.figure(figsize=(6, 5.5)).add_subplot()
+    P = uv
+    _draw_reach(ax, P, l1 + l2)
+    for n_drawn, s in enumerate(chosen):
+        a, b = float(A[s]), float(B[s])
+        E = l1 * np.array([np.cos(a), np.sin(a)])
+        colour = "tab:blue" if names[s] == "up" else "tab:purple"
+        text = (f"elbow {names[s]}: $\\theta_1$ = {np.degrees(a):.2f}°, "
+                f"${angle_labels[2]}$ = {np.degrees(b):.2f}°")
+        _draw_chain(ax, E, P, "-" if n_drawn == 0 else "--", colour, text)
+        if n_drawn == 0:
+            _annotate_triangle(ax, P, E, a, b, (l1, l2), colour, labels, angle_labels)
+    ax.plot(0, 0, "ko", ms=6)
+    ax.plot(*P, "*", color="tab:orange", mec="k", ms=14, gid="target")
+    ax.annotate("O", (0, 0), xytext=(-12, -12), textcoords="offset points")
+    ax.annotate("P", tuple(P), xytext=(8, 4), textcoords="offset points")
+    elbows = [l1 * np.array([np.cos(A[s]), np.sin(A[s])]) for s in chosen]
+    _triangle_frame(ax, np.vstack([np.zeros(2), P, *elbows]), l1 + l2)
+    return ax
+
+
+def _triangle_frame(ax: Axes, points: FloatArray, size: float) -> None:
+    """Equal scale, a square view around ``points`` (k, 2), the u and w labels, the
+    legend and the title."""
+    ax.set_aspect("equal", adjustable="box")
+    lim = _square_limits(points, 2, 0.1 * size)
+    ax.set_xlim(*lim[0])
+    ax.set_ylim(*lim[1])
+    ax.set_xlabel("u")
+    ax.set_ylabel("w")
+    ax.legend(loc="best", fontsize=8)
+    ax.set_title("two-link triangle (law of cosines)", fontsize=10)
+
+
+def _draw_reach(ax: Axes, P: FloatArray, size: float) -> None:
+    """The u and w axes, and the dotted line O-P with its length r beside it."""
+    origin = np.zeros(2)
+    r = float(np.hypot(P[0], P[1]))
+    ax.axhline(0, color="0.6", lw=0.6)
+    ax.axvline(0, color="0.6", lw=0.6)
+    ax.plot(*np.stack([origin, P]).T, ":", color="0.35", lw=1.4, gid="reach")
+    normal = np.array([-P[1], P[0]]) / max(r, 1e-300)
+    ax.text(*(P / 2 - 0.06 * size * normal), f"$r = {r:.4g}$", color="0.35", fontsize=10,
+            ha="center", va="center")
+
+
+def _draw_chain(ax: Axes, E: FloatArray, P: FloatArray, style: str, colour: str,
+                label: str) -> None:
+    """One chain O-E-P: its two links (``label`` in the legend) and its elbow E."""
+    ax.plot(*np.stack([np.zeros(2), E]).T, style, color=colour, lw=2.5, gid="link1",
+            label=label)
+    ax.plot(*np.stack([E, P]).T, style, color=colour, lw=2.5, gid="link2")
+    ax.plot(*E, "o", color=colour, ms=6, gid="elbow")
+
+
+def _triangle_chains(l1: float, l2: float, uv: FloatArray,
+                     elbow: str) -> tuple[FloatArray, FloatArray, list[int], dict[int, str]]:
+    """The two-link solutions ``theta_1`` (A) and ``theta_2`` (B), shape (2,) each, the
+    slots to draw (elbow up first) and each slot's name ("up" or "down").
+
+    Raises UnreachableError, with ``.excess``, for a point out of the chain's reach."""
     u, w = np.array(uv[0]), np.array(uv[1])
     A, B, reachable, stretched = two_link(u, w, l1, l2)
     r = float(np.hypot(u, w))
@@ -915,57 +1045,31 @@ def plot_two_link_triangle(L1: float, L2: float, target_uv: Any, elbow: str = "b
     chosen = [s for s in order if elbow in ("both", names[s])]
     if bool(stretched):
         chosen = chosen[:1]  # both slots are the same chain
-    if ax is None:
-        ax = plt.figure(figsize=(6, 5.5)).add_subplot()
+    return A, B, chosen, names
+
+
+def _annotate_triangle(ax: Axes, P: FloatArray, E: FloatArray, a: float, b: float,
+                       lengths: tuple[float, float], colour: str, labels: Sequence[str],
+                       angle_labels: Sequence[str]) -> None:
+    """The sides' names beside the links (outside the triangle) and the angles alpha, phi
+    and theta_2 as arcs, for the chain with elbow E (``a``, ``b``: its joint angles)."""
+    l1, l2 = lengths
     origin = np.zeros(2)
-    P = uv
-    ax.axhline(0, color="0.6", lw=0.6)
-    ax.axvline(0, color="0.6", lw=0.6)
-    ax.plot(*np.stack([origin, P]).T, ":", color="0.35", lw=1.4, gid="reach")
-    mid = P / 2
-    normal = np.array([-P[1], P[0]]) / max(r, 1e-300)
-    ax.text(*(mid - 0.06 * (l1 + l2) * normal), f"$r = {r:.4g}$", color="0.35", fontsize=10,
-            ha="center", va="center")
-    size = l1 + l2
-    for n_drawn, s in enumerate(chosen):
-        a, b = float(A[s]), float(B[s])
-        E = l1 * np.array([np.cos(a), np.sin(a)])
-        style = "-" if n_drawn == 0 else "--"
-        colour = "tab:blue" if names[s] == "up" else "tab:purple"
-        text = (f"elbow {names[s]}: $\\theta_1$ = {np.degrees(a):.2f}°, "
-                f"${angle_labels[2]}$ = {np.degrees(b):.2f}°")
-        ax.plot(*np.stack([origin, E]).T, style, color=colour, lw=2.5, gid="link1", label=text)
-        ax.plot(*np.stack([E, P]).T, style, color=colour, lw=2.5, gid="link2")
-        ax.plot(*E, "o", color=colour, ms=6, gid="elbow")
-        if n_drawn == 0:
-            for p0, p1, lab in ((origin, E, labels[0]), (E, P, labels[1])):
-                m = (p0 + p1) / 2
-                d = p1 - p0
-                nrm = np.array([-d[1], d[0]]) / np.linalg.norm(d)
-                side = 1.0 if np.dot(nrm, m - P / 2) >= 0 else -1.0
-                ax.text(*(m + side * 0.06 * size * nrm), f"${lab}$", color=colour, fontsize=12,
-                        ha="center", va="center")
-            alpha = float(np.arctan2(w, u))
-            _angle_arc(ax, origin, 0.32 * min(l1, r), 0.0, alpha, angle_labels[0], "0.2")
-            _angle_arc(ax, origin, 0.2 * min(l1, r), alpha, a, angle_labels[1], "tab:green")
-            if abs(b) > 1e-9:
-                _angle_arc(ax, E, 0.22 * min(l1, l2), a, a + b, angle_labels[2], "tab:red")
-                ext = E + 0.35 * min(l1, l2) * np.array([np.cos(a), np.sin(a)])
-                ax.plot(*np.stack([E, ext]).T, ":", color="tab:red", lw=1.0)
-    ax.plot(0, 0, "ko", ms=6)
-    ax.plot(*P, "*", color="tab:orange", mec="k", ms=14, gid="target")
-    ax.annotate("O", (0, 0), xytext=(-12, -12), textcoords="offset points")
-    ax.annotate("P", tuple(P), xytext=(8, 4), textcoords="offset points")
-    ax.set_aspect("equal", adjustable="box")
-    lim = _square_limits(np.vstack([origin, P, *[l1 * np.array([np.cos(A[s]), np.sin(A[s])])
-                                           for s in chosen]]), 2, 0.1 * size)
-    ax.set_xlim(*lim[0])
-    ax.set_ylim(*lim[1])
-    ax.set_xlabel("u")
-    ax.set_ylabel("w")
-    ax.legend(loc="best", fontsize=8)
-    ax.set_title("two-link triangle (law of cosines)", fontsize=10)
-    return ax
+    r = float(np.hypot(P[0], P[1]))
+    for p0, p1, lab in ((origin, E, labels[0]), (E, P, labels[1])):
+        m = (p0 + p1) / 2
+        d = p1 - p0
+        nrm = np.array([-d[1], d[0]]) / np.linalg.norm(d)
+        side = 1.0 if np.dot(nrm, m - P / 2) >= 0 else -1.0
+        ax.text(*(m + side * 0.06 * (l1 + l2) * nrm), f"${lab}$", color=colour, fontsize=12,
+                ha="center", va="center")
+    alpha = float(np.arctan2(P[1], P[0]))
+    _angle_arc(ax, origin, 0.32 * min(l1, r), 0.0, alpha, angle_labels[0], "0.2")
+    _angle_arc(ax, origin, 0.2 * min(l1, r), alpha, a, angle_labels[1], "tab:green")
+    if abs(b) > 1e-9:
+        _angle_arc(ax, E, 0.22 * min(l1, l2), a, a + b, angle_labels[2], "tab:red")
+        ext = E + 0.35 * min(l1, l2) * np.array([np.cos(a), np.sin(a)])
+        ax.plot(*np.stack([E, ext]).T, ":", color="tab:red", lw=1.0)
 
 
 # ------------------------------------------------------------------ workspaces
@@ -1283,6 +1387,35 @@ def _dimension(ax: Axes, start: FloatArray, end: FloatArray, text: str, offset: 
             va="center", gid="dimension-text", bbox={"fc": "white", "ec": "none", "pad": 1.0})
 
 
+def _draw_projection(ax: Axes, arm: SerialArm, F: FloatArray, h: int, v: int,
+                     colour: Any) -> tuple[FloatArray, FloatArray]:
+    """The links, joints and TCP projected on the world axes ``h`` (across) and ``v`` (up).
+
+    Returns the projected link path ``(2 n + 2, 2)`` and the TCP ``(2,)``."""
+    path = _link_path(arm, F)[:, [h, v]]
+    ax.plot(*path.T, "-", color=colour, lw=3.0, solid_capstyle="round", gid="arm", zorder=2)
+    joints = _joint_points(arm, F)[:, [h, v]]
+    ax.plot(*joints.T, "o", ms=7, mfc="white", mec=colour, mew=2.0, ls="none", gid="joints",
+            zorder=4)
+    tcp = F[-1, :3, 3][[h, v]]
+    ax.plot(tcp[0], tcp[1], "*", ms=14, color="tab:orange", mec="k", mew=0.6, ls="none",
+            gid="tcp", zorder=5)
+    return path, tcp
+
+
+def _dimension_tcp(ax: Axes, tcp: FloatArray, pts: FloatArray, span: float, across: str,
+                   up: str) -> FloatArray:
+    """The TCP's two coordinates as dimension lines from the origin, below and right of
+    the drawn points ``pts``; returns two points ``(2, 2)`` the view must also hold."""
+    low = pts[:, 1].min() - 0.12 * span
+    right = pts[:, 0].max() + 0.12 * span
+    _dimension(ax, np.array([0.0, 0.0]), np.array([tcp[0], 0.0]),
+               f"{across} = {tcp[0]:.4g}", np.array([0.0, low]), "tab:blue")
+    _dimension(ax, np.array([0.0, 0.0]), np.array([0.0, tcp[1]]),
+               f"{up} = {tcp[1]:.4g}", np.array([right, 0.0]), "tab:blue")
+    return np.array([[0.0, low * 1.1], [right * 1.1, 0.0]])
+
+
 def plot_view(arm: SerialArm, q: Any, view: str = "xz", ax: Axes | None = None,
               dimensions: bool = True, color: Any = None, title: str | None = None) -> Axes:
     """The arm at ``q`` seen along a world axis, with the TCP's coordinates dimensioned.
@@ -1336,27 +1469,13 @@ def plot_view(arm: SerialArm, q: Any, view: str = "xz", ax: Axes | None = None,
         ax = plt.figure(figsize=(4.5, 4.5)).add_subplot()
     h, v = VIEWS[view]
     F = arm._fk(qv, frames=True)
-    col = ARM_COLOUR if color is None else color
-    path = _link_path(arm, F)[:, [h, v]]
-    ax.plot(*path.T, "-", color=col, lw=3.0, solid_capstyle="round", gid="arm", zorder=2)
-    joints = _joint_points(arm, F)[:, [h, v]]
-    ax.plot(*joints.T, "o", ms=7, mfc="white", mec=col, mew=2.0, ls="none", gid="joints",
-            zorder=4)
-    tcp = F[-1, :3, 3]
-    ax.plot(tcp[h], tcp[v], "*", ms=14, color="tab:orange", mec="k", mew=0.6, ls="none",
-            gid="tcp", zorder=5)
+    path, tcp = _draw_projection(ax, arm, F, h, v, ARM_COLOUR if color is None else color)
     names = "xyz"
     u = _units(arm)
-    pts = np.vstack([path, [[0.0, 0.0]], [[tcp[h], tcp[v]]]])
+    pts = np.vstack([path, [[0.0, 0.0]], [tcp]])
     span = float(np.ptp(pts, axis=0).max()) or 1.0
     if dimensions:
-        low = pts[:, 1].min() - 0.12 * span
-        right = pts[:, 0].max() + 0.12 * span
-        _dimension(ax, np.array([0.0, 0.0]), np.array([tcp[h], 0.0]),
-                   f"{names[h]} = {tcp[h]:.4g}", np.array([0.0, low]), "tab:blue")
-        _dimension(ax, np.array([0.0, 0.0]), np.array([0.0, tcp[v]]),
-                   f"{names[v]} = {tcp[v]:.4g}", np.array([right, 0.0]), "tab:blue")
-        pts = np.vstack([pts, [[0.0, low * 1.1]], [[right * 1.1, 0.0]]])
+        pts = np.vstack([pts, _dimension_tcp(ax, tcp, pts, span, names[h], names[v])])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     pad = 0.08 * span
     ax.set_xlim(lo[0] - pad, hi[0] + pad)

@@ -758,25 +758,34 @@ class DHPanel:
         fig.set_size_inches(SMALL_DRAWING, SMALL_DRAWING)
         return fig
 
+    def text_html(self) -> str:
+        """The panel's text as it looks, without a kernel: the typed table, the verdict
+        and the solutions (:meth:`static_html` without the drawing), for a page that shows
+        :meth:`figure` as a figure of its own."""
+        return self._static_div(self._text_rows())
+
     def static_html(self, alt: str = "") -> str:
         """The panel as it looks, without a kernel: the typed table, the verdict, the
         solutions and the drawing (an embedded PNG), for a page built without one."""
-        import base64
-
         alt = str(as_text(alt, "alt"))
+        rows = self._text_rows()
+        fig = self.figure()
+        if fig is not None:
+            rows.append(_png_html(fig, alt))
+        return self._static_div(rows)
+
+    def _text_rows(self) -> list[str]:
         inp = self.inputs
-        rows = [f"<p><b>DH table</b> ({html.escape(str(inp['convention']))} DH, "
+        return [f"<p><b>DH table</b> ({html.escape(str(inp['convention']))} DH, "
                 f"{html.escape(str(inp['units']) or 'no units')}; tool at "
                 f"({html.escape(str(inp['tool']))}); target "
                 f"{'joints' if inp['mode'] == 'joints' else 'pose'} "
                 f"({html.escape(str(inp['target']))})</b></p>",
                 f'<pre class="rikin-dh-table">{html.escape(str(inp["table"]).rstrip())}</pre>',
                 self.html()]
-        fig = self.figure()
-        if fig is not None:
-            data = base64.b64encode(_png(fig)).decode("ascii")
-            rows.append(f'<img src="data:image/png;base64,{data}" alt="{html.escape(alt)}" '
-                        'style="max-width:100%;height:auto">')
+
+    @staticmethod
+    def _static_div(rows: list[str]) -> str:
         return ('<div class="rikin-dh-panel" style="text-align:left">' + "\n".join(rows)
                 + "</div>")
 

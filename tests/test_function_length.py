@@ -20,11 +20,6 @@ MAX_LINES = 80
 STILL_LONG = frozenset({
     "rikin/_validate.py::_check_axis_index",
     "rikin/ik/api.py::solve_batch",
-    "rikin/interactive.py::solutions_figure",
-    "rikin/interactive.py::path_figure",
-    "rikin/plot.py::plot_arm",
-    "rikin/plot.py::plot_solutions",
-    "rikin/plot.py::plot_two_link_triangle",
     "grader/rikingrade/api.py::grade",
     "grader/rikingrade/api.py::_run_pool",
     "grader/rikingrade/api.py::check_sandbox",
