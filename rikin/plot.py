@@ -254,7 +254,7 @@ def _apply_limits(ax: Axes, lim: FloatArray, arm: SerialArm, azim: float = -60.0
     ax.set_ylim(*lim[1])
     ax.set_xlabel(f"x{u}")
     ax.set_ylabel(f"y{u}")
-    if ax.name == "3d":
+    if isinstance(ax, Axes3D):
         ax.set_zlim(*lim[2])
         ax.set_zlabel(f"z{u}")
         ax.set_box_aspect((1.0, 1.0, 1.0), zoom=zoom)
@@ -416,7 +416,7 @@ def _draw_arm(ax: Axes, arm: SerialArm, q: FloatArray, *, frames: bool, frame_sc
             gid="arm", zorder=2)
     origins = _joint_points(arm, F)
     rev = arm.revolute
-    for mask, marker in ((rev, "o"), (~rev, "s")):
+    for mask, marker in ((rev, "o"), (np.logical_not(rev), "s")):
         if mask.any():
             ax.plot(*origins[mask, :dims].T, marker, ms=8, mfc="white", mec=col, mew=2.0,
                     ls="none", gid="joints", zorder=4)
@@ -431,11 +431,11 @@ def _draw_arm(ax: Axes, arm: SerialArm, q: FloatArray, *, frames: bool, frame_sc
             text = "J" + ",".join(map(str, idx))
             box = {"fc": "white", "ec": "none", "alpha": 0.75, "pad": 1.0}
             if three_d:
-                ax.text(p[0], p[1], p[2] + 1.1 * frame_scale, text, fontsize=8, zorder=6,
-                        ha="center", va="bottom", bbox=box)
+                _as_3d(ax).text(p[0], p[1], p[2] + 1.1 * frame_scale, text, fontsize=8,
+                                zorder=6, ha="center", va="bottom", bbox=box)
             else:
-                ax.annotate(text, p[:2], xytext=(6, 6), textcoords="offset points", fontsize=8,
-                            bbox=box)
+                ax.annotate(text, (p[0], p[1]), xytext=(6, 6), textcoords="offset points",
+                            fontsize=8, bbox=box)
     if frames:
         # one line per colour, the segments separated by NaN (one artist draws faster)
         for k in range(dims):
@@ -447,7 +447,7 @@ def _draw_arm(ax: Axes, arm: SerialArm, q: FloatArray, *, frames: bool, frame_sc
     if not three_d:
         # the tool's direction (its x axis): the lessons' wrist angle phi
         tip = P[-1, :2] + 2.0 * frame_scale * F[-1, :2, 0]
-        ax.annotate("", xy=tip, xytext=P[-1, :2],
+        ax.annotate("", xy=(tip[0], tip[1]), xytext=(P[-1, 0], P[-1, 1]),
                     arrowprops={"arrowstyle": "->", "color": "tab:orange", "lw": 1.8},
                     gid="tool")
 
@@ -648,7 +648,7 @@ def _zaxis(ax: Axes) -> Any:
 
 def _few_ticks(ax: Axes, n: int = 3, labelsize: float | None = SMALLEST_FONT_PT) -> None:
     """At most ``n`` ticks per axis (small labels): tick labels never run together."""
-    axes = (ax.xaxis, ax.yaxis, ax.zaxis) if ax.name == "3d" else (ax.xaxis, ax.yaxis)
+    axes = (ax.xaxis, ax.yaxis, _zaxis(ax)) if ax.name == "3d" else (ax.xaxis, ax.yaxis)
     for axis in axes:
         axis.set_major_locator(MaxNLocator(n))
     if labelsize is not None:
@@ -1010,8 +1010,9 @@ def _draw_reach(ax: Axes, P: FloatArray, size: float) -> None:
     ax.axvline(0, color="0.6", lw=0.6)
     ax.plot(*np.stack([origin, P]).T, ":", color="0.35", lw=1.4, gid="reach")
     normal = np.array([-P[1], P[0]]) / max(r, 1e-300)
-    ax.text(*(P / 2 - 0.06 * size * normal), f"$r = {r:.4g}$", color="0.35", fontsize=10,
-            ha="center", va="center")
+    at = P / 2 - 0.06 * size * normal
+    ax.text(at[0], at[1], f"$r = {r:.4g}$", color="0.35", fontsize=10, ha="center",
+            va="center")
 
 
 def _draw_chain(ax: Axes, E: FloatArray, P: FloatArray, style: str, colour: str,
@@ -1061,8 +1062,9 @@ def _annotate_triangle(ax: Axes, P: FloatArray, E: FloatArray, a: float, b: floa
         d = p1 - p0
         nrm = np.array([-d[1], d[0]]) / np.linalg.norm(d)
         side = 1.0 if np.dot(nrm, m - P / 2) >= 0 else -1.0
-        ax.text(*(m + side * 0.06 * (l1 + l2) * nrm), f"${lab}$", color=colour, fontsize=12,
-                ha="center", va="center")
+        at = m + side * 0.06 * (l1 + l2) * nrm
+        ax.text(at[0], at[1], f"${lab}$", color=colour, fontsize=12, ha="center",
+                va="center")
     alpha = float(np.arctan2(P[1], P[0]))
     _angle_arc(ax, origin, 0.32 * min(l1, r), 0.0, alpha, angle_labels[0], "0.2")
     _angle_arc(ax, origin, 0.2 * min(l1, r), alpha, a, angle_labels[1], "tab:green")
@@ -1157,7 +1159,7 @@ def _sample_joints(arm: SerialArm, n: int, seed: int) -> FloatArray:
     """``n`` seeded joint vectors inside the limits (revolute: all of (-pi, pi] if unlimited)."""
     lim = arm.qlim.copy()
     free = ~np.isfinite(lim)
-    if np.any(free.any(axis=1) & ~arm.revolute):
+    if np.any(free.any(axis=1) & np.logical_not(arm.revolute)):
         raise InputError("a prismatic joint without limits has no bounded workspace: give the arm "
                          "joint limits (qlim) to draw it")
     lim[:, 0] = np.where(free[:, 0], -np.pi, lim[:, 0])
@@ -1210,8 +1212,9 @@ def plot_workspace_3d(arm: SerialArm, ax: Axes | None = None, n: int = 4000, poi
     pts = (np.stack([_wrist_centre(arm, f) for f in F]) if point == "wrist"
            else F[:, -1, :3, 3])
     ax = _make_axes(True, ax)
-    sc = ax.scatter(*pts.T, c=pts[:, 2], cmap="viridis", s=2.0, alpha=0.35, depthshade=False,
-                    gid="workspace", linewidths=0)
+    sc = _as_3d(ax).scatter(pts[:, 0], pts[:, 1], pts[:, 2], c=pts[:, 2], cmap="viridis",
+                            s=2.0, alpha=0.35, depthshade=False, gid="workspace",
+                            linewidths=0)
     lim = _square_limits(np.vstack([pts, arm.base[None, :3, 3]]), 3, _min_half(arm))
     if q is not None:
         qv = _check_q(arm, q)
@@ -1220,7 +1223,8 @@ def plot_workspace_3d(arm: SerialArm, ax: Axes | None = None, n: int = 4000, poi
     _apply_limits(ax, lim, arm, azim=-60.0)
     cb = ax.figure.colorbar(sc, ax=ax, shrink=0.6, pad=0.12)
     cb.set_label(f"z{_units(arm)}", fontsize=8)
-    cb.solids.set_alpha(1.0)
+    if cb.solids is not None:  # (None only before the colorbar is drawn)
+        cb.solids.set_alpha(1.0)
     what = "wrist centre" if point == "wrist" else "TCP"
     ax.set_title(f"{arm.name}: {n} reachable {what} positions", fontsize=10)
     return ax
@@ -1300,11 +1304,13 @@ def plot_wrist_centre(arm: SerialArm, q: Any, ax: Axes | None = None,
             gid="wrist-centre", zorder=7)
     box = {"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1.0}
     if three_d:
-        ax.text(*w, "  p_w", color="tab:red", fontsize=9, zorder=8, bbox=box)
-        ax.text(*p, "  p", color="tab:orange", fontsize=9, zorder=8, bbox=box)
-        ax.text(*tip, "  z", color="tab:blue", fontsize=9, zorder=8, bbox=box)
+        ax3 = _as_3d(ax)
+        for at, label, colour in ((w, "  p_w", "tab:red"), (p, "  p", "tab:orange"),
+                                  (tip, "  z", "tab:blue")):
+            ax3.text(at[0], at[1], at[2], label, color=colour, fontsize=9, zorder=8, bbox=box)
     else:
-        ax.annotate("p_w", w[:2], xytext=(6, -12), textcoords="offset points", color="tab:red")
+        ax.annotate("p_w", (w[0], w[1]), xytext=(6, -12), textcoords="offset points",
+                    color="tab:red")
     return ax
 
 
@@ -1359,12 +1365,12 @@ def plot_dh_frames(arm: SerialArm, q: Any = None, ax: Axes | None = None,
         for k in ((0, 2) if three_d else (0, 1)):
             tip = o + reach * T[:3, k]
             text = f"{'xyz'[k]}{name}" if name == "TCP" else f"${'xyz'[k]}_{{{name}}}$"
-            kw = {"color": AXIS_COLOURS[k], "fontsize": 8, "gid": "frame-label",
-                  "ha": "center", "va": "center"}
+            kw: dict[str, Any] = {"color": AXIS_COLOURS[k], "fontsize": 8,
+                                  "gid": "frame-label", "ha": "center", "va": "center"}
             if three_d:
-                ax.text(*tip, text, **kw)
+                _as_3d(ax).text(tip[0], tip[1], tip[2], text, **kw)
             else:
-                ax.text(*tip[:2], text, **kw)
+                ax.text(tip[0], tip[1], text, **kw)
     return ax
 
 

@@ -34,7 +34,7 @@ import io
 import math
 import re
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -54,6 +54,10 @@ from .ik import classify
 from .ik.result import IKResult
 from .plot import _check_arm, _q_text
 from .transforms import homogeneous, r_to_rpy, rotz, rpy_to_r, wrap_angle
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 __all__ = ["DHPanel", "EXAMPLES", "IKPanel", "PUMA560_TABLE", "TeachPanel", "arm_from_table",
            "dh_panel", "ik_panel", "pose_sliders_for", "teach"]
@@ -109,6 +113,14 @@ def _ipywidgets() -> Any:
             "the live panels need ipywidgets: pip install 'rikin[widgets]' "
             "(or pip install 'ipywidgets>=8,<9'); Colab has it already"
         ) from exc
+
+
+def _figure_of(ax: Axes) -> Figure:
+    """The figure rikin.plot drew ``ax`` in (its root figure: never a subfigure)."""
+    fig = ax.get_figure(root=True)
+    if fig is None:  # rikin.plot always draws into a figure
+        raise RikinError("the drawing's Axes belong to no figure")
+    return fig
 
 
 def _png(fig: Any) -> bytes:
@@ -350,7 +362,7 @@ class IKPanel:
         three_d = ax.name == "3d"
         ax.plot(*p[:3 if three_d else 2], "o", ms=13, mfc="none", mec="tab:red", mew=2.0,
                 ls="none", gid="target")
-        fig = ax.figure
+        fig = _figure_of(ax)
         fig.set_size_inches(SMALL_DRAWING, SMALL_DRAWING)
         return fig
 
@@ -469,7 +481,7 @@ class TeachPanel:
         from .plot import plot_arm
 
         ax = plot_arm(self.arm, self.q, title=f"{self.arm.name} (teach)")
-        fig = ax.figure
+        fig = _figure_of(ax)
         fig.set_size_inches(self.width, self.width)
         return fig
 
@@ -754,7 +766,7 @@ class DHPanel:
         title = ("ik_numerical's solution" if q is not None else "the arm at q = 0")
         ax = plot_arm(st.arm, np.zeros(st.arm.n) if q is None else q, frames=True,
                       title=f"{st.arm.name}: {title}")
-        fig: Any = ax.get_figure(root=True)
+        fig = _figure_of(ax)
         fig.set_size_inches(SMALL_DRAWING, SMALL_DRAWING)
         return fig
 
