@@ -198,6 +198,16 @@ def test_static_html_embeds_the_drawing_and_the_table():
     assert "0.4318" in out and all(lab in out for lab in panel.state.result.labels)
 
 
+def test_text_html_is_the_still_picture_without_the_drawing():
+    """The book shows the drawing as an SVG figure of its own, and the text beside it."""
+    panel = widgets.dh_panel(name="Puma 560")
+    text = panel.text_html()
+    assert "<img" not in text and "0.4318" in text
+    assert all(lab in text for lab in panel.state.result.labels)
+    still = panel.static_html(alt="eight arms")
+    assert still.startswith(text.removesuffix("</div>")) and still.count("<img") == 1
+
+
 def test_widget_typing_a_table_and_pressing_solve():
     pytest.importorskip("ipywidgets")
     panel = widgets.dh_panel()
