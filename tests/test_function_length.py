@@ -20,9 +20,6 @@ MAX_LINES = 80
 STILL_LONG = frozenset({
     "rikin/_validate.py::_check_axis_index",
     "rikin/ik/api.py::solve_batch",
-    "grader/rikingrade/api.py::grade",
-    "grader/rikingrade/api.py::_run_pool",
-    "grader/rikingrade/api.py::check_sandbox",
     "grader/rikingrade/runner.py::_Run.start_child",
     "grader/rikingrade/runner.py::_Run.call_batch",
     "grader/rikingrade/runner.py::_Run.execute",

@@ -2,6 +2,14 @@
 
 The command line (``rikin-grade``) is a thin layer over these functions and takes its
 defaults from their signatures, so the two cannot drift.
+
+:func:`grade` is a pipeline of named steps, in this order: *discover* the notebooks handed in
+(:func:`rikingrade.notebook.discover`) and *match* them to the roster (:func:`_match`); enter
+the class, its rules and the files into the gradebook (:func:`_enter_class`,
+:func:`_enter_submissions`); *plan* (:func:`_plan`: a refused file scores 0 with why, a file
+graded before with the same settings keeps its result, the rest is to run); *run* the rest in
+sandboxes (:func:`_run`, :mod:`rikingrade.pool`), each result *recorded* as it comes
+(:class:`_GradebookRun`); then the summary and the *export* of the views (:func:`_finish`).
 """
 
 from __future__ import annotations
@@ -9,19 +17,16 @@ from __future__ import annotations
 import hashlib
 import json
 import logging
-import os
-import queue
-import shutil
 import sys
 import threading
 import time
-import traceback
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Sequence
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from . import __version__, repair
+from . import repair
+from ._version import __version__
 from .assignment import Assignment, load_assignment
 from .gradebook import Gradebook, GradebookDamaged
 from .intake import ids_of_class, match_roster, stored_roster, time_notes
@@ -29,30 +34,22 @@ from .lmsfiles import MISSING_BLANK, MISSING_ZERO
 from .notebook import OUTPUT_MARK, Submission, SubmissionsError, discover, shown
 from .outputs import atomic_write
 from .policy import PolicyError, Rules, parse_time, show_time
+from .pool import failed_result, log_result
+from .pool import run_pool as _run_pool
+from .probe import check_sandbox
 from .progress import Progress, summarize, summary_text
-from .report import GRADER_ERROR, INVALID, SubmissionResult, TestResult
-from .roster import RosterError, load_roster, read_table
-from .runner import RunOptions, SubmissionRunner
+from .report import INVALID, SubmissionResult
+from .roster import Roster, RosterEntry, RosterError, assignment_column, load_roster, read_table
+from .runner import RunOptions
 from .safetext import SafeFormatter
-from .sandbox import (
-    Limits,
-    Sandbox,
-    SandboxConfig,
-    SandboxUnavailable,
-    prepare_workdir,
-)
+from .sandbox import Limits, SandboxConfig
 from .sandbox.cgroup import machine_memory_mb
-from .sandbox.config import (
-    DESCRIBE,
-    NONE,
-    UID,
-    package_dir,
-    resolve_mode,
-    sandbox_workdir,
-)
-from .sandbox.uidmode import SHARED_WRITABLE
+from .sandbox.config import DESCRIBE, package_dir, resolve_mode
+from .spec import Call
 from .studentfiles import StudentFiles
 from .views import export, student_view, write_student
+
+__all__ = ["DEFAULT_SEED", "GradeReport", "GradeSettings", "check_sandbox", "grade"]
 
 log = logging.getLogger("rikingrade")
 
@@ -72,57 +69,13 @@ class GradeReport:
         return {r.student: r for r in self.results}
 
 
-def grade(
-    assignment: str | Path,
-    submissions: Sequence[str | Path] | str | Path,
-    out: str | Path,
-    *,
-    workers: int = 2,
-    seed: int = DEFAULT_SEED,
-    reveal: bool = False,
-    timeout: float | None = None,
-    cell_timeout: float = 30.0,
-    time_budget: float = 180.0,
-    memory_mb: int = 1024,
-    cpu_seconds: int = 120,
-    max_processes: int = 32,
-    max_file_mb: int = 16,
-    tmp_mb: int = 64,
-    output_limit: int = 10_000,
-    regrade: bool = False,
-    gradebook: str | None = None,
-    roster: str | None = None,
-    lms_column: str | None = None,
-    missing: str | None = None,
-    due: str | None = None,
-    late_per_day: float = 0.0,
-    late_cap: float = 100.0,
-    grace_minutes: float = 0.0,
-    extensions: str | None = None,
-    sandbox: str = "auto",
-    unsafe_no_sandbox: bool = False,
-    progress: bool | None = None,
-    quiet: bool = False,
-) -> GradeReport:
-    """Grade notebooks against an assignment's hidden tests into the course gradebook.
+@dataclass(frozen=True)
+class GradeSettings:
+    """How :func:`grade` grades a batch: its keyword arguments (their defaults are in its
+    signature, the one place they live).
 
-    Parameters
+    Attributes
     ----------
-    assignment : str or Path
-        An exercise name (``"scara"`` means ``rikingrade.hidden.scara``), a dotted module
-        name, or the path of a ``.py`` hidden-test module following ``rikingrade.spec``.
-    submissions : path or sequence of paths
-        ``.ipynb`` files and class folders as LMS give them (Canvas, Moodle, Blackboard,
-        Brightspace downloads, an nbgrader ``submitted/`` tree, a notebook or a folder per
-        student; see :func:`rikingrade.notebook.discover`). A folder that does not look
-        like a class is refused with what was found.
-    out : path
-        Output folder: the gradebook (``gradebook.sqlite`` unless ``gradebook`` is given)
-        and its views: ``grades.csv``, ``summary.json``, the class's LMS files
-        (``<lms>-<exercise>.csv``, ``<lms>-feedback-<exercise>.zip``, see
-        :mod:`rikingrade.views`), ``report/``, ``results/<student>.json`` (Gradescope format,
-        with what rebuilds the gradebook), ``feedback/<student>.md`` and ``.html``;
-        ``grading.log``.
     workers : int
         Submissions graded in parallel, one sandbox each.
     seed : int
@@ -195,6 +148,86 @@ def grade(
         Progress bar; None shows it when stderr is a terminal.
     quiet : bool
         Print nothing (the log and the files are still written).
+    """
+
+    workers: int
+    seed: int
+    reveal: bool
+    timeout: float | None
+    cell_timeout: float
+    time_budget: float
+    memory_mb: int
+    cpu_seconds: int
+    max_processes: int
+    max_file_mb: int
+    tmp_mb: int
+    output_limit: int
+    regrade: bool
+    gradebook: str | None
+    roster: str | None
+    lms_column: str | None
+    missing: str | None
+    due: str | None
+    late_per_day: float
+    late_cap: float
+    grace_minutes: float
+    extensions: str | None
+    sandbox: str
+    unsafe_no_sandbox: bool
+    progress: bool | None
+    quiet: bool
+
+
+def grade(
+    assignment: str | Path,
+    submissions: Sequence[str | Path] | str | Path,
+    out: str | Path,
+    *,
+    workers: int = 2,
+    seed: int = DEFAULT_SEED,
+    reveal: bool = False,
+    timeout: float | None = None,
+    cell_timeout: float = 30.0,
+    time_budget: float = 180.0,
+    memory_mb: int = 1024,
+    cpu_seconds: int = 120,
+    max_processes: int = 32,
+    max_file_mb: int = 16,
+    tmp_mb: int = 64,
+    output_limit: int = 10_000,
+    regrade: bool = False,
+    gradebook: str | None = None,
+    roster: str | None = None,
+    lms_column: str | None = None,
+    missing: str | None = None,
+    due: str | None = None,
+    late_per_day: float = 0.0,
+    late_cap: float = 100.0,
+    grace_minutes: float = 0.0,
+    extensions: str | None = None,
+    sandbox: str = "auto",
+    unsafe_no_sandbox: bool = False,
+    progress: bool | None = None,
+    quiet: bool = False,
+) -> GradeReport:
+    """Grade notebooks against an assignment's hidden tests into the course gradebook.
+
+    Parameters
+    ----------
+    assignment : str or Path
+        An exercise name (``"scara"`` means ``rikingrade.hidden.scara``), a dotted module
+        name, or the path of a ``.py`` hidden-test module following ``rikingrade.spec``.
+    submissions : path or sequence of paths
+        ``.ipynb`` files and class folders as LMS give them (Canvas, Moodle, Blackboard,
+        Brightspace downloads, an nbgrader ``submitted/`` tree, a notebook or a folder per
+        student; see :func:`rikingrade.notebook.discover`); a folder that does not look like
+        a class is refused with what was found.
+    out : path
+        Output folder: the gradebook (``gradebook.sqlite`` unless ``gradebook`` is given)
+        and its views (``grades.csv``, ``summary.json``, the LMS files, ``report/``,
+        ``results/<student>.json``, ``feedback/``: see :mod:`rikingrade.views`), the log.
+    workers, seed, reveal, ..., quiet
+        The keyword arguments, each documented in :class:`GradeSettings`.
 
     Returns
     -------
@@ -203,21 +236,26 @@ def grade(
 
     Raises
     ------
-    AssignmentError
-        The assignment cannot be loaded.
-    SubmissionsError
-        A path does not exist, holds no notebook, or does not look like a class.
+    AssignmentError, SubmissionsError, RosterError, PolicyError
+        The assignment, a path of submissions, the roster or a setting is refused.
     SandboxUnavailable
-        No sandbox mode can run here (and ``unsafe_no_sandbox`` is False); the message
-        says what failed.
-    GradebookBusy
-        Another grader is writing the same gradebook.
-    GradebookDamaged
-        The gradebook is damaged, or lacks grades the output folder holds; the message
-        says so and gives the command that repairs it (nothing was written).
-    RosterError
-        The roster cannot be read.
+        No sandbox mode can run here (and ``unsafe_no_sandbox`` is False): says what failed.
+    GradebookBusy, GradebookDamaged
+        Another grader writes the same gradebook; or it is damaged or lacks grades ``out``
+        holds (nothing was written; the message gives the command that repairs it).
     """
+    given = locals()
+    settings = GradeSettings(**{f.name: given[f.name] for f in fields(GradeSettings)})
+    return _grade(assignment, submissions, out, settings)
+
+
+def _grade(
+    assignment: str | Path,
+    submissions: Sequence[str | Path] | str | Path,
+    out: str | Path,
+    s: GradeSettings,
+) -> GradeReport:
+    """The pipeline of :func:`grade` (the module's docstring walks through it)."""
     t0 = time.monotonic()
     out = Path(out).resolve()
     out.mkdir(parents=True, exist_ok=True)
@@ -226,191 +264,45 @@ def grade(
     reader = StudentFiles()
     try:
         a = load_assignment(assignment)
-        if isinstance(submissions, (str, Path)):
-            submissions = [submissions]
-        gb_path = Path(gradebook).resolve() if gradebook else out / "gradebook.sqlite"
-        _mark_output(out, submissions)
-        ros = load_roster(roster) if roster is not None else None
+        paths = [submissions] if isinstance(submissions, (str, Path)) else list(submissions)
+        gb_path = Path(s.gradebook).resolve() if s.gradebook else out / "gradebook.sqlite"
+        _mark_output(out, paths)
+        ros = load_roster(s.roster) if s.roster is not None else None
         entries = ros.entries if ros is not None else stored_roster(gb_path, a.exercise)
-        subs, notes = discover(list(submissions), a.notebook, reader, entries)
-        if entries:  # (a roster kept from an earlier run: who is missing is in the report)
-            notes += (ros.notes if ros is not None else []) + match_roster(
-                subs, entries, missing_note=ros is not None
-            )
-        rules = Rules(parse_time(due) if due else None, late_per_day, late_cap, grace_minutes)
-        ext_rows = _read_extensions(extensions, subs, entries, notes) if extensions else []
-        limits = Limits(
-            memory_mb=int(memory_mb),
-            cpu_seconds=int(cpu_seconds),
-            max_processes=int(max_processes),
-            max_file_mb=int(max_file_mb),
-            # without a memory cgroup, both workers' sandboxes together fit in 90% of it
-            share_mb=int(machine_memory_mb() * 0.9 / max(1, int(workers))),
+        subs, notes = discover(paths, a.notebook, reader, entries)
+        notes += _match(subs, ros, entries)
+        rules = Rules(
+            parse_time(s.due) if s.due else None, s.late_per_day, s.late_cap, s.grace_minutes
         )
-        options = RunOptions(
-            limits=limits,
-            cell_timeout=float(cell_timeout),
-            time_budget=float(time_budget),
-            timeout=None if timeout is None else float(timeout),
-            output_limit=int(output_limit),
-            reveal=bool(reveal),
-        )
-        key = _grader_key(a, seed, options, tmp_mb)
-        gb = _open_gradebook(gb_path, a.exercise, out, gradebook)
-        gb.add_assignment(a.exercise, a.max_score, [(t.name, float(t.weight)) for t in a.tests])
-        if due or late_per_day:
-            gb.set_policy(a.exercise, rules.due, rules.per_day, rules.cap, rules.grace_minutes)
-        for sid, when, why in ext_rows:
-            gb.add_extension(sid, a.exercise, when, why)
-        notes += _class_settings(gb, a.exercise, ros, lms_column, missing)
+        ext_rows = _read_extensions(s.extensions, subs, entries, notes) if s.extensions else []
+        options = _run_options(s)
+        key = _grader_key(a, s.seed, options, s.tmp_mb)
+        gb = _open_gradebook(gb_path, a.exercise, out, s.gradebook)
+        notes += _enter_class(gb, a, s, rules, ext_rows, ros)
         notes += time_notes(subs, gb.policy(a.exercise))
-        for n in notes:
-            log.warning("%s", n)
-            if not quiet:
-                print(f"rikin-grade: note: {n}", file=sys.stderr)
-        linked = {s.student for s in subs if s.refused}
-        sub_ids = _record_submissions(gb, subs, a.exercise)  # reads (hashes) every file
-        for n in _older_than_counted(gb, a.exercise, subs):
-            notes.append(n)
-            log.warning("%s", n)
-            if not quiet:
-                print(f"rikin-grade: note: {n}", file=sys.stderr)
-        for s in subs:
-            if s.refused and s.student not in linked:
-                log.warning("%s: %s: not read: %s", s.student, s.shown_path, s.refused)
-                if not quiet:
-                    print(
-                        f"rikin-grade: note: {s.shown_path}: not read: {s.refused}",
-                        file=sys.stderr,
-                    )
-        run_id = gb.start_run(
-            a.exercise,
-            __version__,
-            seed,
-            key,
-            {
-                "submissions": [shown(p) for p in submissions],
-                "regrade": regrade,
-                "workers": workers,
-                "reveal": reveal,
-            },
-        )
-        log.info(
-            "rikin-grade %s: %s (%d tests, max %.4g), %d submissions, seed %d, key %s, "
-            "run %d of %s",
-            __version__,
-            a.name,
-            len(a.tests),
-            a.max_score,
-            len(subs),
-            int(seed),
-            key,
-            run_id,
-            gb_path,
-        )
-        calls = a.calls(seed)
-        results: dict[str, SubmissionResult] = {}
-        todo: list[Submission] = []
-        resumed = 0  # results reused from an earlier run (refused files are not)
-        for s in subs:
-            if s.refused:  # a link, not a notebook, not readable: graded 0, with why
-                if s.refused.startswith(("a symbolic link", "a hard link")):
-                    why = (
-                        f"not graded: {s.shown_path} is {s.refused}; the grader reads only "
-                        "notebook files handed in as they are (upload the .ipynb file itself)"
-                    )
-                else:
-                    why = f"not graded: {s.shown_path}: {s.refused}"
-                res = _failed(a, s, key, why, INVALID, "not run: the submission was not read")
-                res.problems = [why]
-                res.refused = s.refused
-                gb.record(run_id, sub_ids[s.student], res, a.exercise, seed)
-                _write_views(gb, a.exercise, out, s.student)
-                _log_result(res)
-                results[s.student] = res
-                continue
-            prev = None if regrade else gb.cached(sub_ids[s.student], key)
-            if prev is not None:
-                prev.student = s.student
-                gb.record(run_id, sub_ids[s.student], prev, a.exercise, seed, reuse=prev.result_id)  # type: ignore[attr-defined]
-                results[s.student] = prev
-                resumed += 1
-            else:
-                todo.append(s)
-        bar = Progress(len(subs), enabled=progress, quiet=quiet)
+        _tell(notes, s.quiet)
+        sub_ids, older = _enter_submissions(gb, subs, a.exercise, s.quiet)
+        notes += older
+        run = _GradebookRun.start(gb, a, s, key, out, sub_ids, paths, gb_path, len(subs))
+        calls = a.calls(s.seed)
+        results, todo, resumed = _plan(a, subs, key, run, s.regrade)
+        bar = Progress(len(subs), enabled=s.progress, quiet=s.quiet)
         for r in results.values():
             bar.update(r, resumed=True)
         state = "interrupted"
-        commit = threading.Lock()
-        closing = False
         try:
             if todo:
-                config = SandboxConfig(
-                    sandbox=not unsafe_no_sandbox,
-                    mode=sandbox,
-                    tmp_mb=int(tmp_mb),
-                    hidden=_hidden_paths(a, out, subs) + [gb_path.parent],
-                )
-                resolve_mode(config)
-                for note in config.notes:
-                    log.warning("%s", note)
-                log.info("sandbox: %s", DESCRIBE[config.mode])
-                if not config.sandbox:
-                    log.warning(
-                        "UNSAFE: grading without a sandbox (--unsafe-no-sandbox); "
-                        "student code can read and change this machine's files"
-                    )
-
-                def done(sub: Submission, res: SubmissionResult) -> bool:
-                    with commit:
-                        if closing:  # interrupted: graded again by the next run
-                            return False
-                        gb.record(run_id, sub_ids[sub.student], res, a.exercise, seed)
-                        _write_views(gb, a.exercise, out, sub.student)
-                        return True
-
-                _run_pool(
-                    a,
-                    calls,
-                    options,
-                    key,
-                    config,
-                    todo,
-                    max(1, int(workers)),
-                    done,
-                    bar,
-                    results,
-                )
+                config = _sandbox_config(a, s, out, subs, gb_path)
+                _run(a, calls, options, key, config, todo, s.workers, run, bar, results)
             state = "finished"
-        finally:
-            with commit:  # no worker commits once the views are being written
-                closing = True
-            ordered = [results[s.student] for s in subs if s.student in results]
-            summary = summarize(ordered, time.monotonic() - t0, resumed)
-            summary.update(
-                {
-                    "assignment": a.exercise,
-                    "grader_version": __version__,
-                    "key": key,
-                    "seed": int(seed),
-                    "run": run_id,
-                    "state": state,
-                    # students the roster could not tell apart (reported by name, not matched)
-                    "ambiguous": sum(n.startswith("ambiguous:") for n in notes),
-                }
-            )
-            gb.end_run(run_id, state, summary)
-            # The views are rewritten even after Ctrl-C: every committed grade is in them.
-            files = export(gb, a.exercise, a.exercise, out, run_id, summary)
+        finally:  # the views are written even after Ctrl-C: every committed grade is in them
+            run.close()  # no worker records a result once they are being written
+            ordered = [results[x.student] for x in subs if x.student in results]
+            summary = _summary(run, ordered, time.monotonic() - t0, resumed, state, notes)
+            files = _finish(run, summary)
         log.info("summary: %s", summary_text(summary))
-        if not quiet:
-            print(f"{a.exercise}: {summary_text(summary)}")
-            print(
-                f"gradebook: {gb_path} ({len(gb.current(a.exercise))} students)  "
-                f"grades: {files['grades']}  report: {files['report'][0]}  "
-                f"log: {out / 'grading.log'}"
-            )
-            print_lms_files(files)
+        if not s.quiet:
+            _print_outcome(a.exercise, summary, gb, gb_path, files, out)
         return GradeReport(out=out, results=ordered, summary=summary, notes=notes)
     finally:
         reader.close()
@@ -418,6 +310,306 @@ def grade(
             gb.close()
         logging.getLogger("rikingrade").removeHandler(handler)
         handler.close()
+
+
+# ----------------------------------------------------------------- discover and match
+def _match(subs: list[Submission], ros: Roster | None, entries: list[RosterEntry]) -> list[str]:
+    """Match the submissions to the roster given (or kept from an earlier run: who is
+    missing is then in the report, not in the notes); the notes."""
+    if not entries:
+        return []
+    return (ros.notes if ros is not None else []) + match_roster(
+        subs, entries, missing_note=ros is not None
+    )
+
+
+def _tell(notes: list[str], quiet: bool) -> None:
+    """Notes into the log and, unless ``quiet``, onto stderr."""
+    for n in notes:
+        log.warning("%s", n)
+        if not quiet:
+            print(f"rikin-grade: note: {n}", file=sys.stderr)
+
+
+# ----------------------------------------------------------------- the batch's settings
+def _run_options(s: GradeSettings) -> RunOptions:
+    """The limits and timeouts each submission runs under."""
+    limits = Limits(
+        memory_mb=int(s.memory_mb),
+        cpu_seconds=int(s.cpu_seconds),
+        max_processes=int(s.max_processes),
+        max_file_mb=int(s.max_file_mb),
+        # without a memory cgroup, both workers' sandboxes together fit in 90% of it
+        share_mb=int(machine_memory_mb() * 0.9 / max(1, int(s.workers))),
+    )
+    return RunOptions(
+        limits=limits,
+        cell_timeout=float(s.cell_timeout),
+        time_budget=float(s.time_budget),
+        timeout=None if s.timeout is None else float(s.timeout),
+        output_limit=int(s.output_limit),
+        reveal=bool(s.reveal),
+    )
+
+
+# ----------------------------------------------------------------- into the gradebook
+def _enter_class(
+    gb: Gradebook,
+    a: Assignment,
+    s: GradeSettings,
+    rules: Rules,
+    ext_rows: list[tuple[str, float, str]],
+    ros: Roster | None,
+) -> list[str]:
+    """The assignment, its late policy and extensions, the roster, the LMS column and the
+    missing-work policy into the gradebook; the notes."""
+    gb.add_assignment(a.exercise, a.max_score, [(t.name, float(t.weight)) for t in a.tests])
+    if s.due or s.late_per_day:
+        gb.set_policy(a.exercise, rules.due, rules.per_day, rules.cap, rules.grace_minutes)
+    for sid, when, why in ext_rows:
+        gb.add_extension(sid, a.exercise, when, why)
+    return _class_settings(gb, a.exercise, ros, s.lms_column, s.missing)
+
+
+def _enter_submissions(
+    gb: Gradebook, subs: list[Submission], exercise: str, quiet: bool
+) -> tuple[dict[str, int], list[str]]:
+    """Students and files into the gradebook (this reads, so hashes, every file); the
+    counted file's id per student and the notes on older files (told here, as are the
+    files found unreadable while reading)."""
+    linked = {s.student for s in subs if s.refused}
+    sub_ids = _record_submissions(gb, subs, exercise)
+    older = _older_than_counted(gb, exercise, subs)
+    _tell(older, quiet)
+    for s in subs:
+        if s.refused and s.student not in linked:
+            log.warning("%s: %s: not read: %s", s.student, s.shown_path, s.refused)
+            if not quiet:
+                print(f"rikin-grade: note: {s.shown_path}: not read: {s.refused}", file=sys.stderr)
+    return sub_ids, older
+
+
+class _GradebookRun:
+    """This batch's run in the gradebook: each result recorded as it comes, with the
+    student's files rewritten, until the run is closed for its summary (Ctrl-C: a result
+    that comes after is not recorded; the next run grades that file again)."""
+
+    def __init__(
+        self,
+        gb: Gradebook,
+        exercise: str,
+        out: Path,
+        seed: int,
+        key: str,
+        sub_ids: dict[str, int],
+        run_id: int,
+    ) -> None:
+        self.gb, self.exercise, self.out, self.seed, self.key = gb, exercise, out, seed, key
+        self.sub_ids, self.run_id = sub_ids, run_id
+        self.lock = threading.Lock()
+        self.closing = False
+
+    @classmethod
+    def start(
+        cls,
+        gb: Gradebook,
+        a: Assignment,
+        s: GradeSettings,
+        key: str,
+        out: Path,
+        sub_ids: dict[str, int],
+        paths: list[str | Path],
+        gb_path: Path,
+        count: int,
+    ) -> _GradebookRun:
+        """Open a run of ``a`` in ``gb`` (and say so in the log): ``count`` submissions."""
+        given = {
+            "submissions": [shown(p) for p in paths],
+            "regrade": s.regrade,
+            "workers": s.workers,
+            "reveal": s.reveal,
+        }
+        run_id = gb.start_run(a.exercise, __version__, s.seed, key, given)
+        log.info(
+            "rikin-grade %s: %s (%d tests, max %.4g), %d submissions, seed %d, key %s, "
+            "run %d of %s",
+            __version__,
+            a.name,
+            len(a.tests),
+            a.max_score,
+            count,
+            int(s.seed),
+            key,
+            run_id,
+            gb_path,
+        )
+        return cls(gb, a.exercise, out, s.seed, key, sub_ids, run_id)
+
+    def cached(self, sub: Submission) -> SubmissionResult | None:
+        """The result of this very file graded earlier with the same settings, if any."""
+        return self.gb.cached(self.sub_ids[sub.student], self.key)
+
+    def reuse(self, sub: Submission, prev: SubmissionResult) -> None:
+        """Record ``prev`` (from :meth:`cached`) as this run's result of ``sub``."""
+        prev.student = sub.student
+        sub_id = self.sub_ids[sub.student]
+        reused = prev.result_id  # type: ignore[attr-defined]
+        self.gb.record(self.run_id, sub_id, prev, self.exercise, self.seed, reuse=reused)
+
+    def commit(self, sub: Submission, res: SubmissionResult) -> bool:
+        """Record ``res`` and rewrite the student's files; False once the run is closed."""
+        with self.lock:
+            if self.closing:
+                return False
+            self.gb.record(self.run_id, self.sub_ids[sub.student], res, self.exercise, self.seed)
+            _write_views(self.gb, self.exercise, self.out, sub.student)
+            return True
+
+    def close(self) -> None:
+        """No result is recorded after this (the views are being written)."""
+        with self.lock:
+            self.closing = True
+
+
+# ----------------------------------------------------------------- plan and run
+def _plan(
+    a: Assignment, subs: list[Submission], key: str, run: _GradebookRun, regrade: bool
+) -> tuple[dict[str, SubmissionResult], list[Submission], int]:
+    """Who is graded how: a refused file scores 0 with why (recorded now); a file graded
+    before with the same ``key`` keeps its result (unless ``regrade``); the rest is to run.
+
+    Returns
+    -------
+    results : dict
+        Student to result, those settled now.
+    todo : list of Submission
+        The submissions to run.
+    resumed : int
+        How many results were reused.
+    """
+    results: dict[str, SubmissionResult] = {}
+    todo: list[Submission] = []
+    resumed = 0
+    for s in subs:
+        if s.refused:
+            res = _refused(a, s, key)
+            run.commit(s, res)
+            log_result(res)
+            results[s.student] = res
+            continue
+        prev = None if regrade else run.cached(s)
+        if prev is not None:
+            run.reuse(s, prev)
+            results[s.student] = prev
+            resumed += 1
+        else:
+            todo.append(s)
+    return results, todo, resumed
+
+
+def _refused(a: Assignment, s: Submission, key: str) -> SubmissionResult:
+    """The result of a file not read (a link, not a notebook, unreadable): 0, with why."""
+    assert s.refused
+    if s.refused.startswith(("a symbolic link", "a hard link")):
+        why = (
+            f"not graded: {s.shown_path} is {s.refused}; the grader reads only "
+            "notebook files handed in as they are (upload the .ipynb file itself)"
+        )
+    else:
+        why = f"not graded: {s.shown_path}: {s.refused}"
+    res = failed_result(a, s, key, why, INVALID, "not run: the submission was not read")
+    res.problems = [why]
+    res.refused = s.refused
+    return res
+
+
+def _sandbox_config(
+    a: Assignment, s: GradeSettings, out: Path, subs: list[Submission], gb_path: Path
+) -> SandboxConfig:
+    """The sandbox asked for, with everything a notebook must not read masked."""
+    return SandboxConfig(
+        sandbox=not s.unsafe_no_sandbox,
+        mode=s.sandbox,
+        tmp_mb=int(s.tmp_mb),
+        hidden=_hidden_paths(a, out, subs) + [gb_path.parent],
+    )
+
+
+def _run(
+    a: Assignment,
+    calls: list[list[Call]],
+    options: RunOptions,
+    key: str,
+    config: SandboxConfig,
+    todo: list[Submission],
+    workers: int,
+    run: _GradebookRun,
+    bar: Progress,
+    results: dict[str, SubmissionResult],
+) -> None:
+    """Grade ``todo`` in sandboxes of the strongest mode that works here (the log says
+    which), each result recorded in ``run`` as it comes."""
+    resolve_mode(config)
+    for note in config.notes:
+        log.warning("%s", note)
+    log.info("sandbox: %s", DESCRIBE[config.mode])
+    if not config.sandbox:
+        log.warning(
+            "UNSAFE: grading without a sandbox (--unsafe-no-sandbox); "
+            "student code can read and change this machine's files"
+        )
+    _run_pool(a, calls, options, key, config, todo, max(1, int(workers)), run.commit, bar, results)
+
+
+# ----------------------------------------------------------------- summary and export
+def _summary(
+    run: _GradebookRun,
+    ordered: list[SubmissionResult],
+    elapsed: float,
+    resumed: int,
+    state: str,
+    notes: list[str],
+) -> dict[str, Any]:
+    """The batch's summary, for the gradebook and ``summary.json``."""
+    summary: dict[str, Any] = summarize(ordered, elapsed, resumed)
+    summary.update(
+        {
+            "assignment": run.exercise,
+            "grader_version": __version__,
+            "key": run.key,
+            "seed": int(run.seed),
+            "run": run.run_id,
+            "state": state,
+            # students the roster could not tell apart (reported by name, not matched)
+            "ambiguous": sum(n.startswith("ambiguous:") for n in notes),
+        }
+    )
+    return summary
+
+
+def _finish(run: _GradebookRun, summary: dict[str, Any]) -> dict[str, Any]:
+    """End the run with its summary and export the views (every grade committed is in
+    them, after Ctrl-C too); the files written."""
+    run.gb.end_run(run.run_id, summary["state"], summary)
+    return export(run.gb, run.exercise, run.exercise, run.out, run.run_id, summary)
+
+
+def _print_outcome(
+    exercise: str,
+    summary: dict[str, Any],
+    gb: Gradebook,
+    gb_path: Path,
+    files: dict[str, Any],
+    out: Path,
+) -> None:
+    """The summary and where the gradebook, its views and the LMS files are."""
+    print(f"{exercise}: {summary_text(summary)}")
+    print(
+        f"gradebook: {gb_path} ({len(gb.current(exercise))} students)  "
+        f"grades: {files['grades']}  report: {files['report'][0]}  "
+        f"log: {out / 'grading.log'}"
+    )
+    print_lms_files(files)
 
 
 def _write_views(gb: Gradebook, exercise: str, out: Path, student: str) -> None:
@@ -492,10 +684,14 @@ def _open_gradebook(path: Path, assignment: str, out: Path, given: str | None) -
         raise
 
 
-def _class_settings(gb: Gradebook, assignment: str, ros, lms_column, missing) -> list[str]:
+def _class_settings(
+    gb: Gradebook,
+    assignment: str,
+    ros: Roster | None,
+    lms_column: str | None,
+    missing: str | None,
+) -> list[str]:
     """Record the roster given, the LMS's column and the missing-work policy; notes."""
-    from .roster import assignment_column
-
     notes = []
     if missing is not None:
         if missing not in (MISSING_BLANK, MISSING_ZERO):
@@ -649,297 +845,3 @@ def _attach_log(path: Path) -> logging.Handler:
         lg.setLevel(logging.INFO)
     lg.propagate = False
     return handler
-
-
-def _log_result(res: SubmissionResult) -> None:
-    log.info(
-        "%s: %.4g/%.4g %s %s (%.2f s) %s",
-        res.student,
-        res.score,
-        res.max_score,
-        res.status,
-        res.reason,
-        res.elapsed,
-        res.path,
-    )
-    for t in res.tests:
-        log.info(
-            "  %s %s %.4g/%.4g: %s%s",
-            res.student,
-            t.name,
-            t.points,
-            t.weight,
-            t.feedback,
-            f" | {t.detail}" if t.detail else "",
-        )
-    for c in res.cells:
-        if c.status != "ok":
-            log.info(
-                "  %s cell %d %s %s: %s\n%s",
-                res.student,
-                c.number,
-                c.status,
-                c.error_type,
-                c.message,
-                c.traceback,
-            )
-
-
-def _run_pool(
-    a: Assignment,
-    calls,
-    options: RunOptions,
-    key: str,
-    config: SandboxConfig,
-    todo: list[Submission],
-    workers: int,
-    done: Callable[[Submission, SubmissionResult], bool],
-    bar: Progress,
-    results: dict[str, SubmissionResult],
-) -> None:
-    """Grade ``todo`` with ``workers`` sandboxes; ``done`` commits each result as it comes
-    (False: it was not committed, the batch is being interrupted)."""
-    jobs: queue.Queue[Submission] = queue.Queue()
-    for s in todo:
-        jobs.put(s)
-    workdir = sandbox_workdir()
-    prepare_workdir(workdir, config.sandbox)
-    start_errors: list[str] = []
-    lock = threading.Lock()
-    stop = threading.Event()
-
-    def worker(n: int) -> None:
-        sandbox = Sandbox(config, workdir)
-        try:
-            try:
-                sandbox.start()
-            except SandboxUnavailable as exc:
-                with lock:
-                    start_errors.append(str(exc))
-                return
-            runner = SubmissionRunner(sandbox, a, calls, options, key)
-            while not stop.is_set():
-                try:
-                    sub = jobs.get_nowait()
-                except queue.Empty:
-                    return
-                try:
-                    res = runner.grade(sub)
-                except Exception:  # a bug must cost one submission, not the batch
-                    log.error("%s: internal error:\n%s", sub.student, traceback.format_exc())
-                    res = _failed(a, sub, key)
-                    sandbox.close()
-                try:
-                    if not done(sub, res):  # interrupted: the views are being written
-                        return
-                    _log_result(res)
-                except Exception:  # e.g. a disk error: this submission only, never the batch
-                    log.error(
-                        "%s: writing the results failed:\n%s", sub.student, traceback.format_exc()
-                    )
-                    res = _failed(a, sub, key, "writing this submission's results failed")
-                    try:
-                        if not done(sub, res):
-                            return
-                    except Exception:
-                        log.error("%s: its failure could not be recorded either", sub.student)
-                with lock:
-                    results[sub.student] = res
-                bar.update(res)
-        except Exception:  # the worker itself: what it had not graded is reported below
-            log.error("grader worker %d stopped:\n%s", n, traceback.format_exc())
-        finally:
-            sandbox.close()
-
-    threads = [
-        threading.Thread(target=worker, args=(i,), name=f"grader-{i}", daemon=True)
-        for i in range(min(workers, len(todo)))
-    ]
-    try:
-        for t in threads:
-            t.start()
-        for t in threads:
-            while t.is_alive():
-                t.join(0.2)
-    except KeyboardInterrupt:
-        stop.set()
-        raise
-    finally:
-        shutil.rmtree(workdir, ignore_errors=True)
-    if start_errors and len(start_errors) == len(threads):
-        raise SandboxUnavailable("\n".join([*config.notes, start_errors[0]]))
-    for e in start_errors:
-        log.warning("a worker's sandbox did not start: %s", e)
-    for s in todo:  # every submission ends in the gradebook, graded or with the reason
-        if s.student not in results and not stop.is_set():
-            results[s.student] = _failed(a, s, key, "not graded: a grader worker stopped")
-            try:
-                done(s, results[s.student])
-            except Exception:
-                log.error("%s: not graded, and that could not be recorded", s.student)
-            bar.update(results[s.student])
-
-
-def _failed(
-    a: Assignment,
-    sub: Submission,
-    key: str,
-    why: str = "",
-    status: str = GRADER_ERROR,
-    test_note: str = "not run: internal grader error",
-) -> SubmissionResult:
-    """The result of a submission the grader failed on (status grader-error, score 0), or
-    did not read (``status`` invalid: a link)."""
-    try:
-        sha = sub.hash()
-    except OSError:
-        sha = ""
-    return SubmissionResult(
-        student=sub.student,
-        path=sub.shown_path,
-        sha256=sha,
-        status=status,
-        reason=why or "internal grader error (see the log)",
-        max_score=a.max_score,
-        key=key,
-        tests=[
-            TestResult(t.name, float(t.weight), 0.0, test_note, grader_error=status == GRADER_ERROR)
-            for t in a.tests
-        ],
-    )
-
-
-# ----------------------------------------------------------------------------- probe
-PROBE = r"""
-import os, socket, subprocess
-def probe(paths):
-    r = {"uid": os.getuid(), "gid": os.getgid(), "cwd": os.getcwd()}
-    r["root"] = sorted(os.listdir("/"))
-    def readable(p):
-        try:
-            if os.path.isdir(p):
-                return bool(os.listdir(p))
-            with open(p, "rb") as f:
-                return bool(f.read(1))
-        except OSError:
-            return False
-    r["visible"] = [p for p in paths if readable(p)]
-    try:
-        socket.create_connection(("1.1.1.1", 53), timeout=2).close()
-        r["network"] = True
-    except OSError as e:
-        r["network"] = False
-    written = []
-    stdlib = os.path.dirname(os.__file__)
-    for d in ("/", "/tmp", "/usr", "/etc", stdlib, "/opt", "/dev", "/dev/shm"):
-        try:
-            with open(os.path.join(d, "rikingrade-probe"), "w") as f:
-                f.write("x")
-            written.append(d)
-            os.unlink(os.path.join(d, "rikingrade-probe"))
-        except OSError:
-            pass
-    r["writable"] = written
-    with open("/proc/self/status") as f:
-        r["status_uid"] = [l.split()[1:] for l in f if l.startswith("Uid:")][0]
-    return r
-"""
-
-
-def _host_uid(pid: int) -> int | None:
-    """The real uid of ``pid`` as the host sees it (what RLIMIT_NPROC counts against)."""
-    try:
-        with open(f"/proc/{pid}/status") as f:
-            for line in f:
-                if line.startswith("Uid:"):
-                    return int(line.split()[1])
-    except OSError:
-        return None
-    return None
-
-
-def check_sandbox(
-    unsafe_no_sandbox: bool = False,
-    paths: Sequence[str | Path] = (),
-    hidden: Sequence[str | Path] = (),
-    sandbox: str = "auto",
-) -> dict[str, Any]:
-    """Start a sandbox and report what a notebook inside it can see and do.
-
-    ``paths`` must be unreadable from inside; ``hidden`` are masked like the grader package
-    (use it for paths inside a bound directory) and must be unreadable too. ``sandbox`` is
-    the mode to probe (``auto``: the one :func:`grade` would use here).
-
-    Returns a dict with ``ok`` (True when none of those paths, the grader package or the
-    course is readable, there is no network and nothing outside the places the mode wipes
-    is writable), ``mode`` and its description, why stronger modes were not used
-    (``notes``), the probe's raw findings and the command used.
-
-    Raises
-    ------
-    SandboxUnavailable
-        No sandbox of that mode can start here (the message says what failed).
-    """
-    config = SandboxConfig(sandbox=not unsafe_no_sandbox, mode=sandbox)
-    grader_pkg = package_dir("rikingrade")
-    secret = [str(p) for p in [*paths, *hidden]]
-    config.hidden = [Path(h) for h in hidden]
-    if grader_pkg is not None:
-        course = grader_pkg.parent.parent
-        config.hidden.append(grader_pkg)
-        secret += [
-            str(grader_pkg),
-            str(grader_pkg / "hidden"),
-            str(course / "solutions"),
-            str(course / "grader"),
-            str(course / ".git"),
-        ]
-    resolve_mode(config)
-    workdir = sandbox_workdir()
-    sandbox_ = Sandbox(config, workdir)
-    try:
-        prepare_workdir(workdir, config.sandbox)
-        try:
-            sandbox_.start()
-        except SandboxUnavailable as exc:
-            raise SandboxUnavailable("\n".join([*config.notes, str(exc)])) from None
-        child = sandbox_.spawn(Limits())
-        deadline = time.monotonic() + 30
-        child.send({"op": "exec", "cells": [[1, PROBE]], "output_limit": 1000}, deadline)
-        while child.recv(deadline).get("event") != "exec_done":
-            pass
-        child.send(
-            {"op": "call", "id": 1, "function": "probe", "kwargs": {"paths": secret}}, deadline
-        )
-        reply = child.recv(deadline)
-        child.close()
-        found = reply.get("value") or {}
-        host_uid = _host_uid(sandbox_.proc.pid) if sandbox_.proc is not None else None
-        # the uid mode cannot stop writes to the world-writable folders: it wipes them after
-        wiped = set(SHARED_WRITABLE) if config.mode == UID else set()
-        writable = [d for d in found.get("writable") or [] if d not in wiped]
-        ok = (
-            config.mode != NONE
-            and host_uid not in (0, None)
-            and not found.get("visible")
-            and found.get("network") is False
-            and not writable
-            and found.get("uid") != 0
-        )
-        return {
-            "ok": bool(ok),
-            "mode": config.mode,
-            "mode_description": DESCRIBE[config.mode],
-            "notes": list(config.notes),
-            "sandboxed": config.sandbox,
-            "probe": found,
-            "error": reply.get("error_message"),
-            "preload_errors": sandbox_.preload_errors,
-            "launcher": sandbox_.launcher_notes,
-            "command": getattr(sandbox_, "command", None),
-            "grader_uid": os.geteuid(),
-            "sandbox_host_uid": host_uid,
-        }
-    finally:
-        sandbox_.close()
-        shutil.rmtree(workdir, ignore_errors=True)

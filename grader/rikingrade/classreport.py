@@ -265,6 +265,16 @@ def _who(m: dict[str, Any]) -> dict[str, str]:
     }
 
 
+def _integer_ticks(axis: Any) -> None:
+    """Ticks at whole numbers only on ``axis`` (a matplotlib ``Axis``: counts of students),
+    keeping its automatic locator's other choices."""
+    from matplotlib.ticker import MaxNLocator
+
+    locator = axis.get_major_locator()
+    if isinstance(locator, MaxNLocator):  # the automatic locator is one
+        locator.set_params(integer=True)
+
+
 def histogram_png(stats: dict[str, Any], title: str) -> bytes:
     """The score histogram as a PNG (matplotlib, no display needed)."""
     import matplotlib
@@ -287,7 +297,7 @@ def histogram_png(stats: dict[str, Any], title: str) -> bytes:
     ax.set_xlabel(f"final score (of {stats['max_score']:g})")
     ax.set_ylabel("students")
     ax.set_title(title)
-    ax.yaxis.get_major_locator().set_params(integer=True)
+    _integer_ticks(ax.yaxis)
     fig.tight_layout()
     buf = io.BytesIO()
     fig.savefig(buf, format="png", metadata={"Software": None})
@@ -312,7 +322,7 @@ def tests_png(stats: dict[str, Any], title: str) -> bytes:
         ax.bar(range(len(TEST_BINS)), counts, color="#3b6ea8", edgecolor="white")
         ax.set_xticks(range(len(TEST_BINS)), TEST_BINS, fontsize=7)
         ax.set_title(t["test"], fontsize=9)
-        ax.yaxis.get_major_locator().set_params(integer=True)
+        _integer_ticks(ax.yaxis)
         ax.tick_params(axis="y", labelsize=7)
     fig.suptitle(f"{title}: share of each test's points", fontsize=10)
     fig.tight_layout()

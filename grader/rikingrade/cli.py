@@ -23,7 +23,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
-from . import __version__
+from ._version import __version__
 
 EXIT_OK, EXIT_GRADER_ERRORS, EXIT_USAGE, EXIT_SANDBOX = 0, 1, 2, 3
 

@@ -468,7 +468,8 @@ class Gradebook:
 
     def students(self, student: str | None = None) -> dict[str, sqlite3.Row]:
         """Every student (or the one ``student``), by id."""
-        q, args = "SELECT * FROM students", ()
+        q = "SELECT * FROM students"
+        args: tuple[str, ...] = ()
         if student is not None:
             q, args = q + " WHERE id = ?", (student,)
         return {r["id"]: r for r in self.conn.execute(q, args)}
@@ -678,7 +679,8 @@ class Gradebook:
 
     def extensions(self, assignment: str, student: str | None = None) -> dict[str, sqlite3.Row]:
         """Each student's extension in force (the newest), or the one of ``student``."""
-        q, args = "SELECT * FROM extensions WHERE assignment = ?", (assignment,)
+        q = "SELECT * FROM extensions WHERE assignment = ?"
+        args: tuple[str, ...] = (assignment,)
         if student is not None:
             q, args = q + " AND student = ?", (assignment, student)
         return {r["student"]: r for r in self.conn.execute(q + " ORDER BY id", args)}
@@ -698,7 +700,8 @@ class Gradebook:
     def overrides(self, assignment: str, student: str | None = None) -> dict[str, sqlite3.Row]:
         """Each student's override in force (a 'cleared' one means none), or the one of
         ``student``."""
-        q, args = "SELECT * FROM overrides WHERE assignment = ?", (assignment,)
+        q = "SELECT * FROM overrides WHERE assignment = ?"
+        args: tuple[str, ...] = (assignment,)
         if student is not None:
             q, args = q + " AND student = ?", (assignment, student)
         out = {r["student"]: r for r in self.conn.execute(q + " ORDER BY id", args)}

@@ -24,7 +24,7 @@ import tempfile
 import zipfile
 from pathlib import Path
 
-from . import __version__
+from ._version import __version__
 from .api import DEFAULT_SEED, grade
 from .assignment import load_assignment
 from .notebook import MAX_NOTEBOOK_BYTES, _notebooks_in, _too_large, pick_notebook

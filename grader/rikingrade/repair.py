@@ -22,7 +22,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from . import __version__
+from ._version import __version__
 from .gradebook import Gradebook, GradebookDamaged, backup, lock
 from .report import SubmissionResult
 from .views import RECORD_VERSION, decode_record, export

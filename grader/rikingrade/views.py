@@ -110,7 +110,7 @@ def final_grades(
             continue
         res = sane(SubmissionResult.from_dict(json.loads(cur["result"])))
         e, o, st = ext.get(sid), ovr.get(sid), students.get(sid)
-        canvas = bool(st) and st["lms"] == "canvas"
+        canvas = st is not None and st["lms"] == "canvas"
         g = apply(
             res.score,
             res.max_score,

@@ -47,7 +47,7 @@ def encode_input(obj: Any, depth: int = 0) -> Any:
     if isinstance(obj, (float, np.floating)):
         return _float(float(obj))
     if isinstance(obj, (complex, np.complexfloating)):
-        return {"$complex": [_float(obj.real), _float(obj.imag)]}
+        return {"$complex": [_float(float(obj.real)), _float(float(obj.imag))]}
     if isinstance(obj, np.ndarray):
         if obj.dtype.kind not in "biufc":
             raise WireError(f"cannot send an array of dtype {obj.dtype}")
