@@ -466,15 +466,6 @@ def as_texts(x: Any, name: str, count: int) -> tuple[str, ...]:
     raise InputError(f"{name} must be {count} texts (a tuple of str), got {_describe(x)}")
 
 
-def check_arm(arm: Any, name: str = "arm") -> Any:
-    """``arm`` if it is a :class:`rikin.SerialArm`, else InputError."""
-    from .dh import SerialArm  # dh imports this module: import on first use
-
-    if not isinstance(arm, SerialArm):
-        raise InputError(f"{name} must be a rikin.SerialArm, got {_describe(arm)}")
-    return arm
-
-
 def check_instance(x: Any, cls: type, name: str, what: str) -> Any:
     """``x`` if it is a ``cls``, else InputError saying ``what`` was expected."""
     if not isinstance(x, cls):

@@ -14,6 +14,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from .. import dh
 from .._validate import (
     FloatArray,
     _rotation_errors,
@@ -47,8 +48,6 @@ __all__ = ["solve", "solve_batch", "ClosedForm"]
 
 def _register() -> None:
     """Give rikin.dh its IK entry points without dh importing ik (data flows dh -> ik)."""
-    from .. import dh
-
     dh._IK_ENTRY.update(solve=solve, solve_batch=solve_batch)
 
 
