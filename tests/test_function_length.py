@@ -18,8 +18,6 @@ MAX_LINES = 80
 
 #: "path::Qualified.name" of each function still over MAX_LINES. Only ever remove entries.
 STILL_LONG = frozenset({
-    "rikin/_validate.py::_check_axis_index",
-    "rikin/ik/api.py::solve_batch",
     "rikin/interactive.py::solutions_figure",
     "rikin/interactive.py::path_figure",
     "rikin/plot.py::plot_arm",
