@@ -466,15 +466,6 @@ def as_texts(x: Any, name: str, count: int) -> tuple[str, ...]:
     raise InputError(f"{name} must be {count} texts (a tuple of str), got {_describe(x)}")
 
 
-def check_arm(arm: Any, name: str = "arm") -> Any:
-    """``arm`` if it is a :class:`rikin.SerialArm`, else InputError."""
-    from .dh import SerialArm  # dh imports this module: import on first use
-
-    if not isinstance(arm, SerialArm):
-        raise InputError(f"{name} must be a rikin.SerialArm, got {_describe(arm)}")
-    return arm
-
-
 def check_instance(x: Any, cls: type, name: str, what: str) -> Any:
     """``x`` if it is a ``cls``, else InputError saying ``what`` was expected."""
     if not isinstance(x, cls):
@@ -571,33 +562,89 @@ def _check_axis_index(
     p: Any, n: int, what: str, item: str, attributes: tuple[str, ...], arrays: bool, var: str
 ) -> None:
     """One entry of an index along an axis of length ``n`` counting ``item``s."""
-    if not isinstance(p, (bool, np.bool_, str, bytes, list)) and not (
-        arrays and isinstance(p, np.ndarray)
-    ):
-        try:  # a whole number: int, numpy's, sympy's, a 0-d int array (what a list takes)
-            i = operator.index(p)
-        except TypeError:
-            i = None
-        if i is not None:
-            if not -n <= i < n:
-                beyond = i - (n - 1) if i >= 0 else -n - i
-                raise OutOfRangeError(
-                    f"{what} index {i} is out of range by {beyond}: {_valid_range(n, item)}"
-                )
-            return
-    if isinstance(p, slice):
-        for name in ("start", "stop", "step"):
-            v = getattr(p, name)
-            if v is not None and (
-                isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer))
-            ):
-                raise InputError(
-                    f"{what} index {_describe(p)}: the slice's {name} must be a whole number "
-                    f"or None, got {_describe(v)}"
-                )
-        if p.step == 0:
-            raise InputError(f"{what} index {_describe(p)}: a slice step cannot be zero")
+    i = _whole_index(p, arrays)
+    if i is not None:
+        _check_in_range(i, n, what, item)
+    elif isinstance(p, slice):
+        _check_slice(p, what)
+    elif arrays and isinstance(p, (list, np.ndarray)):
+        _check_index_array(p, n, what, item)
+    else:
+        _refuse_index(p, n, what, item, attributes, arrays, var)
+
+
+def _whole_index(p: Any, arrays: bool) -> int | None:
+    """``p`` as a whole number if it is one (an int, numpy's, sympy's, a 0-d int array: what a
+    list takes), else None; never for a bool, text or a list (nor an array with ``arrays``,
+    which is checked as an array of indices)."""
+    if isinstance(p, (bool, np.bool_, str, bytes, list)) or (arrays and isinstance(p, np.ndarray)):
+        return None
+    try:
+        return operator.index(p)
+    except TypeError:
+        return None
+
+
+def _check_in_range(i: int, n: int, what: str, item: str) -> None:
+    """OutOfRangeError, saying by how much, unless ``-n <= i < n``."""
+    if not -n <= i < n:
+        beyond = i - (n - 1) if i >= 0 else -n - i
+        raise OutOfRangeError(
+            f"{what} index {i} is out of range by {beyond}: {_valid_range(n, item)}"
+        )
+
+
+def _check_slice(p: slice, what: str) -> None:
+    """A slice of whole numbers (or None) with a step other than zero, else InputError."""
+    for name in ("start", "stop", "step"):
+        v = getattr(p, name)
+        if v is not None and (
+            isinstance(v, (bool, np.bool_)) or not isinstance(v, (int, np.integer))
+        ):
+            raise InputError(
+                f"{what} index {_describe(p)}: the slice's {name} must be a whole number "
+                f"or None, got {_describe(v)}"
+            )
+    if p.step == 0:
+        raise InputError(f"{what} index {_describe(p)}: a slice step cannot be zero")
+
+
+def _check_index_array(p: list[Any] | np.ndarray, n: int, what: str, item: str) -> None:
+    """A list or array of whole numbers in range, or a boolean mask of ``n`` entries."""
+    if isinstance(p, list) and not p:  # []: none of them, as numpy reads it
         return
+    try:
+        arr = np.asarray(p)
+    except (TypeError, ValueError):
+        arr = np.asarray(p, dtype=object)
+    if arr.dtype.kind == "b":
+        if arr.shape != (n,):
+            raise InputError(
+                f"{what} index: a boolean mask must have one entry per {item}, shape "
+                f"({n},), got shape {arr.shape}"
+            )
+        return
+    if arr.dtype.kind in "iu":
+        bad = (arr < -n) | (arr >= n)
+        if bad.any():
+            first = int(arr[bad].ravel()[0])
+            beyond = first - (n - 1) if first >= 0 else -n - first
+            raise OutOfRangeError(
+                f"{what} index {first} (in {_describe(p)}) is out of range by {beyond}: "
+                f"{_valid_range(n, item)}"
+            )
+        return
+    raise InputError(
+        f"{what} index {_describe(p)} must hold whole numbers (or be a boolean mask), "
+        f"got {arr.dtype} values; {_valid_range(n, item)}"
+    )
+
+
+def _refuse_index(
+    p: Any, n: int, what: str, item: str, attributes: tuple[str, ...], arrays: bool, var: str
+) -> None:
+    """InputError for an index entry that is no whole number, slice or array of indices,
+    saying what it is and what the valid indices are."""
     hint = f"; {_valid_range(n, item)}"
     if isinstance(p, (str, bytes)):
         if p in attributes:
@@ -622,33 +669,5 @@ def _check_axis_index(
         raise InputError(
             f"{what} index {_describe(p)} is not a whole number's type: a {item} number is "
             f"an int{hint}" + (f"; write int({float(p.real)!r})" if whole else "")
-        )
-    if arrays and isinstance(p, (list, np.ndarray)):
-        if isinstance(p, list) and not p:  # []: none of them, as numpy reads it
-            return
-        try:
-            arr = np.asarray(p)
-        except (TypeError, ValueError):
-            arr = np.asarray(p, dtype=object)
-        if arr.dtype.kind == "b":
-            if arr.shape != (n,):
-                raise InputError(
-                    f"{what} index: a boolean mask must have one entry per {item}, shape "
-                    f"({n},), got shape {arr.shape}"
-                )
-            return
-        if arr.dtype.kind in "iu":
-            bad = (arr < -n) | (arr >= n)
-            if bad.any():
-                first = int(arr[bad].ravel()[0])
-                beyond = first - (n - 1) if first >= 0 else -n - first
-                raise OutOfRangeError(
-                    f"{what} index {first} (in {_describe(p)}) is out of range by {beyond}: "
-                    f"{_valid_range(n, item)}"
-                )
-            return
-        raise InputError(
-            f"{what} index {_describe(p)} must hold whole numbers (or be a boolean mask), "
-            f"got {arr.dtype} values{hint}"
         )
     raise InputError(f"{what} index {_describe(p)} is not a {item} number{hint}")

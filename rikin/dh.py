@@ -29,6 +29,7 @@ import numpy as np
 
 from ._validate import (
     FloatArray,
+    _describe,
     as_flag,
     as_float_array,
     as_pose,
@@ -649,3 +650,13 @@ class SerialArm:
     def _world_to_base(self, T_world: FloatArray) -> FloatArray:
         """:meth:`world_to_base` for trusted input."""
         return _inv_transform(self.base) @ T_world @ _inv_transform(self.tool)
+
+
+def check_arm(arm: Any, name: str = "arm") -> SerialArm:
+    """``arm`` if it is a :class:`SerialArm`, else InputError naming ``name``.
+
+    The boundary check of every function that takes an arm; it lives beside the class it
+    checks, so that :mod:`rikin._validate` (which this module imports) needs no arm."""
+    if not isinstance(arm, SerialArm):
+        raise InputError(f"{name} must be a rikin.SerialArm, got {_describe(arm)}")
+    return arm

@@ -46,9 +46,8 @@ from ._validate import (
     as_pose,
     as_text,
     as_texts,
-    check_arm,
 )
-from .dh import SerialArm
+from .dh import SerialArm, check_arm
 from .errors import InputError, UnreachableError
 from .ik.kernels import elbow_above, reach_excess, two_link
 from .ik.result import IKResult

@@ -38,6 +38,7 @@ import numpy as np
 import sympy as sp
 from sympy.simplify.fu import TR10i
 
+from . import robots
 from ._validate import as_choice, as_flag, as_real, check_index
 from .dh import Link, SerialArm
 from .errors import InputError
@@ -423,11 +424,16 @@ def abbreviate(expr: Any, joints: Sequence[sp.Symbol] | None = None) -> Any:
     jm = _joint_map(joints)
     expr = _sympify(expr, "expr")
 
+    def short(x: Any) -> Any:
+        """``sin``/``cos`` of a plain sum of joints as its symbol ``S12``/``C1_2``, else ``x``."""
+        name = _short_name(x.args[0], jm) if isinstance(x, (sp.sin, sp.cos)) else None
+        if name is None:
+            return x
+        return sp.Symbol(("S" if isinstance(x, sp.sin) else "C") + name.replace(",", "_"),
+                         real=True)
+
     def repl(e: sp.Expr) -> sp.Expr:
-        return e.replace(
-            lambda x: isinstance(x, (sp.sin, sp.cos)) and _short_name(x.args[0], jm) is not None,
-            lambda x: sp.Symbol(("S" if isinstance(x, sp.sin) else "C")
-                                + _short_name(x.args[0], jm).replace(",", "_"), real=True))
+        return e.replace(lambda x: isinstance(x, (sp.sin, sp.cos)), short)
 
     if isinstance(expr, sp.MatrixBase):
         return expr.applyfunc(repl)
@@ -563,8 +569,6 @@ def lesson_arm(name: str, **options: Any) -> LessonArm:
     >>> lengths, q, conv
     ((d1, a1, a2, d4), (q1, q2, q3, q4, q5, q6), 'modified')
     """
-    from . import robots
-
     if not isinstance(name, str) or name not in LESSON_LENGTHS:
         raise InputError(f"unknown lesson robot name {name!r:.80}; choose one of "
                          f"{sorted(LESSON_LENGTHS)}")

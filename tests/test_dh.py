@@ -108,7 +108,8 @@ def test_degrees_in_fk_message():
 
 
 @pytest.mark.parametrize(("kwargs", "name", "value"), [
-    ({"alpha": 90}, "alpha", 90), ({"alpha": -90.0}, "alpha", -90), ({"offset": -90}, "offset", -90),
+    ({"alpha": 90}, "alpha", 90), ({"alpha": -90.0}, "alpha", -90),
+    ({"offset": -90}, "offset", -90),
     ({"joint": "P", "theta": 180}, "theta", 180), ({"qlim": (-170, 170)}, "qlim", -170),
     ({"qlim": (-np.inf, 185)}, "qlim", 185),
 ])

@@ -45,7 +45,8 @@ def kuka_kr5():
 def kuka_kr6():
     """Standard-DH KUKA KR6 (metres): alpha1 = -pi/2, joint-3 offset."""
     return SerialArm((
-        Link(d=0.675, a=0.26, alpha=-pi / 2), Link(a=0.68), Link(a=-0.035, alpha=pi / 2, offset=-pi / 2),
+        Link(d=0.675, a=0.26, alpha=-pi / 2), Link(a=0.68),
+        Link(a=-0.035, alpha=pi / 2, offset=-pi / 2),
         Link(d=-0.67, alpha=-pi / 2), Link(alpha=pi / 2), Link(d=-0.115, alpha=pi),
     ), name="KUKA KR6", units="m")
 
@@ -208,7 +209,8 @@ angle = st.floats(-pi, pi, allow_nan=False)
 # to a3 = 1 is a near-degenerate arm whose joints the pose fixes only to ~eps / 1e-5.
 special_twist = st.sampled_from([0.0, pi / 2, -pi / 2, pi])
 twist = st.one_of(special_twist, st.floats(0.1, 3.0), st.floats(-3.0, -0.1))
-wrist_twist = st.one_of(st.sampled_from([pi / 2, -pi / 2]), st.floats(0.3, 2.8), st.floats(-2.8, -0.3))
+wrist_twist = st.one_of(st.sampled_from([pi / 2, -pi / 2]), st.floats(0.3, 2.8),
+                        st.floats(-2.8, -0.3))
 length = st.one_of(st.just(0.0), st.floats(0.05, 2.0), st.floats(-2.0, -0.05))
 
 
@@ -611,7 +613,8 @@ def test_a_free_joint_comes_from_near_or_else_from_the_pose(make):
 # least-squares minimum) does not land on that fold exactly enough to be one, so that
 # combination is left to the near-singular test above.
 @pytest.mark.parametrize(("make", "kind"), [
-    (make, kind) for make in GENERAL for kind in KINDS if not (make is puma560 and kind == "shoulder")
+    (make, kind) for make in GENERAL for kind in KINDS
+    if not (make is puma560 and kind == "shoulder")
 ])
 def test_singular_poses_flagged_with_free_joints_that_are_free(make, kind):
     """On the singularity: flagged; each free joint takes any value from near (and the pose

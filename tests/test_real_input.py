@@ -22,9 +22,10 @@ turns = st.integers(-3, 3)
 @given(data=st.data())
 def test_fk_reads_angles_modulo_two_pi(name, data):
     arm = ARMS[name]
-    q = np.array(
-        [data.draw(st.floats(-np.pi, np.pi)) if r else data.draw(st.floats(-5, 5)) for r in arm.revolute]
-    )
+    q = np.array([
+        data.draw(st.floats(-np.pi, np.pi)) if r else data.draw(st.floats(-5, 5))
+        for r in arm.revolute
+    ])
     k = np.array([data.draw(turns) if r else 0 for r in arm.revolute])
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -80,7 +81,9 @@ def target_of(arm, T):
 
 def random_q(arm, rng):
     return np.where(
-        arm.revolute, rng.uniform(-np.pi, np.pi, arm.n), rng.uniform(0.5, 3.0, arm.n) * arm.scale / 10
+        arm.revolute,
+        rng.uniform(-np.pi, np.pi, arm.n),
+        rng.uniform(0.5, 3.0, arm.n) * arm.scale / 10,
     )
 
 
@@ -199,7 +202,7 @@ def test_rounded_base_and_tool_are_made_rotations():
     assert len(arm.ik(T)) == 8
 
 
-# ---------------------------------------------------------------- near stretched, folded, axis (item 2)
+# ------------------------------------------------------- near stretched, folded, axis (item 2)
 def _pw_offset(arm):
     """The wrist centre (origin of frame 4) in TCP coordinates, constant for a 6R arm."""
     q = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6])
@@ -244,7 +247,8 @@ def _in_plane_point(arm, kind, rng):
 
 
 def near_target(arm, kind, delta, rng):
-    """A target ``delta`` (times the arm's size) off a stretched, folded or on-axis configuration."""
+    """A target ``delta`` (times the arm's size) off a stretched, folded or on-axis
+    configuration."""
     step = delta * arm.scale
     if arm.n in (2, 3) and arm.joint_types in ("RR", "RRR") and not hasattr(arm.solver, "geometry"):
         p, d = _in_plane_point(arm, kind, rng)
@@ -530,7 +534,8 @@ def test_the_fast_paths_fk_check_is_the_squared_fk_error(name, framed):
 
     arm = ARMS[name]
     if framed:
-        arm = arm.replace(base=_rigid(np.random.default_rng(7)), tool=_rigid(np.random.default_rng(8)))
+        arm = arm.replace(base=_rigid(np.random.default_rng(7)),
+                          tool=_rigid(np.random.default_rng(8)))
     check = FKCheck(arm)
     rng = np.random.default_rng(5)
     assert len(REVOLUTE) >= 4 and {1, 2, 3, 6} >= {a.n for a in ARMS.values() if a.revolute.all()}
@@ -543,7 +548,8 @@ def test_the_fast_paths_fk_check_is_the_squared_fk_error(name, framed):
         q_exact = np.repeat(q[-1:], k, axis=0)
         assert check(q_exact, T_exact) <= 1e-28
         q_exact[k // 2, arm.n // 2] += 1e-7
-        assert check(q_exact, T_exact) == pytest.approx(_squared_fk_error(arm, q_exact, T_exact), rel=1e-6)
+        expected = _squared_fk_error(arm, q_exact, T_exact)
+        assert check(q_exact, T_exact) == pytest.approx(expected, rel=1e-6)
         assert check(q_exact, T_exact) > rikin.tolerances.FK_CHECK_TOL**2  # refused
 
 

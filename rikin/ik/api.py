@@ -14,6 +14,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from .. import dh
 from .._validate import (
     FloatArray,
     _rotation_errors,
@@ -47,8 +48,6 @@ __all__ = ["solve", "solve_batch", "ClosedForm"]
 
 def _register() -> None:
     """Give rikin.dh its IK entry points without dh importing ik (data flows dh -> ik)."""
-    from .. import dh
-
     dh._IK_ENTRY.update(solve=solve, solve_batch=solve_batch)
 
 
@@ -512,82 +511,104 @@ def solve_batch(
     chunk_size = _count(chunk_size, "chunk_size")
     if workers is not None:
         workers = _count(workers, "workers")
-    Tw = _batch_poses(T)
-    N = Tw.shape[0]
-    make_kernel = getattr(solver, "batch_kernel", None)
-    kernel = make_kernel(arm) if make_kernel is not None else None
-    slots = kernel.slots if kernel is not None else getattr(solver, "slots", None)
-    if slots is None:  # the slots of this family: solve one pose
-        slots = solver.solve(arm, arm._world_to_base(np.eye(4))[None], None).slots
-    k = len(slots)
-    q_out = np.empty((N, k, arm.n))
-    valid_out = np.empty((N, k), dtype=bool)
-    sing_out = np.zeros(N, dtype=bool)
-    dist_out = np.zeros(N)
-    reach_out = np.zeros(N)
+    batch = _Batch(arm, solver, _batch_poses(T))
+    n_workers = workers if workers is not None else min(4, os.cpu_count() or 1)
+    size = _chunk_length(batch.N, chunk_size, n_workers)
+    starts = range(0, batch.N, size)
+    if n_workers <= 1 or len(starts) <= 1:
+        for st in starts:
+            batch.solve_chunk(st, min(st + size, batch.N))
+    else:
+        with ThreadPoolExecutor(n_workers) as pool:
+            list(pool.map(lambda st: batch.solve_chunk(st, min(st + size, batch.N)), starts))
+    return batch.result()
 
-    def general(rows: slice | np.ndarray, T_chunk: FloatArray) -> None:
+
+class _Batch:
+    """One :func:`solve_batch` call: its arm, solver and checked world poses ``Tw (N, 4, 4)``,
+    the output arrays, and how a chunk of poses fills its rows of them (chunks fill disjoint
+    rows, so threads share one ``_Batch``)."""
+
+    def __init__(self, arm: SerialArm, solver: Solver, Tw: FloatArray) -> None:
+        self.arm, self.solver, self.Tw = arm, solver, Tw
+        self.N = N = Tw.shape[0]
+        make_kernel = getattr(solver, "batch_kernel", None)
+        self.kernel = make_kernel(arm) if make_kernel is not None else None
+        slots = self.kernel.slots if self.kernel is not None else getattr(solver, "slots", None)
+        if slots is None:  # the slots of this family: solve one pose
+            slots = solver.solve(arm, arm._world_to_base(np.eye(4))[None], None).slots
+        self.slots = slots
+        k = len(slots)
+        self.q = np.empty((N, k, arm.n))
+        self.valid = np.empty((N, k), dtype=bool)
+        self.singular = np.zeros(N, dtype=bool)
+        self.rotation_distance = np.zeros(N)
+        self.reach_distance = np.zeros(N)
+        self.rounds_onto_reach = hasattr(solver, "nearest_reachable")
+
+    def solve_chunk(self, start: int, stop: int) -> None:
+        """Rows ``start:stop``: the batch kernel where the family has one (the poses it
+        flags as suspect, and those it finds no solution of when rounding may have put them
+        beyond the reach, again on the general solver), else the general solver."""
+        T_chunk, X = self._clean_chunk(start, stop)
+        if self.kernel is None:
+            self.general(slice(start, stop), T_chunk)
+            return
+        q, valid, suspect = self.kernel.solve(X)
+        self.q[start:stop] = q.transpose(2, 0, 1)
+        self.valid[start:stop] = valid.T
+        if self.rounds_onto_reach:  # no solution: maybe rounded beyond the reach
+            suspect = suspect | ~valid.any(axis=0)
+        redo = np.flatnonzero(suspect)
+        if redo.size:
+            self.general(start + redo, T_chunk[redo])
+
+    def _clean_chunk(self, start: int, stop: int) -> tuple[FloatArray, FloatArray]:
+        """The chunk's poses checked (rigid, within the distances rikin handles) and rounded
+        rotations made rotations (their distances recorded): ``T_chunk (n, 4, 4)`` and the
+        same as ``X (4, 4, n)``, the kernels' layout."""
+        T_chunk = self.Tw[start:stop]
+        X = np.ascontiguousarray(T_chunk.transpose(1, 2, 0))  # (4, 4, n)
+        valid_poses, defect = pose_defects(X)
+        if not valid_poses:
+            as_pose(self.Tw, "T")  # raises with the detailed message
+            raise AssertionError("rikin bug: pose_defects and as_pose disagree")
+        _check_distances(self.arm, T_chunk[:, :3, 3], "T", start)
+        if defect.max(initial=0.0) > ROTATION_CLEAN_TOL:  # rounded poses: nearest rotations
+            T_chunk = T_chunk.copy()
+            self.rotation_distance[start:stop] = clean_poses(T_chunk, defect)
+            X = np.ascontiguousarray(T_chunk.transpose(1, 2, 0))
+        return T_chunk, X
+
+    def general(self, rows: slice | np.ndarray, T_chunk: FloatArray) -> None:
         """The general solver (every family; exact singular handling) for some poses."""
+        arm, solver = self.arm, self.solver
         T_0_n = arm._world_to_base(T_chunk)
         if getattr(solver, "labels_optional", False):
             raw = cast(Any, solver).solve(arm, T_0_n, None, labels=False)
         else:
             raw = solver.solve(arm, T_0_n, None)
         raw, _, reach = _onto_reach(arm, solver, T_chunk, raw, None)
-        reach_out[rows] = reach
+        self.reach_distance[rows] = reach
         qq = _wrap(raw.q, arm.revolute)
         qq[~raw.valid] = np.nan
-        q_out[rows] = qq
-        valid_out[rows] = raw.valid
+        self.q[rows] = qq
+        self.valid[rows] = raw.valid
         s = np.zeros(len(qq), dtype=bool)
         for mask in raw.singular.values():
             s |= (mask & raw.valid).any(axis=1)
-        sing_out[rows] = s
+        self.singular[rows] = s
 
-    n_workers = workers if workers is not None else min(4, os.cpu_count() or 1)
-    size = _chunk_length(N, chunk_size, n_workers)
-    rounds_onto_reach = hasattr(solver, "nearest_reachable")
-
-    def run(start: int) -> None:
-        stop = min(start + size, N)
-        T_chunk = Tw[start:stop]
-        X = np.ascontiguousarray(T_chunk.transpose(1, 2, 0))  # (4, 4, n)
-        valid_poses, defect = pose_defects(X)
-        if not valid_poses:
-            as_pose(Tw, "T")  # raises with the detailed message
-            raise AssertionError("rikin bug: pose_defects and as_pose disagree")
-        _check_distances(arm, T_chunk[:, :3, 3], "T", start)
-        if defect.max(initial=0.0) > ROTATION_CLEAN_TOL:  # rounded poses: nearest rotations
-            T_chunk = T_chunk.copy()
-            dist_out[start:stop] = clean_poses(T_chunk, defect)
-            X = np.ascontiguousarray(T_chunk.transpose(1, 2, 0))
-        if kernel is None:
-            general(slice(start, stop), T_chunk)
-            return
-        q, valid, suspect = kernel.solve(X)
-        q_out[start:stop] = q.transpose(2, 0, 1)
-        valid_out[start:stop] = valid.T
-        if rounds_onto_reach:  # no solution: maybe rounded beyond the reach
-            suspect = suspect | ~valid.any(axis=0)
-        redo = np.flatnonzero(suspect)
-        if redo.size:
-            general(start + redo, T_chunk[redo])
-
-    starts = range(0, N, size)
-    if n_workers <= 1 or len(starts) <= 1:
-        for st in starts:
-            run(st)
-    else:
-        with ThreadPoolExecutor(n_workers) as pool:
-            list(pool.map(run, starts))
-    return BatchIKResult(
-        q=q_out,
-        valid=valid_out,
-        singular=sing_out,
-        branches=slots,
-        rotation_distance=dist_out,
-        reach_distance=reach_out,
-    )
+    def result(self) -> BatchIKResult:
+        """The filled arrays as a :class:`BatchIKResult`."""
+        return BatchIKResult(
+            q=self.q,
+            valid=self.valid,
+            singular=self.singular,
+            branches=self.slots,
+            rotation_distance=self.rotation_distance,
+            reach_distance=self.reach_distance,
+        )
 
 
 #: Below this many poses per chunk, splitting a batch across threads costs more than it saves.

@@ -22,14 +22,14 @@ import math
 import weakref
 from dataclasses import dataclass
 from math import atan2, cos, hypot, pi, remainder, sin, sqrt
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .._validate import FloatArray, as_pose, clean_pose
-from ..errors import InputError
+from ..dh import SerialArm, link_transform
+from ..errors import InputError, UnreachableError
 from ..tolerances import REACH_TOL, SINGULAR_TOL
-from ..transforms import _rot
+from ..transforms import _inv_transform, _rot
 from .anthropomorphic import (
     ARM_SLOTS,
     ELBOW,
@@ -56,9 +56,6 @@ from .kernels import (
 )
 from .reach import nearest_reachable, rounding_note
 from .result import Branch
-
-if TYPE_CHECKING:  # pragma: no cover
-    from ..dh import SerialArm
 
 WRIST = Singularity(
     "wrist singularity: q5 is 0 or pi, axes 4 and 6 line up, so only q4 + q6 (or q4 - q6) is fixed",
@@ -146,8 +143,6 @@ def branch_slots(W: WristModel) -> tuple[Branch, ...]:
 
 def rotation_0_3(arm: SerialArm, q123: FloatArray) -> FloatArray:
     """``R_0_3`` for joints ``q123`` of shape ``(..., 3)``: shape ``(..., 3, 3)``."""
-    from ..dh import link_transform
-
     R = np.broadcast_to(np.eye(3), q123.shape[:-1] + (3, 3))
     for i in range(3):
         R = R @ link_transform(arm.links[i], q123[..., i], arm.convention)[..., :3, :3]
@@ -283,8 +278,6 @@ class Decoupled6RSolver(ClosedForm):
         UnreachableError
             That arm branch cannot put the wrist centre where ``T_0_6`` needs it.
         """
-        from ..dh import SerialArm
-
         if not isinstance(arm, SerialArm) or arm.solver is not self:
             raise InputError("arm must be the rikin.SerialArm this solver belongs to (arm.solver)")
         if (
@@ -303,8 +296,6 @@ class Decoupled6RSolver(ClosedForm):
         pos = position_rrr(pw[None], self.geometry)
         if not pos.valid[0, arm_slot]:
             msg, ex = self.explain(arm, T_0_6)
-            from ..errors import UnreachableError
-
             raise UnreachableError(
                 f"{arm.name}: arm branch {arm_slot} cannot reach: {msg}", excess=ex, units=arm.units
             )
@@ -382,8 +373,6 @@ class BatchKernel:
     SUSPECT_EDGE = 1e-10  # relative distance of the wrist centre from the reach boundary
 
     def __init__(self, arm: SerialArm, solver: Decoupled6RSolver) -> None:
-        from ..transforms import _inv_transform
-
         l1, l2, l3 = arm.links[:3]
         al = [float(lk.alpha) for lk in (l1, l2, l3)]
         if arm.convention == "standard":

@@ -20,7 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from .._validate import check_arm
+from ..dh import check_arm
 from ..errors import InputError
 from . import general6r, parallel3, pieper
 from .base import Solver

@@ -31,7 +31,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .._validate import FloatArray, check_arm
+from .._validate import FloatArray
+from ..dh import check_arm
 from ..errors import InputError
 from ..tolerances import SAME_SOLUTION_TOL
 from .base import RawSolutions, Singularity, TargetKind

@@ -23,16 +23,15 @@ iteration computes the pose and that Jacobian from one FK pass per step.)
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from .._validate import FloatArray, as_flag, as_float_array, as_pose, as_real, clean_pose
+from ..dh import SerialArm
 from ..errors import InputError
+from .api import _limits_filter, _solver, _unreachable
 from .result import not_indexed
-
-if TYPE_CHECKING:  # pragma: no cover
-    from ..dh import SerialArm
 
 __all__ = ["NumericalIKResult", "ik_numerical", "ik_numerical_multistart", "pose_error"]
 
@@ -184,8 +183,6 @@ def pose_error(arm: SerialArm, q: FloatArray, T: FloatArray) -> FloatArray:
 
 
 def _check_arm(arm: Any) -> None:
-    from ..dh import SerialArm
-
     if not isinstance(arm, SerialArm):
         raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
 
@@ -212,8 +209,6 @@ def _nearest_reachable(arm: SerialArm) -> Any:
     with a closed form, whose rounded poses near its reach can miss it; else None."""
     if arm.n not in (5, 6):
         return None
-    from .api import _solver
-
     try:
         solver = _solver(arm)  # the lesson arm's, else the general 6R one
     except InputError:  # no closed form: nothing to measure the reach with
@@ -245,8 +240,6 @@ def _reachable_target(
     T_near, dist, close = nearest(arm, T_t[None])
     d = float(dist[0])
     if not close[0]:
-        from .api import _unreachable
-
         raise _unreachable(arm, arm.solver, arm._world_to_base(T_t))
     if d <= 0.1 * tol * arm.scale:
         return T_t, 0.0
@@ -554,8 +547,6 @@ def _result(
     asked) and measured against the target ``T_t`` it iterated on."""
     q_out = _wrap_revolute(arm, q)
     if within_limits:
-        from .api import _limits_filter
-
         moved, fits = _limits_filter(q_out[None], arm, None)
         q_out = moved[0] if fits[0] else q
         if reason == "converged" and not fits[0]:  # pragma: no cover - q is clamped inside

@@ -41,10 +41,11 @@ value near +-pi, or nothing reachable. The margins are :mod:`rikin.ik.pieper_ker
 from __future__ import annotations
 
 from math import acos, atan2, cos, hypot, pi, remainder, sin, sqrt
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
+from .._validate import FloatArray
 from ..tolerances import REACH_TOL
 from ..transforms import _inv_transform
 from .kernels import wrap_in_place
@@ -54,9 +55,61 @@ from .result import Branch
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
-    from .parallel3 import ParallelAxesSolver
 
 __all__ = ["ParallelKernel", "single_kernel", "solve_batch"]
+
+
+# What the kernel reads from the general solver, once per arm. The solver
+# (:class:`rikin.ik.parallel3.ParallelAxesSolver`) imports this module, never the reverse:
+# these protocols name the few attributes the kernel needs instead of the solver's class.
+class _Model(Protocol):
+    """The arm as ``M0 Rz(th1) M1 ... Rz(th6) M6`` (``pieper.ChainModel``), reversed when
+    the parallel axes are 3-5."""
+
+    @property
+    def M(self) -> FloatArray: ...  # (7, 4, 4)
+    @property
+    def scale(self) -> float: ...
+
+
+class KernelSource(Protocol):
+    """The per-arm constants of the general solver that :class:`ParallelKernel` reads (their
+    meaning is in :class:`rikin.ik.parallel3.ParallelAxesSolver`)."""
+
+    @property
+    def model(self) -> _Model: ...
+    @property
+    def unit(self) -> float: ...
+    @property
+    def reverse(self) -> bool: ...
+    @property
+    def offsets(self) -> FloatArray: ...  # (6,), rad
+    @property
+    def M0_inv(self) -> FloatArray: ...  # (4, 4)
+    @property
+    def M6_inv(self) -> FloatArray: ...  # (4, 4)
+    @property
+    def rank1(self) -> bool: ...
+    @property
+    def u(self) -> FloatArray: ...  # (3,)
+    @property
+    def c0(self) -> FloatArray: ...  # (2,)
+    @property
+    def lam(self) -> FloatArray: ...  # (2,)
+    @property
+    def K(self) -> FloatArray: ...  # (2, 2)
+    @property
+    def row(self) -> int: ...
+    @property
+    def tilt_row(self) -> bool: ...
+    @property
+    def sigma(self) -> float: ...
+    @property
+    def s2(self) -> float: ...
+    @property
+    def a(self) -> FloatArray: ...  # (2,)
+    @property
+    def b(self) -> FloatArray: ...  # (2,)
 
 #: ``M2``, ``M3`` that turn z into +-z to within this are taken as exactly that (a DH twist
 #: of 0 or pi as typed: its sine rounds to 1.2e-16); else no kernel, as joint 4 is read off
@@ -81,7 +134,7 @@ OUT = 2.0 * sqrt(REACH_TOL)
 _TAU = 2.0 * pi
 
 
-def single_kernel(solver: ParallelAxesSolver, arm: SerialArm) -> ParallelKernel | None:
+def single_kernel(solver: KernelSource, arm: SerialArm) -> ParallelKernel | None:
     """The plain-float kernel of ``solver`` for ``arm``, or None when the arm is not of the
     kind it takes (joint 1 from a quartic; parallel axes' factors not exactly turns about z)."""
     kernel = ParallelKernel(solver, arm)
@@ -118,7 +171,7 @@ class ParallelKernel:
     module docstring). Built once per arm; :meth:`solve` is the one-pose interface of
     :func:`rikin.ik.api.solve`."""
 
-    def __init__(self, solver: ParallelAxesSolver, arm: SerialArm) -> None:
+    def __init__(self, solver: KernelSource, arm: SerialArm) -> None:
         sv = solver
         M = sv.model.M
         self.L = float(sv.model.scale)

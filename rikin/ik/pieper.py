@@ -41,20 +41,19 @@ import itertools
 import math
 import weakref
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
-from .._validate import FloatArray, check_arm
+from .._validate import FloatArray
+from ..dh import SerialArm, check_arm
 from ..errors import InputError
 from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL, SINGULAR_TOL
 from .base import RawSolutions, Singularity, TargetKind
 from .kernels import spherical_wrist, wrap_in_place
+from .pieper_kernel import PieperKernel, single_kernel
 from .reach import nearest_reachable, rounding_note
 from .result import Branch
-
-if TYPE_CHECKING:  # pragma: no cover
-    from ..dh import SerialArm
 
 __all__ = ["IKClass", "classify", "Pieper6RSolver", "general_solver"]
 
@@ -432,8 +431,6 @@ def classify(arm: SerialArm) -> IKClass:
     >>> classify(robots.aula10_6r()).closed_form
     True
     """
-    from ..dh import SerialArm
-
     if not isinstance(arm, SerialArm):
         raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
     arm = arm._dh  # the geometry, in DH joint values (a reversed joint changes nothing here)
@@ -891,11 +888,9 @@ class Pieper6RSolver(ChainPolish):
         T[..., :3, 3] *= self.unit
         return T
 
-    def single_kernel(self, arm: SerialArm) -> object | None:
+    def single_kernel(self, arm: SerialArm) -> PieperKernel | None:
         """The plain-float kernel for one regular pose (:mod:`rikin.ik.pieper_kernel`), or
         None; :func:`rikin.ik.api.solve` looks it up once per arm."""
-        from .pieper_kernel import single_kernel
-
         return single_kernel(self, arm)
 
     # -------------------------------------------------------------- position

@@ -15,11 +15,10 @@ targets further off raise :class:`~rikin.errors.UnreachableError` with the dista
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import numpy as np
 
 from .._validate import FloatArray
+from ..dh import SerialArm, link_transform
 from ..errors import InputError
 from ..tolerances import REACH_TOL, SINGULAR_TOL
 from .api import ClosedForm
@@ -27,9 +26,6 @@ from .base import RawSolutions, Singularity
 from .decoupled import wrist_angles, wrist_model, wrist_slot_labels
 from .reach import Gap, nearest_reachable, rounding_note
 from .result import Branch
-
-if TYPE_CHECKING:  # pragma: no cover
-    from ..dh import SerialArm
 
 _WRIST = Singularity(
     "wrist singularity: q4 is 0 or pi, axes 3 and 5 line up, so only q3 + q5 (or q3 - q5) is fixed",
@@ -194,8 +190,6 @@ class RPRRRSolver(ClosedForm):
         return np.stack([a2 * c - v * s, a2 * s + v * c, np.full_like(t, d1)], axis=-1)
 
     def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
-        from ..dh import link_transform
-
         a2, d1, off1, l1, sa = self._params(arm)
         W = wrist_model(arm, 2)
         pw = T_0_n[:, :3, :3] @ W.centre + T_0_n[:, :3, 3]
