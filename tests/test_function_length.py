@@ -28,11 +28,6 @@ STILL_LONG = frozenset({
     "grader/rikingrade/api.py::grade",
     "grader/rikingrade/api.py::_run_pool",
     "grader/rikingrade/api.py::check_sandbox",
-    "grader/rikingrade/runner.py::_Run.start_child",
-    "grader/rikingrade/runner.py::_Run.call_batch",
-    "grader/rikingrade/runner.py::_Run.execute",
-    "grader/rikingrade/sandbox/child.py::encode",
-    "grader/rikingrade/sandbox/config.py::bwrap_command",
 })
 
 
