@@ -300,7 +300,7 @@ class _Run:
                 raise ExecFailed("the notebook's process could not be started")
             self._check_budget()
             cells = [
-                [n, src] for n, src in self.nb.cells if n not in self.skip and n not in self.not_run
+                (n, src) for n, src in self.nb.cells if n not in self.skip and n not in self.not_run
             ]
             child = self.r.sandbox.spawn(opt.limits, warm=[src for _, src in cells])
             order = [n for n, _ in cells]
@@ -343,12 +343,12 @@ class _Run:
                     child, current, last, "crashed", f"stopped the notebook's process ({why})"
                 )
 
-    def _exec_message(self, cells: list[list]) -> dict:
-        """The request to run ``cells`` ([number, source] pairs) with this run's limits."""
+    def _exec_message(self, cells: list[tuple[int, str]]) -> dict:
+        """The request to run ``cells`` ((number, source) pairs) with this run's limits."""
         opt = self.r.opt
         return {
             "op": "exec",
-            "cells": cells,
+            "cells": [[n, src] for n, src in cells],
             "output_limit": opt.output_limit,
             "output_total": max(0, opt.output_total - self.output_used),
             "want": list(self.r.assignment.functions),
@@ -466,8 +466,9 @@ class _Run:
                     msg = self.child.recv(deadline)
                     if msg.get("id") == cid:
                         break
-                if isinstance(msg.get("timed_out"), dict):  # the child stopped it
-                    fired = msg["timed_out"]
+                stop = msg.get("timed_out")
+                if isinstance(stop, dict):  # the child stopped it
+                    fired = stop
                     raise ChildTimeout()
                 limits.returned(calls[k].function, _took(msg, started), timeout)
                 seen = msg.get("seen")
@@ -518,7 +519,8 @@ class _Run:
         spent = time.monotonic() >= self.t_end - 1e-3 and not fired
         self.budget_spent |= spent
         names = _names(fired.get("stack")) or [call]
-        name = fired.get("function") if isinstance(fired.get("function"), str) else call
+        stopped = fired.get("function")
+        name = stopped if isinstance(stopped, str) else call
         short = name in leash
         if spent:
             detail = f"stopped: {self._spent()}"
@@ -769,9 +771,10 @@ def _cell_report(n: int, msg: dict) -> CellReport:
     raw_notes = msg.get("notes")
     notes = [_text(x, 200) for x in raw_notes[:10]] if isinstance(raw_notes, list) else []
     output = _text(msg.get("output"), 20000)
-    sec = msg.get("seconds")
-    ok_sec = isinstance(sec, (int, float)) and not isinstance(sec, bool) and math.isfinite(sec)
-    sec = float(sec) if ok_sec else 0.0
+    raw_sec = msg.get("seconds")
+    sec = 0.0
+    if isinstance(raw_sec, (int, float)) and not isinstance(raw_sec, bool):
+        sec = float(raw_sec) if math.isfinite(raw_sec) else 0.0
     if isinstance(err, dict):
         return CellReport(
             n,

@@ -243,6 +243,7 @@ def _enc_dict(obj, depth, budget):
 
 def _enc_array(obj, depth, budget):
     """A numpy array (any subclass) as nested lists of Python numbers."""
+    assert np is not None  # only numpy makes an array
     if obj.size > MAX_ELEMENTS:
         raise EncodeError("elements")
     kind = obj.dtype.kind
@@ -260,6 +261,7 @@ def _enc_array(obj, depth, budget):
 def _enc_scalar(obj, depth, budget):
     """A numpy scalar: ``item()`` gives a Python number, except for longdouble and
     clongdouble (an item of those is the same numpy type again)."""
+    assert np is not None  # only numpy makes a numpy scalar
     if isinstance(obj, np.bool_):
         return bool(obj)
     if isinstance(obj, np.integer):
@@ -470,7 +472,8 @@ def _shell_class():
     class GradingShell(_Screenless, InteractiveShell):
         runner = None  # the Runner whose cell is running (its name, its notes)
         compiler_class = Type(WarmCompiler)
-        _warm = {}  # cell text -> (text, AST with compiled statements), made in the zygote
+        #: cell text -> (text, AST with compiled statements), made in the zygote
+        _warm: dict[str, tuple] = {}
 
         def _lines(self, raw_cell):
             """The cell as IPython runs it if it may be plain Python of several lines, not
@@ -609,6 +612,7 @@ class Channel:
         self.buf = bytearray()
         self.scanned = 0  # bytes of buf known to hold no newline
         self.fds = []  # file descriptors the grader sent (a worker's channel)
+        self.sock: socket.socket | None = None
         try:  # a socket object, to receive them
             self.sock = socket.socket(fileno=os.dup(fd))
         except OSError:
@@ -702,8 +706,10 @@ def _fresh_imports(roots):
     timestamp's resolution. The library folders' caches stay: relisting them costs ms."""
     for path, finder in list(sys.path_importer_cache.items()):
         if isinstance(path, str) and path.startswith(roots) and finder is not None:
+            invalidate = getattr(finder, "invalidate_caches", None)  # optional for a finder
             try:
-                finder.invalidate_caches()
+                if invalidate is not None:
+                    invalidate()
             except Exception:
                 pass
 
@@ -817,7 +823,8 @@ class Watch:
         """
         self.ns = ns
         self.roots = roots
-        self.names = None  # code object -> the notebook's name for it (made when needed)
+        #: code object -> the notebook's name for it (made when needed)
+        self.names: dict[object, str] | None = None
         self.limit = limit
         self.leash = leash
         self.answers = answers
@@ -853,16 +860,17 @@ class Watch:
             self.finished[name] = max(self.finished.get(name, 0.0), round(seconds, 4))
 
     def _name(self, code):
-        if self.names is None:
+        names = self.names
+        if names is None:
             names = {}
             for k, v in list(self.ns.items()):
                 if type(k) is str and type(v) is _FunctionType:
                     names.setdefault(v.__code__, k)
                     inner = v.__dict__.get("__wrapped__")  # functools.wraps: the real body
-                    if type(inner) is _FunctionType:
+                    if inner is not None and type(inner) is _FunctionType:
                         names.setdefault(inner.__code__, k)
             self.names = names
-        return self.names.get(code) or code.co_name
+        return names.get(code) or code.co_name
 
     def _tick(self, signum, frame):
         if not self.running:
@@ -890,7 +898,7 @@ class Watch:
         over = None
         if self.call and now - self.t0 >= self.limit:
             over = (self.call, self.limit)
-        names = []
+        names: list[str] = []
         for fr in reversed(stack):  # outermost first
             rec = self.seen.get(fr)
             if rec is None:
@@ -1048,7 +1056,7 @@ class Runner:
         ns = self.ns
         found = [w for w in want if isinstance(w, str) and callable(ns.get(w))]
         hidden = getattr(self.shell, "user_ns_hidden", {})
-        others = []
+        others: list[str] = []
         for k, v in list(ns.items()):
             if len(others) >= 500:
                 break
@@ -1081,12 +1089,12 @@ class Runner:
             with _CleanBuiltins():
                 args = decode(msg.get("args") or [])
                 kwargs = decode(msg.get("kwargs") or {})
-        except Exception as exc:
+        except Exception as bad:
             self.chan.send(
                 {
                     "id": cid,
                     "error_type": "GraderError",
-                    "error_message": f"could not decode the test input: {exc}",
+                    "error_message": f"could not decode the test input: {bad}",
                 }
             )
             return
@@ -1142,8 +1150,8 @@ class Runner:
             if seen:
                 reply["seen"] = seen
             self.chan.send(reply)
-        except (RecursionError, EncodeError) as exc:
-            why = str(exc) if isinstance(exc, EncodeError) else "depth"
+        except (RecursionError, EncodeError) as unread:
+            why = str(unread) if isinstance(unread, EncodeError) else "depth"
             self.chan.send(
                 {
                     "id": cid,

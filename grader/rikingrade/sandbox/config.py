@@ -153,9 +153,9 @@ def read_only_binds(config: SandboxConfig) -> list[Path]:
     for p in site.getsitepackages():
         cands.append(Path(p))
     for key in ("purelib", "platlib", "stdlib", "platstdlib"):
-        p = sysconfig.get_paths().get(key)
-        if p:
-            cands.append(Path(p))
+        lib = sysconfig.get_paths().get(key)
+        if lib:
+            cands.append(Path(lib))
     if site.ENABLE_USER_SITE and os.path.isdir(site.getusersitepackages()):
         cands.append(Path(site.getusersitepackages()))
     for mod in config.preload:
