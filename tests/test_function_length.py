@@ -18,11 +18,6 @@ MAX_LINES = 80
 
 #: "path::Qualified.name" of each function still over MAX_LINES. Only ever remove entries.
 STILL_LONG = frozenset({
-    "grader/rikingrade/runner.py::_Run.start_child",
-    "grader/rikingrade/runner.py::_Run.call_batch",
-    "grader/rikingrade/runner.py::_Run.execute",
-    "grader/rikingrade/sandbox/child.py::encode",
-    "grader/rikingrade/sandbox/config.py::bwrap_command",
 })
 
 

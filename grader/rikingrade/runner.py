@@ -59,7 +59,7 @@ from .sandbox import (
     SandboxUnavailable,
 )
 from .sandbox.zygote import CONTROL_TIMEOUT
-from .spec import UNREADABLE, UNREADABLE_BASE, Call, Outcome, Score
+from .spec import UNREADABLE, UNREADABLE_BASE, Call, HiddenTest, Outcome, Score
 from .wire import WireError, encode_input, unreadable_text
 
 log = logging.getLogger("rikingrade")
@@ -300,7 +300,7 @@ class _Run:
                 raise ExecFailed("the notebook's process could not be started")
             self._check_budget()
             cells = [
-                [n, src] for n, src in self.nb.cells if n not in self.skip and n not in self.not_run
+                (n, src) for n, src in self.nb.cells if n not in self.skip and n not in self.not_run
             ]
             child = self.r.sandbox.spawn(opt.limits, warm=[src for _, src in cells])
             order = [n for n, _ in cells]
@@ -309,18 +309,7 @@ class _Run:
             last: int | None = None  # the last cell that started (blamed if none is running)
             try:
                 deadline = self.deadline(cell_wall(opt.cell_timeout))
-                child.send(
-                    {
-                        "op": "exec",
-                        "cells": cells,
-                        "output_limit": opt.output_limit,
-                        "output_total": max(0, opt.output_total - self.output_used),
-                        "want": list(self.r.assignment.functions),
-                        "limit": self.call_limit,
-                        "leash": self.limits.leash(self.call_limit),
-                    },
-                    deadline,
-                )
+                child.send(self._exec_message(cells), deadline)
                 while True:
                     msg = child.recv(deadline)
                     ev = msg.get("event")
@@ -342,37 +331,59 @@ class _Run:
                             current = None
                             deadline = self.deadline(cell_wall(opt.cell_timeout))
                     elif ev == "exec_done" and current is None and pos == len(order):
-                        funcs = msg.get("functions")
-                        self.functions = (
-                            {f for f in funcs[:10_000] if isinstance(f, str)}
-                            if isinstance(funcs, list)
-                            else set()
-                        )
-                        self.child = child
-                        if self.templates_ok and self.cell_seconds > TEMPLATE_AFTER:
-                            self.template = child
-                            self.child = self._worker()
-                        if self.child is not None:
+                        if self._cells_done(child, msg):
                             return
                         break  # the template could not fork: run the cells again
             except ChildTimeout:
-                self.timed_out = True
-                if time.monotonic() >= self.t_end - 1e-3:
-                    child.close()
-                    self.r.sandbox.reset()
-                    if current is not None:
-                        self.cells[current] = CellReport(
-                            current, "timeout", message=f"was still running: {self._spent()}"
-                        )
-                    self._check_budget()
-                what = f"did not finish within {opt.cell_timeout:g} s"
-                self._skip_cell(child, current, last, "timeout", what)
+                self._cells_timed_out(child, current, last)
             except (ChildDied, ProtocolError) as exc:
                 why = self._why_died(child, exc)
                 self.crashed = True
                 self._skip_cell(
                     child, current, last, "crashed", f"stopped the notebook's process ({why})"
                 )
+
+    def _exec_message(self, cells: list[tuple[int, str]]) -> dict:
+        """The request to run ``cells`` ((number, source) pairs) with this run's limits."""
+        opt = self.r.opt
+        return {
+            "op": "exec",
+            "cells": [[n, src] for n, src in cells],
+            "output_limit": opt.output_limit,
+            "output_total": max(0, opt.output_total - self.output_used),
+            "want": list(self.r.assignment.functions),
+            "limit": self.call_limit,
+            "leash": self.limits.leash(self.call_limit),
+        }
+
+    def _cells_done(self, child: Child, msg: dict) -> bool:
+        """The cells have run: note the functions defined and take ``child`` to call them
+        (keeping it as a template when the cells were slow); False when the template
+        could not fork a worker (the cells must run again)."""
+        funcs = msg.get("functions")
+        self.functions = (
+            {f for f in funcs[:10_000] if isinstance(f, str)} if isinstance(funcs, list) else set()
+        )
+        self.child = child
+        if self.templates_ok and self.cell_seconds > TEMPLATE_AFTER:
+            self.template = child
+            self.child = self._worker()
+        return self.child is not None
+
+    def _cells_timed_out(self, child: Child, current: int | None, last: int | None) -> None:
+        """A cell hung: skip it next time (BudgetSpent when the whole budget is gone)."""
+        opt = self.r.opt
+        self.timed_out = True
+        if time.monotonic() >= self.t_end - 1e-3:
+            child.close()
+            self.r.sandbox.reset()
+            if current is not None:
+                self.cells[current] = CellReport(
+                    current, "timeout", message=f"was still running: {self._spent()}"
+                )
+            self._check_budget()
+        what = f"did not finish within {opt.cell_timeout:g} s"
+        self._skip_cell(child, current, last, "timeout", what)
 
     def _record(self, n: int, msg: dict) -> None:
         """Keep one cell's report, within the submission's caps."""
@@ -439,20 +450,8 @@ class _Run:
         child ends the batch: the child is dropped and the calls after it are not run.
         """
         assert self.child is not None
-        ids = []
-        items = []
-        for call in calls:
-            self.call_id += 1
-            ids.append(self.call_id)
-            args, kw = call.arguments()
-            items.append(
-                {
-                    "id": self.call_id,
-                    "function": call.function,
-                    "args": [encode_input(v) for v in args],
-                    "kwargs": {k: encode_input(v) for k, v in kw.items()},
-                }
-            )
+        items = [self._call_item(call) for call in calls]
+        ids = [item["id"] for item in items]
         outcomes: list[Outcome] = []
         limits = self.limits
         leash = limits.leash(timeout)
@@ -467,8 +466,9 @@ class _Run:
                     msg = self.child.recv(deadline)
                     if msg.get("id") == cid:
                         break
-                if isinstance(msg.get("timed_out"), dict):  # the child stopped it
-                    fired = msg["timed_out"]
+                stop = msg.get("timed_out")
+                if isinstance(stop, dict):  # the child stopped it
+                    fired = stop
                     raise ChildTimeout()
                 limits.returned(calls[k].function, _took(msg, started), timeout)
                 seen = msg.get("seen")
@@ -482,24 +482,8 @@ class _Run:
         except ChildTimeout:
             self.timed_out = True
             self._drop_child()
-            spent = time.monotonic() >= self.t_end - 1e-3 and not fired
-            self.budget_spent |= spent
             call = calls[len(outcomes)].function
-            names = _names(fired.get("stack")) or [call]
-            name = fired.get("function") if isinstance(fired.get("function"), str) else call
-            short = name in leash
-            if spent:
-                detail = f"stopped: {self._spent()}"
-            elif short:
-                detail = limits.stopped_text(name, timeout, self.r.assignment.functions)
-            else:
-                inner = [n for n in names if n in self.r.assignment.functions and n != call]
-                detail = f"timed out: no result within {timeout:g} s" + (
-                    f" (it was running {inner[-1]})" if inner else ""
-                )
-            if not spent:
-                limits.timed_out(names, test, name if short else "")
-            outcomes.append(Outcome(timed_out=True, detail=detail))
+            outcomes.append(self._call_timed_out(call, fired, timeout, leash, test))
             rest = Outcome(timed_out=True, detail="not run: an earlier call of this test timed out")
             outcomes += [rest] * (len(calls) - len(outcomes))
             return outcomes, True, False
@@ -515,6 +499,41 @@ class _Run:
             outcomes += [rest] * (len(calls) - len(outcomes))
             return outcomes, False, True
         return outcomes, False, False
+
+    def _call_item(self, call: Call) -> dict:
+        """One call as the child reads it, under a fresh id."""
+        self.call_id += 1
+        args, kw = call.arguments()
+        return {
+            "id": self.call_id,
+            "function": call.function,
+            "args": [encode_input(v) for v in args],
+            "kwargs": {k: encode_input(v) for k, v in kw.items()},
+        }
+
+    def _call_timed_out(
+        self, call: str, fired: dict, timeout: float, leash: dict[str, float], test: str
+    ) -> Outcome:
+        """The outcome of a call of ``call`` that ran out of time, and what it teaches the
+        limits: ``fired`` is the child's stop ({} when the grader's own clock ran out)."""
+        spent = time.monotonic() >= self.t_end - 1e-3 and not fired
+        self.budget_spent |= spent
+        names = _names(fired.get("stack")) or [call]
+        stopped = fired.get("function")
+        name = stopped if isinstance(stopped, str) else call
+        short = name in leash
+        if spent:
+            detail = f"stopped: {self._spent()}"
+        elif short:
+            detail = self.limits.stopped_text(name, timeout, self.r.assignment.functions)
+        else:
+            inner = [n for n in names if n in self.r.assignment.functions and n != call]
+            detail = f"timed out: no result within {timeout:g} s" + (
+                f" (it was running {inner[-1]})" if inner else ""
+            )
+        if not spent:
+            self.limits.timed_out(names, test, name if short else "")
+        return Outcome(timed_out=True, detail=detail)
 
     def run_test(self, index: int) -> TestResult:
         test = self.r.assignment.tests[index]
@@ -595,50 +614,56 @@ class _Run:
 
     # ------------------------------------------------------------------ all
     def execute(self, result: SubmissionResult) -> None:
+        """Run the cells, then every hidden test; fill in ``result`` (tests, cells,
+        problems, status and its reason)."""
         a = self.r.assignment
         try:
             if self.nb.cells:
                 self._ensure_child()
         except BudgetSpent:
             pass
-        for i, test in enumerate(a.tests):
-            if self.budget_spent or time.monotonic() >= self.t_end:
-                self.budget_spent = self.timed_out = True
-                result.tests.append(
-                    TestResult(
-                        test.name,
-                        float(test.weight),
-                        0.0,
-                        f"not run: {self._spent()}",
-                        timed_out=True,
-                    )
-                )
-                continue
-            try:
-                result.tests.append(self.run_test(i))
-            except BudgetSpent:
-                result.tests.append(
-                    TestResult(
-                        test.name,
-                        float(test.weight),
-                        0.0,
-                        f"not run: {self._spent()}",
-                        timed_out=True,
-                    )
-                )
-            except WireError as exc:  # a hidden test built an input that cannot be sent
-                log.error("hidden test %s: %s", test.name, exc)
-                result.tests.append(
-                    TestResult(
-                        test.name,
-                        float(test.weight),
-                        0.0,
-                        GRADER_PROBLEM,
-                        str(exc),
-                        grader_error=True,
-                    )
-                )
+        for i in range(len(a.tests)):
+            result.tests.append(self._test_result(i))
         result.cells = [self.cells[n] for n in sorted(self.cells)]
+        missing = [f for f in a.functions if f not in self.functions]
+        result.problems = self._problems(missing)
+        result.status, result.reason = self._status(result, missing)
+
+    def _test_result(self, index: int) -> TestResult:
+        """Hidden test ``index`` run and scored, or scored 0 when the budget is spent or
+        the test cannot send its input."""
+        test = self.r.assignment.tests[index]
+        if self.budget_spent or time.monotonic() >= self.t_end:
+            self.budget_spent = self.timed_out = True
+            return self._not_run(test)
+        try:
+            return self.run_test(index)
+        except BudgetSpent:
+            return self._not_run(test)
+        except WireError as exc:  # a hidden test built an input that cannot be sent
+            log.error("hidden test %s: %s", test.name, exc)
+            return TestResult(
+                test.name,
+                float(test.weight),
+                0.0,
+                GRADER_PROBLEM,
+                str(exc),
+                grader_error=True,
+            )
+
+    def _not_run(self, test: HiddenTest) -> TestResult:
+        return TestResult(
+            test.name,
+            float(test.weight),
+            0.0,
+            f"not run: {self._spent()}",
+            timed_out=True,
+        )
+
+    def _problems(self, missing: list[str]) -> list[str]:
+        """What the student reads about the notebook: its warnings, failing cells (capped),
+        missing functions, functions that ran out of time, and why grading stopped."""
+        a = self.r.assignment
         problems = list(self.nb.warnings)[:10]
         if not self.nb.cells:
             problems.append("the notebook has no code cells")
@@ -647,7 +672,6 @@ class _Run:
         problems += cell_lines[:MAX_PROBLEMS]
         if more > 0:
             problems.append(f"... and {more} more problems in code cells (not listed)")
-        missing = [f for f in a.functions if f not in self.functions]
         problems += [
             missing_cause(f, self.functions, a.functions, self.nb.cells, self.cells)
             for f in missing
@@ -657,7 +681,11 @@ class _Run:
             problems.append(self.exec_error)
         if self.budget_spent:
             problems.append(f"grading stopped: {self._spent()}; the tests not run score 0")
-        result.problems = problems
+        return problems
+
+    def _status(self, result: SubmissionResult, missing: list[str]) -> tuple[str, str]:
+        """The submission's status and its reason (the worst thing that happened first)."""
+        a = self.r.assignment
         timeouts = [
             f"code cell {n}" for n, c in sorted(self.cells.items()) if c.status == "timeout"
         ]
@@ -666,33 +694,33 @@ class _Run:
             f"code cell {n}" for n, c in sorted(self.cells.items()) if c.status == "crashed"
         ][:10]
         crashes += [t.name for t in result.tests if t.crashed]
+        status = result.status
         reasons = []
         if any(t.grader_error for t in result.tests):
-            result.status = GRADER_ERROR
+            status = GRADER_ERROR
             reasons.append("a hidden test failed while scoring (see the log)")
         elif self.timed_out or timeouts:
-            result.status = TIMEOUT
+            status = TIMEOUT
             if self.budget_spent:
                 reasons.append(self._spent())
             reasons.append(
                 "did not finish in time: " + (", ".join(timeouts[:10]) or "the notebook")
             )
         elif self.crashed or crashes or self.exec_error:
-            result.status = CRASHED
+            status = CRASHED
             reasons.append(
                 self.exec_error
                 or "the notebook's process died in: " + (", ".join(crashes) or "a cell")
             )
         elif any(c.status == "error" for c in self.cells.values()) or self.unlisted.get("error"):
-            result.status = CELL_ERRORS
-            first = [p for p in problems if p.startswith("code cell") and " raised " in p]
+            status = CELL_ERRORS
+            first = [p for p in result.problems if p.startswith("code cell") and " raised " in p]
             reasons.append(first[0] + (f" (and {len(first) - 1} more)" if len(first) > 1 else ""))
         reasons += [
             missing_cause(f, self.functions, a.functions, self.nb.cells, self.cells)
             for f in missing
         ]
-        result.reason = "; ".join(reasons)[:1000]
-
+        return status, "; ".join(reasons)[:1000]
 
 def _text(v: object, limit: int) -> str:
     """A child's text as a string of at most ``limit`` characters, without control
@@ -743,9 +771,10 @@ def _cell_report(n: int, msg: dict) -> CellReport:
     raw_notes = msg.get("notes")
     notes = [_text(x, 200) for x in raw_notes[:10]] if isinstance(raw_notes, list) else []
     output = _text(msg.get("output"), 20000)
-    sec = msg.get("seconds")
-    ok_sec = isinstance(sec, (int, float)) and not isinstance(sec, bool) and math.isfinite(sec)
-    sec = float(sec) if ok_sec else 0.0
+    raw_sec = msg.get("seconds")
+    sec = 0.0
+    if isinstance(raw_sec, (int, float)) and not isinstance(raw_sec, bool):
+        sec = float(raw_sec) if math.isfinite(raw_sec) else 0.0
     if isinstance(err, dict):
         return CellReport(
             n,

@@ -793,7 +793,16 @@ def rows_to_arm(arm: ExerciseArm, value: Any) -> tuple[rikin.SerialArm | None, s
             if k in vals and angle and abs(vals[k]) > DEGREES_SUSPECT:
                 return None, f"row {i}: {k} looks like degrees: DH angles are radians"
         try:
-            links.append(rikin.Link(joint, **vals))
+            links.append(
+                rikin.Link(
+                    joint,
+                    d=vals.get("d", 0.0),
+                    a=vals.get("a", 0.0),
+                    alpha=vals.get("alpha", 0.0),
+                    offset=vals.get("offset", 0.0),
+                    theta=vals.get("theta", 0.0),
+                )
+            )
         except ValueError:
             return None, f"row {i} is not a valid rikin.Link"
     try:
@@ -856,6 +865,16 @@ def dh_test(arm: ExerciseArm, weight: float, name: str = "dh_table", n: int = N_
     )
 
 
+def _special_q(
+    arm: ExerciseArm, rng: np.random.Generator, L: dict[str, float], i: int
+) -> tuple[str, FloatArray]:
+    """The ``i``-th singular or boundary configuration (kind, q) of an arm that has one."""
+    special = arm.sample_special_q(rng, L, i)
+    if special is None:
+        raise ValueError(f"{arm.title}: no singular or boundary configuration to test")
+    return special
+
+
 def ik_test(
     arm: ExerciseArm, six: bool, weight: float, name: str, *, special: str = "", n: int = N_IK
 ) -> HiddenTest:
@@ -873,7 +892,7 @@ def ik_test(
     elif special == "positioning":
         rng0 = np.random.default_rng(0)
         L0 = arm.sample_lengths(rng0)
-        kinds = list(dict.fromkeys(arm.sample_special_q(rng0, L0, i)[0] for i in range(2)))
+        kinds = list(dict.fromkeys(_special_q(arm, rng0, L0, i)[0] for i in range(2)))
         them = "them" if len(kinds) > 1 else "it"
         title = f"IK {' and '.join(kinds)}, and near {them} ({fname})"
     else:
@@ -881,6 +900,7 @@ def ik_test(
 
     def target(q: FloatArray, L: dict[str, float], tool: float | None) -> Call:
         if six:
+            assert tool is not None  # a 6-DOF target always has a tool
             kw = spec.case_kwargs(L, tool, T=arm.fk_6dof(q, tool, **L))
         else:
             kw = spec.case_kwargs(L, None, p=arm.fk(q, **L)[:3, 3])
@@ -895,7 +915,7 @@ def ik_test(
             if special == "wrist":
                 q = arm.sample_wrist_singular_q(rng, L, (0.0, np.pi)[i % 2])
             elif special == "positioning":
-                q = arm.sample_special_q(rng, L, i)[1]  # type: ignore[index]
+                q = _special_q(arm, rng, L, i)[1]
             else:
                 q = arm.sample_q_6dof(rng, L) if six else arm.sample_q(rng, L)
                 if i == 0:  # the statement allows a prismatic joint exactly at zero
@@ -986,7 +1006,9 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
         return _unreachable_kind(spec, kwargs)
 
     def check(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
-        credits, notes, reasons = [], [], Counter()
+        credits: list[float] = []
+        notes: list[str] = []
+        reasons: Counter[str] = Counter()
         for c, o in zip(calls, outcomes, strict=True):
             k = kind_of(c.kwargs)
             if o.ok:

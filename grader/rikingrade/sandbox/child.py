@@ -44,6 +44,7 @@ self-contained: it is bind-mounted alone into the sandbox.
 """
 
 import builtins
+import contextlib
 import io
 import json
 import math
@@ -172,18 +173,8 @@ def encode(obj, depth=0, budget=None):
         return _enc_float(float(obj))
     if isinstance(obj, (list, tuple)):
         return [encode(x, depth + 1, budget) for x in obj]
-    mod = type(obj).__module__ or ""
-    if mod.startswith("sympy"):
-        if getattr(obj, "is_Matrix", False) and hasattr(obj, "tolist"):
-            return encode(obj.tolist(), depth + 1, budget)
-        free = getattr(obj, "free_symbols", None)
-        if free:
-            raise EncodeError("symbols")
-        try:
-            z = complex(obj)
-        except Exception:
-            raise EncodeError(f"type:{_type_name(obj)}") from None
-        return _enc_float(z.real) if z.imag == 0 else encode(z, depth, budget)
+    if (type(obj).__module__ or "").startswith("sympy"):
+        return _enc_sympy(obj, depth, budget)
     if hasattr(obj, "__array__") and np is not None:
         try:
             arr = np.asarray(obj)
@@ -192,6 +183,21 @@ def encode(obj, depth=0, budget=None):
         if arr is not None and arr.dtype.kind in "biufcO":
             return encode(arr, depth, budget)
     return _enc_number(obj)
+
+
+def _enc_sympy(obj, depth, budget):
+    """A sympy object: a matrix as nested lists, a number without free symbols as a float
+    (or a complex when its imaginary part is not zero)."""
+    if getattr(obj, "is_Matrix", False) and hasattr(obj, "tolist"):
+        return encode(obj.tolist(), depth + 1, budget)
+    free = getattr(obj, "free_symbols", None)
+    if free:
+        raise EncodeError("symbols")
+    try:
+        z = complex(obj)
+    except Exception:
+        raise EncodeError(f"type:{_type_name(obj)}") from None
+    return _enc_float(z.real) if z.imag == 0 else encode(z, depth, budget)
 
 
 def _enc_int(x):
@@ -237,6 +243,7 @@ def _enc_dict(obj, depth, budget):
 
 def _enc_array(obj, depth, budget):
     """A numpy array (any subclass) as nested lists of Python numbers."""
+    assert np is not None  # only numpy makes an array
     if obj.size > MAX_ELEMENTS:
         raise EncodeError("elements")
     kind = obj.dtype.kind
@@ -254,6 +261,7 @@ def _enc_array(obj, depth, budget):
 def _enc_scalar(obj, depth, budget):
     """A numpy scalar: ``item()`` gives a Python number, except for longdouble and
     clongdouble (an item of those is the same numpy type again)."""
+    assert np is not None  # only numpy makes a numpy scalar
     if isinstance(obj, np.bool_):
         return bool(obj)
     if isinstance(obj, np.integer):
@@ -351,6 +359,90 @@ def _leading_empty_lines(lines):
     return lines
 
 
+class _Screenless:
+    """What ``GradingShell`` does instead of drawing: the matplotlib magic keeps the Agg
+    backend, no GUI event loop, no traceback printed (the grader reports the exception),
+    ``exit`` raises SystemExit as a stopping kernel would, and no output is kept for
+    ``%history``."""
+
+    def enable_gui(self, gui=None):
+        pass
+
+    def enable_matplotlib(self, gui=None):
+        mpl = sys.modules.get("matplotlib")
+        backend = mpl.get_backend() if mpl is not None else "agg"
+        return (gui or "inline", backend)
+
+    def ask_exit(self):  # ``exit`` / ``quit`` in a cell: the kernel would stop
+        raise SystemExit(None)
+
+    def showtraceback(self, *args, **kwargs):
+        pass
+
+    def showsyntaxerror(self, *args, **kwargs):
+        pass
+
+    def showindentationerror(self, *args, **kwargs):
+        pass
+
+    def _format_exception_for_storage(self, exception, *args, **kwargs):
+        return {"ename": type(exception).__name__, "evalue": "", "traceback": []}
+
+    @contextlib.contextmanager
+    def _tee(self, channel):  # IPython 9 keeps every output in memory for %history
+        yield
+
+
+def _warm_cells(shell, compiler, sources):
+    """Parse and compile, once in the zygote, cells that most notebooks share (the
+    exercise's setup and checks): a child that runs one of them uses the code made here,
+    as IPython would have compiled it (one code object per statement, the last expression
+    in "single" mode), marked on each statement for ``compiler``'s class. Returns how many
+    cells were added to ``shell._warm``."""
+    import ast
+
+    flag = getattr(ast, "PyCF_ALLOW_TOP_LEVEL_AWAIT", 0) if shell.autoawait else 0
+    added = 0
+    for raw in sources[:MAX_WARM]:
+        text = shell._lines(raw) if isinstance(raw, str) else None
+        if text is None or text in shell._warm or len(shell._warm) >= MAX_WARM:
+            continue
+        try:
+            tree = compiler.ast_parse(text)
+            nodes = tree.body
+            if any(isinstance(n, ast.ImportFrom) and n.module == "__future__" for n in nodes):
+                continue  # it would change how later cells compile
+            with compiler.extra_flags(flag):
+                for k, node in enumerate(nodes):
+                    single = k == len(nodes) - 1 and isinstance(node, ast.Expr)
+                    mode = "single" if single else "exec"
+                    mod = ast.Interactive([node]) if single else ast.Module([node], [])
+                    node._graded_code = (mode, compiler.flags, compiler(mod, "<c>", mode))
+        except Exception:  # noqa: BLE001 - not plain Python after all: not kept
+            continue
+        shell._warm[text] = (text, tree)
+        added += 1
+    return added
+
+
+def _run_command(shell, cmd):
+    """A ``!`` line or ``%pip`` run as IPython runs it; a failure is noted on the
+    shell's runner (and raised when ``system_raise_on_error`` is set)."""
+    if cmd.rstrip().endswith("&"):
+        raise OSError("Background processes not supported.")
+    from IPython.utils.process import system
+
+    expanded = shell.var_expand(cmd, depth=2)
+    code = system(expanded)
+    shell.user_ns["_exit_code"] = code
+    if code and shell.runner is not None:
+        shell.runner.note_command(expanded, code)
+    if getattr(shell, "system_raise_on_error", False) and code != 0:
+        from subprocess import CalledProcessError
+
+        raise CalledProcessError(code, cmd)
+
+
 def _shell_class():
     """``GradingShell``: IPython's own InteractiveShell, as a Jupyter kernel's, minus a screen.
 
@@ -361,9 +453,6 @@ def _shell_class():
     Python of several lines is parsed once instead of tokenized by the transformers, which
     leave such a cell as it is.
     """
-    import ast
-    import contextlib
-
     from IPython.core.compilerop import CachingCompiler
     from IPython.core.interactiveshell import InteractiveShell
     from traitlets import Type
@@ -380,37 +469,11 @@ def _shell_class():
                     return _renamed(done[2], filename)
             return CachingCompiler.__call__(self, source, filename, symbol, **kwargs)
 
-    class GradingShell(InteractiveShell):
+    class GradingShell(_Screenless, InteractiveShell):
         runner = None  # the Runner whose cell is running (its name, its notes)
         compiler_class = Type(WarmCompiler)
-        _warm = {}  # cell text -> (text, AST with compiled statements), made in the zygote
-
-        def enable_gui(self, gui=None):
-            pass
-
-        def enable_matplotlib(self, gui=None):
-            mpl = sys.modules.get("matplotlib")
-            backend = mpl.get_backend() if mpl is not None else "agg"
-            return (gui or "inline", backend)
-
-        def ask_exit(self):  # ``exit`` / ``quit`` in a cell: the kernel would stop
-            raise SystemExit(None)
-
-        def showtraceback(self, *args, **kwargs):
-            pass
-
-        def showsyntaxerror(self, *args, **kwargs):
-            pass
-
-        def showindentationerror(self, *args, **kwargs):
-            pass
-
-        def _format_exception_for_storage(self, exception, *args, **kwargs):
-            return {"ename": type(exception).__name__, "evalue": "", "traceback": []}
-
-        @contextlib.contextmanager
-        def _tee(self, channel):  # IPython 9 keeps every output in memory for %history
-            yield
+        #: cell text -> (text, AST with compiled statements), made in the zygote
+        _warm: dict[str, tuple] = {}
 
         def _lines(self, raw_cell):
             """The cell as IPython runs it if it may be plain Python of several lines, not
@@ -439,34 +502,8 @@ def _shell_class():
             return InteractiveShell.transform_cell(self, raw_cell)
 
         def warm(self, sources):
-            """Parse and compile, once in the zygote, cells that most notebooks share (the
-            exercise's setup and checks): a child that runs one of them uses the code made
-            here, as IPython would have compiled it (one code object per statement, the
-            last expression in "single" mode). Returns how many cells were added."""
-            compiler = WarmCompiler()
-            flag = getattr(ast, "PyCF_ALLOW_TOP_LEVEL_AWAIT", 0) if self.autoawait else 0
-            added = 0
-            for raw in sources[:MAX_WARM]:
-                text = self._lines(raw) if isinstance(raw, str) else None
-                if text is None or text in self._warm or len(self._warm) >= MAX_WARM:
-                    continue
-                try:
-                    tree = compiler.ast_parse(text)
-                    nodes = tree.body
-                    if any(isinstance(n, ast.ImportFrom) and n.module == "__future__"
-                           for n in nodes):
-                        continue  # it would change how later cells compile
-                    with compiler.extra_flags(flag):
-                        for k, node in enumerate(nodes):
-                            single = k == len(nodes) - 1 and isinstance(node, ast.Expr)
-                            mode = "single" if single else "exec"
-                            mod = ast.Interactive([node]) if single else ast.Module([node], [])
-                            node._graded_code = (mode, compiler.flags, compiler(mod, "<c>", mode))
-                except Exception:  # noqa: BLE001 - not plain Python after all: not kept
-                    continue
-                self._warm[text] = (text, tree)
-                added += 1
-            return added
+            """Compile, in the zygote, cells most notebooks share (see ``_warm_cells``)."""
+            return _warm_cells(self, WarmCompiler(), sources)
 
         def should_run_async(self, raw_cell, **kwargs):
             cell = kwargs.get("transformed_cell") or raw_cell
@@ -476,19 +513,7 @@ def _shell_class():
 
         def system_piped(self, cmd):
             """A ``!`` line or ``%pip``: run as IPython runs it, noting a failure."""
-            if cmd.rstrip().endswith("&"):
-                raise OSError("Background processes not supported.")
-            from IPython.utils.process import system
-
-            expanded = self.var_expand(cmd, depth=1)
-            code = system(expanded)
-            self.user_ns["_exit_code"] = code
-            if code and self.runner is not None:
-                self.runner.note_command(expanded, code)
-            if getattr(self, "system_raise_on_error", False) and code != 0:
-                from subprocess import CalledProcessError
-
-                raise CalledProcessError(code, cmd)
+            return _run_command(self, cmd)
 
         system = system_piped
 
@@ -587,6 +612,7 @@ class Channel:
         self.buf = bytearray()
         self.scanned = 0  # bytes of buf known to hold no newline
         self.fds = []  # file descriptors the grader sent (a worker's channel)
+        self.sock: socket.socket | None = None
         try:  # a socket object, to receive them
             self.sock = socket.socket(fileno=os.dup(fd))
         except OSError:
@@ -680,8 +706,10 @@ def _fresh_imports(roots):
     timestamp's resolution. The library folders' caches stay: relisting them costs ms."""
     for path, finder in list(sys.path_importer_cache.items()):
         if isinstance(path, str) and path.startswith(roots) and finder is not None:
+            invalidate = getattr(finder, "invalidate_caches", None)  # optional for a finder
             try:
-                finder.invalidate_caches()
+                if invalidate is not None:
+                    invalidate()
             except Exception:
                 pass
 
@@ -795,7 +823,8 @@ class Watch:
         """
         self.ns = ns
         self.roots = roots
-        self.names = None  # code object -> the notebook's name for it (made when needed)
+        #: code object -> the notebook's name for it (made when needed)
+        self.names: dict[object, str] | None = None
         self.limit = limit
         self.leash = leash
         self.answers = answers
@@ -831,16 +860,17 @@ class Watch:
             self.finished[name] = max(self.finished.get(name, 0.0), round(seconds, 4))
 
     def _name(self, code):
-        if self.names is None:
+        names = self.names
+        if names is None:
             names = {}
             for k, v in list(self.ns.items()):
                 if type(k) is str and type(v) is _FunctionType:
                     names.setdefault(v.__code__, k)
                     inner = v.__dict__.get("__wrapped__")  # functools.wraps: the real body
-                    if type(inner) is _FunctionType:
+                    if inner is not None and type(inner) is _FunctionType:
                         names.setdefault(inner.__code__, k)
             self.names = names
-        return self.names.get(code) or code.co_name
+        return names.get(code) or code.co_name
 
     def _tick(self, signum, frame):
         if not self.running:
@@ -868,7 +898,7 @@ class Watch:
         over = None
         if self.call and now - self.t0 >= self.limit:
             over = (self.call, self.limit)
-        names = []
+        names: list[str] = []
         for fr in reversed(stack):  # outermost first
             rec = self.seen.get(fr)
             if rec is None:
@@ -1026,7 +1056,7 @@ class Runner:
         ns = self.ns
         found = [w for w in want if isinstance(w, str) and callable(ns.get(w))]
         hidden = getattr(self.shell, "user_ns_hidden", {})
-        others = []
+        others: list[str] = []
         for k, v in list(ns.items()):
             if len(others) >= 500:
                 break
@@ -1059,12 +1089,12 @@ class Runner:
             with _CleanBuiltins():
                 args = decode(msg.get("args") or [])
                 kwargs = decode(msg.get("kwargs") or {})
-        except Exception as exc:
+        except Exception as bad:
             self.chan.send(
                 {
                     "id": cid,
                     "error_type": "GraderError",
-                    "error_message": f"could not decode the test input: {exc}",
+                    "error_message": f"could not decode the test input: {bad}",
                 }
             )
             return
@@ -1092,6 +1122,12 @@ class Runner:
             return
         seen = {k: v for k, v in watch.finished.items() if k != name}
         watch.finished = {}
+        self._answer(cid, value, exc, took, seen)
+
+    def _answer(self, cid, value, exc, took, seen):
+        """Send a returned call's answer: the exception it raised, or its value on the wire
+        (UnreadableResult when the value cannot be encoded). ``seen``: how long the
+        functions it called were seen running."""
         if exc is not None:
             msg = str(exc)
             if isinstance(exc, SystemExit):
@@ -1103,7 +1139,7 @@ class Runner:
                 "error_bases": _class_path(type(exc)),
                 "seconds": took,
             }
-            if seen:  # how long the functions it called were seen running
+            if seen:
                 reply["seen"] = seen
             self.chan.send(reply)
             return
@@ -1114,8 +1150,8 @@ class Runner:
             if seen:
                 reply["seen"] = seen
             self.chan.send(reply)
-        except (RecursionError, EncodeError) as exc:
-            why = str(exc) if isinstance(exc, EncodeError) else "depth"
+        except (RecursionError, EncodeError) as unread:
+            why = str(unread) if isinstance(unread, EncodeError) else "depth"
             self.chan.send(
                 {
                     "id": cid,

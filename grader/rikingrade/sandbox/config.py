@@ -153,9 +153,9 @@ def read_only_binds(config: SandboxConfig) -> list[Path]:
     for p in site.getsitepackages():
         cands.append(Path(p))
     for key in ("purelib", "platlib", "stdlib", "platstdlib"):
-        p = sysconfig.get_paths().get(key)
-        if p:
-            cands.append(Path(p))
+        lib = sysconfig.get_paths().get(key)
+        if lib:
+            cands.append(Path(lib))
     if site.ENABLE_USER_SITE and os.path.isdir(site.getusersitepackages()):
         cands.append(Path(site.getusersitepackages()))
     for mod in config.preload:
@@ -242,14 +242,7 @@ def bwrap_command(
         "/usr",
         "/usr",
     ]
-    for name in ("bin", "sbin", "lib", "lib32", "lib64", "libx32"):
-        host = Path("/") / name
-        if host.is_symlink():
-            cmd += ["--symlink", os.readlink(host), str(host)]
-        elif host.is_dir():
-            cmd += ["--ro-bind", str(host), str(host)]
-    if os.path.exists("/etc/ld.so.cache"):
-        cmd += ["--ro-bind", "/etc/ld.so.cache", "/etc/ld.so.cache"]
+    cmd += _system_dirs()
     # /tmp first: a checkout or venv that itself lives under /tmp (a CI clone) is bound on
     # top of the private tmpfs instead of being hidden by it
     cmd += [
@@ -266,19 +259,7 @@ def bwrap_command(
         "--dir",
         MPL_DIR,
     ]
-    # The folders above each bind (/home, /home/<user>, /root/.pyenv, ...) exist only as
-    # mount points: make them traversable but not listable (mode 0111; / is remounted
-    # read-only, so nobody can chmod them back), so a checkout under /home shows nothing
-    # of /home, the user or the course around .venv and rikin.
-    made: set[str] = set()
-    for _src, dest in binds:
-        for parent in reversed(Path(dest).parents):
-            sp = str(parent)
-            if sp == "/" or sp in made or _under(parent, Path("/usr")):
-                continue
-            made.add(sp)
-            if not any(sp == d for _s, d in binds):
-                cmd += ["--perms", "0111", "--dir", sp]
+    cmd += _mount_points(binds)
     for src, dest in binds:
         cmd += ["--ro-bind", src, dest]
     for h in hidden:  # mask what must stay invisible even inside a bound directory
@@ -293,6 +274,39 @@ def bwrap_command(
         cmd += ["--setenv", k, v]
     cmd += ["--", *child_args]
     return cmd
+
+
+def _system_dirs() -> list[str]:
+    """bwrap arguments for the host's /bin, /sbin and /lib* (symlinks into /usr on a merged
+    system, folders otherwise) and the dynamic linker's cache, all read-only."""
+    args: list[str] = []
+    for name in ("bin", "sbin", "lib", "lib32", "lib64", "libx32"):
+        host = Path("/") / name
+        if host.is_symlink():
+            args += ["--symlink", os.readlink(host), str(host)]
+        elif host.is_dir():
+            args += ["--ro-bind", str(host), str(host)]
+    if os.path.exists("/etc/ld.so.cache"):
+        args += ["--ro-bind", "/etc/ld.so.cache", "/etc/ld.so.cache"]
+    return args
+
+
+def _mount_points(binds: list[tuple[str, str]]) -> list[str]:
+    """bwrap arguments that make the folders above each bind (/home, /home/<user>,
+    /root/.pyenv, ...) bare mount points: traversable but not listable (mode 0111; / is
+    remounted read-only, so nobody can chmod them back), so a checkout under /home shows
+    nothing of /home, the user or the course around .venv and rikin."""
+    args: list[str] = []
+    made: set[str] = set()
+    for _src, dest in binds:
+        for parent in reversed(Path(dest).parents):
+            sp = str(parent)
+            if sp == "/" or sp in made or _under(parent, Path("/usr")):
+                continue
+            made.add(sp)
+            if not any(sp == d for _s, d in binds):
+                args += ["--perms", "0111", "--dir", sp]
+    return args
 
 
 def find_bwrap(config: SandboxConfig) -> str:

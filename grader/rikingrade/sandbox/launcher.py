@@ -119,7 +119,7 @@ def no_sockets(libc):
 def uid_main(cfg, libc):
     """Start the zygote as the worker's own uid, with no network and no way back to root."""
     uid, gid = int(cfg["uid"]), int(cfg["gid"])
-    notes = {}
+    notes: dict[str, bool | str] = {}
     if libc.unshare(CLONE_NEWNET) == 0:  # possible with CAP_SYS_ADMIN (not on Docker)
         notes["netns"] = True
     else:

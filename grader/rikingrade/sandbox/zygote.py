@@ -265,16 +265,17 @@ class Sandbox:
             "PYTHONHASHSEED": "0",
             "PYTHONIOENCODING": "utf-8",
         }
+        scratch = SCRATCH if cfg.sandbox else str(self._unsafe_scratch())
         child_cfg = {
             "ctl_fd": ctl_fd,
             "preload": list(cfg.preload),
             "pidns": cfg.sandbox,
-            "scratch": SCRATCH if cfg.sandbox else str(self._unsafe_scratch()),
+            "scratch": scratch,
             "env": {},
         }
         if not cfg.sandbox:
             env["MPLCONFIGDIR"] = str(self.workdir / "mpl")
-            env["HOME"] = child_cfg["scratch"]
+            env["HOME"] = scratch
             argv = [cfg.python, "-s", str(self.workdir / "child.py"), json.dumps(child_cfg)]
             return argv, env, [ctl_fd]
         if cfg.mode == UID:
@@ -289,16 +290,16 @@ class Sandbox:
         root = os.geteuid() == 0
         stage: list[list[str]] = []
         bind_pairs: list[tuple[str, str]] = []
+        staging = None  # made when root
         if root:  # bubblewrap runs as nobody: stage where nobody can reach (not a 0700 TMPDIR)
-            self.staging = Path(
-                tempfile.mkdtemp(prefix="rikingrade-stage-", dir=reachable_tmpdir())
-            )
-            os.chmod(self.staging, 0o755)
+            staging = Path(tempfile.mkdtemp(prefix="rikingrade-stage-", dir=reachable_tmpdir()))
+            os.chmod(staging, 0o755)
+            self.staging = staging
         for i, b in enumerate(binds):
-            if root and not world_readable(b):
+            if staging is not None and not world_readable(b):
                 name = f"s{i}"
                 stage.append([str(b), name])
-                bind_pairs.append((str(self.staging / name), str(b)))
+                bind_pairs.append((str(staging / name), str(b)))
             else:
                 bind_pairs.append((str(b), str(b)))
         child_args = [cfg.python, "-s", CHILD_PATH, json.dumps(child_cfg)]
