@@ -30,10 +30,11 @@ from typing import Any
 
 import numpy as np
 
+from ._validate import as_text
 from .dh import Link, SerialArm
 from .errors import InputError
 
-__all__ = ["arm_from_table", "row_tokens", "table_value"]
+__all__ = ["arm_from_table", "row_tokens"]
 
 #: Column names as books print them -> the column. Matched after :func:`_header_key`.
 COLUMNS = {
@@ -99,7 +100,7 @@ class Value:
     unit: str  # "rad", "deg" or "" (a bare number)
 
 
-def table_value(text: str) -> Value:
+def _table_value(text: str) -> Value:
     """One cell: a number or an arithmetic expression (``pi/2``, ``-90°``, ``2*pi/3``).
 
     Raises
@@ -122,7 +123,7 @@ def table_value(text: str) -> Value:
 
 def _is_number(token: str) -> bool:
     try:
-        table_value(token)
+        _table_value(token)
     except (ValueError, SyntaxError, TypeError, RecursionError, OverflowError):
         return False
     return True
@@ -151,8 +152,13 @@ def row_tokens(line: str) -> list[str]:
     ``;`` when it has them, else by spaces and commas; on a row with one comma per number at
     most and none between cells, ``0,4318`` is a decimal comma. Spaces around an operator
     do not cut a cell (``q2 + 90°``).
+
+    Raises
+    ------
+    InputError
+        ``line`` is not text.
     """
-    line = line.strip()
+    line = str(as_text(line, "line")).strip()
     for sep in ("|", "\t", ";"):
         if sep in line:
             cells = [c.strip() for c in line.strip("|").split(sep)] if sep == "|" else [
@@ -215,7 +221,7 @@ class _Cell:
 def _read(cell: _Cell, token: str, kind: str, column_unit: str = "") -> float:
     """A length or an angle (radians) from one cell."""
     try:
-        v = table_value(token)
+        v = _table_value(token)
     except (ValueError, SyntaxError, TypeError, RecursionError, OverflowError):
         raise cell.fail(f"{token!r} is not a number", kind) from None
     if kind == "length":

@@ -34,6 +34,7 @@ from __future__ import annotations
 import importlib
 import json
 import os
+import re
 import sys
 from collections.abc import Callable
 from pathlib import Path
@@ -158,6 +159,15 @@ def plotly_js_script() -> str:
 
 
 # ------------------------------------------------------------------ the figure object
+def _html_id(div_id: Any) -> str:
+    """``div_id`` as the id of a ``<div>`` written into the page as it is; else InputError."""
+    text = str(as_text(div_id, "div_id"))
+    if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_:.-]{0,99}", text):
+        raise InputError("div_id must be an HTML id: a letter, then letters, digits, '-', '_', "
+                         f"':' or '.' (at most 100), got {text[:40]!r}")
+    return text
+
+
 class InteractiveFigure:
     """A plotly figure that displays offline in the book and in every notebook front end.
 
@@ -182,14 +192,19 @@ class InteractiveFigure:
 
         The figure's JSON is written with sorted keys and a fixed div id, so a
         rebuild writes the same page.
+
+        Raises
+        ------
+        InputError
+            ``div_id`` is not an HTML id (letters, digits, ``-``, ``_``, ``:``, ``.``).
         """
+        div = self.div_id if div_id is None else _html_id(div_id)
         spec = self.figure.to_plotly_json()
         data = json.dumps(spec.get("data", []), sort_keys=True, cls=_Encoder)
         layout = json.dumps(spec.get("layout", {}), sort_keys=True, cls=_Encoder)
         frames = json.dumps(spec.get("frames", []), sort_keys=True, cls=_Encoder)
         config = json.dumps({"responsive": True, "displaylogo": False,
                              "modeBarButtonsToRemove": ["toImage"]})
-        div = self.div_id if div_id is None else div_id
         return (
             f'<div class="{HTML_MARKER}" id="{div}" style="width:100%;max-width:100%;'
             f'height:{int(self.figure.layout.height or 520)}px">{NOT_DRAWN}</div>\n'

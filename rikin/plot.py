@@ -193,11 +193,11 @@ def is_planar(arm: SerialArm) -> bool:
     return bool(links_flat and abs(abs(base_z[2]) - 1.0) <= PLANAR_TOL)
 
 
-def _check_q(arm: SerialArm, q: Any) -> FloatArray:
-    qv = arm.check_q(q)
+def _check_q(arm: SerialArm, q: Any, name: str = "q") -> FloatArray:
+    qv = arm.check_q(q, name)
     if qv.ndim != 1:
-        raise InputError(f"q must be one configuration of shape ({arm.n},), got shape {qv.shape}; "
-                         "use plot_solutions for several")
+        raise InputError(f"{name} must be one configuration of shape ({arm.n},), got shape "
+                         f"{qv.shape}; use plot_solutions for several")
     return qv
 
 
@@ -627,7 +627,7 @@ def turned_axes(arm: SerialArm, q: Any, q_other: Any) -> list[int]:
     [4]
     """
     _check_arm(arm)
-    a, b = _check_q(arm, q), _check_q(arm, q_other)
+    a, b = _check_q(arm, q), _check_q(arm, q_other, "q_other")
     _, axes_a = arm.joint_axes(a)
     _, axes_b = arm.joint_axes(b)
     dots = np.einsum("ij,ij->i", axes_a, axes_b)

@@ -506,7 +506,7 @@ def _rows(k: int) -> Callable[[Any], bool]:
 def _api_cases() -> list[Case]:
     """Drawings, interactive figures, widgets, tables, sympy DH, the general 6R solver
     through a user-built arm, and the keywords the first part leaves out."""
-    from rikin import interactive, plot, symbolic, tables, widgets
+    from rikin import dhtext, interactive, plot, symbolic, tables, widgets
     from rikin.ik import api, families6r, general6r, parallel3, pieper
 
     p2, p3, a6 = robots.planar_2r(), robots.planar_3r(), ARMS["aula10_6r"]
@@ -529,6 +529,7 @@ def _api_cases() -> list[Case]:
     q_sym = sympy.Symbol("q1", real=True)
     expr = l_sym * sympy.cos(q_sym) + sympy.sin(q_sym) ** 2 + sympy.cos(q_sym) ** 2
     links2 = robots.planar_2r_links()
+    fig2 = interactive.solutions_figure(p2, res2)
     unread = widgets.DHPanel(table="# no rows")  # nothing to draw: static_html stays quick
     C = Case
     obj = {"numeric": False}
@@ -606,6 +607,30 @@ def _api_cases() -> list[Case]:
         C("plot.plot_solutions key", "key",
           lambda v: _drawn(plot.plot_solutions(p2, res2, key=v)), True,
           fn=plot.plot_solutions, slow=True, **flag),
+        C("plot.plot_solutions ghosts", "ghosts",
+          lambda v: _drawn(plot.plot_solutions(p2, res2, ghosts=v)), True,
+          fn=plot.plot_solutions, slow=True, **flag),
+        C("plot.turned_axes arm", "arm", lambda v: plot.turned_axes(v, q3, -q3), p3,
+          fn=plot.turned_axes, **obj),
+        C("plot.turned_axes q", "q", lambda v: plot.turned_axes(a6, v, q6), q6,
+          fn=plot.turned_axes),
+        C("plot.turned_axes q_other", "q_other", lambda v: plot.turned_axes(a6, q6, v), q6,
+          fn=plot.turned_axes),
+        C("plot.plot_view arm", "arm", lambda v: _drawn(plot.plot_view(v, q3)), p3,
+          fn=plot.plot_view, slow=True, **obj),
+        C("plot.plot_view q", "q", lambda v: _drawn(plot.plot_view(a6, v)), q6,
+          fn=plot.plot_view, slow=True),
+        C("plot.plot_view view", "view", lambda v: _drawn(plot.plot_view(a6, q6, view=v)), "yz",
+          fn=plot.plot_view, slow=True, numeric=False, accept=_one_of("xz", "yz", "xy")),
+        C("plot.plot_view ax", "ax", lambda v: _drawn(plot.plot_view(a6, q6, ax=v)), None,
+          fn=plot.plot_view, slow=True, **opt_ax),
+        C("plot.plot_view dimensions", "dimensions",
+          lambda v: _drawn(plot.plot_view(a6, q6, dimensions=v)), True, fn=plot.plot_view,
+          slow=True, **flag),
+        C("plot.plot_view color", "color", lambda v: _drawn(plot.plot_view(a6, q6, color=v)),
+          "k", fn=plot.plot_view, slow=True, numeric=False, accept=_colour, accepts_none=True),
+        C("plot.plot_view title", "title", lambda v: _drawn(plot.plot_view(a6, q6, title=v)),
+          "t", fn=plot.plot_view, slow=True, **opt_text),
         C("plot.plot_two_link_triangle L1", "L1",
           lambda v: _drawn(plot.plot_two_link_triangle(v, 10.0, [12.0, 5.0])), 10.0,
           fn=plot.plot_two_link_triangle, slow=True),
@@ -740,6 +765,11 @@ def _api_cases() -> list[Case]:
           ("a", "b"), fn=interactive.path_figure, slow=True, numeric=False, accept=_texts(2),
           accepts_none=True),
         # rikin.widgets
+        C("dhtext.row_tokens line", "line", lambda v: len(dhtext.row_tokens(v)), "R 0 1 0",
+          fn=dhtext.row_tokens, **text),
+        C("interactive.InteractiveFigure.to_html div_id", "div_id",
+          lambda v: len(fig2.to_html(v)), "later", fn=interactive.InteractiveFigure.to_html,
+          **opt_text),
         C("widgets.arm_from_table text", "table", widgets.arm_from_table, "R 0 1 0\nR 0 1 0",
           fn=widgets.arm_from_table, numeric=False, param="text",
           accept=lambda v: isinstance(v, str) and v.strip() != ""),
