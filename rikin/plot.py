@@ -31,8 +31,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
+from matplotlib.font_manager import FontProperties
 from matplotlib.patches import Arc, PathPatch
 from matplotlib.path import Path
+from matplotlib.textpath import text_to_path
 from matplotlib.ticker import MaxNLocator
 from mpl_toolkits.mplot3d import Axes3D
 
@@ -84,6 +86,9 @@ SAME_POINT_TOL = 1e-6
 SMALLEST_FONT_PT = 8.0
 #: Font size (points) of each subplot's title in :func:`plot_solutions`.
 SOLUTION_TITLE_PT = 8.5
+#: The part of a column's width (figure width / columns) a solution's title may take: the
+#: 3D layout's panels sit a little closer than the columns, and titles need a gap.
+TITLE_ROOM = 0.85
 #: Colour of the other solutions drawn faintly behind each subplot of plot_solutions.
 GHOST_COLOUR = "0.8"
 #: Colour of the :func:`knuckles` that tell apart solutions whose stick figures coincide.
@@ -771,10 +776,11 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
     F = arm._fk(Q, frames=True)
     lim, camera = _solutions_view(arm, F, T_target, three_d, view)
     twins = same_joint_points(arm, Q)
+    wrap = _titles_wrap(arm, Q, fig, cols)
     for i in range(k):
         ax = fig.add_subplot(rows, cols, i + 1, projection="3d" if three_d else None)
         _solution_panel(ax, arm, Q, F, i, labels[i], twins[i], lim, camera, ghosts=ghosts,
-                        frames=frames, gripper=gripper, T_target=T_target)
+                        frames=frames, gripper=gripper, T_target=T_target, wrap=wrap)
     _lay_out_solutions(fig, arm.name, k, note, rows, three_d, key)
     if key:
         _solutions_key(fig, three_d, ghosts and k > 1, any(twins))
@@ -826,11 +832,12 @@ def _solutions_view(arm: SerialArm, F: FloatArray, T_target: FloatArray | None,
 def _solution_panel(ax: Axes, arm: SerialArm, Q: FloatArray, F: FloatArray, i: int,
                     label: str, twins: Sequence[int], lim: FloatArray,
                     camera: tuple[float, float], *, ghosts: bool, frames: bool, gripper: bool,
-                    T_target: FloatArray | None) -> None:
+                    T_target: FloatArray | None, wrap: bool = False) -> None:
     """Solution ``i`` (from 0) in its panel: with ``ghosts`` the other solutions faint
     behind it (not its ``twins``, numbered from 1, :func:`same_joint_points`, which lie
     under it), the arm, the axes reversed in its twins, the target's ring, the shared
-    limits and camera ``(elevation, azimuth)``, and its title."""
+    limits and camera ``(elevation, azimuth)``, and its title (its joints on two lines
+    with ``wrap``)."""
     fs = _frame_length(lim, SOLUTIONS_FRAME_FRACTION)
     if ghosts:
         _draw_ghosts(ax, arm, F, [j for j in range(len(Q)) if j != i and j + 1 not in twins])
@@ -845,18 +852,33 @@ def _solution_panel(ax: Axes, arm: SerialArm, Q: FloatArray, F: FloatArray, i: i
                 mew=1.8, ls="none", gid="target", zorder=6)
     elev, azim = camera
     _apply_limits(ax, lim, arm, azim, elev, zoom=SOLUTIONS_ZOOM)
-    ax.set_title(_solution_title(arm, Q[i], i, label, twins), fontsize=SOLUTION_TITLE_PT)
+    ax.set_title(_solution_title(arm, Q[i], i, label, twins, wrap), fontsize=SOLUTION_TITLE_PT)
     _few_ticks(ax)
     if ax.name == "3d":
         for text in (ax.xaxis.label, ax.yaxis.label, _zaxis(ax).label):
             text.set_fontsize(SMALLEST_FONT_PT)
 
 
+def _titles_wrap(arm: SerialArm, Q: FloatArray, fig: Figure, cols: int) -> bool:
+    """Whether the solutions' joints take two lines in their titles: when one line of
+    any of them is wider than its share of a column (:data:`TITLE_ROOM`), so that the
+    titles of neighbouring panels do not run into each other."""
+    room = fig.get_figwidth() * 72.0 / cols * TITLE_ROOM  # points
+    font = FontProperties(size=SOLUTION_TITLE_PT)
+    return any(text_to_path.get_text_width_height_descent(_q_text(arm, q), font,
+                                                          ismath=False)[0] > room for q in Q)
+
+
 def _solution_title(arm: SerialArm, q: FloatArray, i: int, label: str,
-                    twins: Sequence[int]) -> str:
-    """A panel's title: its number and branch, its joints, and its twins if any."""
+                    twins: Sequence[int], wrap: bool = False) -> str:
+    """A panel's title: its number and branch, its joints (on two lines with ``wrap``),
+    and its twins if any."""
     head = f"{i + 1}: {label}" if label else f"solution {i + 1}"
-    title = f"{head}\n{_q_text(arm, q)}"
+    joints = _q_text(arm, q)
+    if wrap and arm.n > 1:
+        parts, half = joints.split(", "), (arm.n + 1) // 2
+        joints = ", ".join(parts[:half]) + ",\n" + ", ".join(parts[half:])
+    title = f"{head}\n{joints}"
     if twins:
         verb = "has" if len(twins) == 1 else "have"
         title += "\njoints where #" + ", #".join(map(str, twins)) + f" {verb} them"
