@@ -781,7 +781,7 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
         ax = fig.add_subplot(rows, cols, i + 1, projection="3d" if three_d else None)
         _solution_panel(ax, arm, Q, F, i, labels[i], twins[i], lim, camera, ghosts=ghosts,
                         frames=frames, gripper=gripper, T_target=T_target, wrap=wrap)
-    _lay_out_solutions(fig, arm.name, k, note, rows, three_d, key)
+    _lay_out_solutions(fig, arm.name, k, note, rows, three_d, key, wrap)
     if key:
         _solutions_key(fig, three_d, ghosts and k > 1, any(twins))
     return fig
@@ -886,9 +886,9 @@ def _solution_title(arm: SerialArm, q: FloatArray, i: int, label: str,
 
 
 def _lay_out_solutions(fig: Figure, name: str, k: int, note: str | None, rows: int,
-                       three_d: bool, key: bool) -> None:
+                       three_d: bool, key: bool, wrap: bool = False) -> None:
     """The suptitle (the arm's name, k solutions, the note), and the panels spaced to
-    leave room for it, the 3D axis labels and the key."""
+    leave room for it, the 3D axis labels, the titles' extra line (``wrap``) and the key."""
     sup = f"{name}: {k} IK solution{'s' if k != 1 else ''}"
     fig.suptitle(sup if note is None else f"{sup}\n{note}", fontsize=11)
     height = fig.get_size_inches()[1]
@@ -898,7 +898,8 @@ def _lay_out_solutions(fig: Figure, name: str, k: int, note: str | None, rows: i
         # tight_layout ignores the 3D axis labels: leave room for them at both sides
         # and between rows, where the x tick labels hang below the panel into the titles
         fig.subplots_adjust(left=0.04, right=0.96, wspace=0.3,
-                            hspace=fig.subplotpars.hspace + 0.45 if rows > 1 else None,
+                            hspace=fig.subplotpars.hspace + (0.6 if wrap else 0.45)
+                            if rows > 1 else None,
                             bottom=fig.subplotpars.bottom + 0.55 / height if key else None)
 
 
