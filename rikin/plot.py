@@ -769,8 +769,7 @@ def plot_solutions(arm: SerialArm, result: Any, ncols: int = 2,
     ncols = as_count(ncols, "ncols", minimum=1)
     frames, gripper = as_flag(frames, "frames"), as_flag(gripper, "gripper")
     key, ghosts = as_flag(key, "key"), as_flag(ghosts, "ghosts")
-    view, figsize = _check_view(view), _figsize(figsize)
-    k = Q.shape[0]
+    view, figsize, k = _check_view(view), _figsize(figsize), Q.shape[0]
     fig, rows, cols = _solutions_grid(k, int(ncols), figsize, key)
     three_d = not is_planar(arm)
     F = arm._fk(Q, frames=True)
