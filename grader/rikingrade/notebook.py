@@ -568,19 +568,14 @@ def _from_file(p: Path, download=None) -> _Found:
         why = not_a_notebook(shown(parsed.orig or raw), parsed.kind)
     else:
         why = ""
-    return _Found(
-        parsed.key,
-        _lms_id(parsed),
-        p,
-        parsed,
-        parsed.order,
-        parsed.submitted_at,
-        parsed.time_source,
-        parsed.name,
-        refused=why,
-        other=bool(why),
-    )
+    return _found_parsed(parsed, p, why)
 
+
+
+def _found_parsed(parsed, p: Path, why: str) -> _Found:
+    """The file ``p`` of the LMS submission ``parsed``; refused with ``why`` when not empty."""
+    return _Found(parsed.key, _lms_id(parsed), p, parsed, parsed.order, parsed.submitted_at,
+                  parsed.time_source, parsed.name, refused=why, other=bool(why))
 
 def _nothing_inside(d: Path, others: list[Path], links) -> str:
     if others:
@@ -864,18 +859,7 @@ def _in_student_folder(p: Path) -> _Found | None:
     if parsed is None:
         return None
     why = not_a_notebook(shown(p.name), parsed.kind) if parsed.kind != "file" else ""
-    return _Found(
-        parsed.key,
-        _lms_id(parsed),
-        p,
-        parsed,
-        parsed.order,
-        parsed.submitted_at,
-        parsed.time_source,
-        parsed.name,
-        refused=why,
-        other=bool(why),
-    )
+    return _found_parsed(parsed, p, why)
 
 
 def _beside(p: Path, roster):
