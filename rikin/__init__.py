@@ -11,7 +11,7 @@ The module behind the course companion's chapters and exercises.
 
 __version__ = "0.1.0"
 
-from . import robots, transforms
+from . import i18n, robots, transforms
 from .dh import Link, SerialArm
 from .errors import (
     IKError,
@@ -40,6 +40,7 @@ from .transforms import (
 
 __all__ = [
     "__version__",
+    "i18n",
     "robots",
     "transforms",
     "Link",

@@ -25,6 +25,7 @@ import numpy as np
 
 from ._validate import as_count, as_text
 from .errors import InputError
+from .i18n import branch_name, word
 from .ik.result import IKResult
 
 __all__ = ["Table", "dh_table", "solutions_table", "table"]
@@ -35,7 +36,7 @@ CSS_CLASS = "rikin-table"
 
 def _cell(v: Any, decimals: int) -> str:
     if isinstance(v, (bool, np.bool_)):
-        return "yes" if v else "no"
+        return word("yes" if v else "no")
     if isinstance(v, (int, np.integer)):
         return str(int(v))
     if isinstance(v, (float, np.floating)):
@@ -166,10 +167,10 @@ def solutions_table(result: IKResult, decimals: int = 4, caption: str | None = N
     qd = result.degrees()
     n = qd.shape[1] if qd.ndim == 2 else len(result.revolute)
     suffix = f" ({units})" if units else ""
-    header = ["#", "branch"] + [f"q{j + 1} (°)" if r else f"q{j + 1}{suffix}"
+    header = ["#", word("branch")] + [f"q{j + 1} (°)" if r else f"q{j + 1}{suffix}"
                                  for j, r in zip(range(n), result.revolute, strict=True)]
-    rows = [[i + 1, lab, *map(float, q)] for i, (lab, q) in enumerate(zip(result.labels, qd,
-                                                                          strict=True))]
+    rows = [[i + 1, branch_name(lab), *map(float, q)]
+            for i, (lab, q) in enumerate(zip(result.labels, qd, strict=True))]
     if caption is None and result.singular:
         caption = f"singular: {result.singularity}; free joints {result.free_joints}"
     return Table(header, rows, decimals, caption)
@@ -208,9 +209,10 @@ def dh_table(arm: Any, decimals: int = 4) -> Table:
         return str(np.format_float_positional(round(float(x), decimals) + 0.0, trim="-"))
 
     modified = arm.convention == "modified"
-    header = (["joint", "type", "α(i−1)", f"a(i−1){unit}", "θ(i)", f"d(i){unit}", "offset"]
+    joint, kind, offset = word("joint"), word("type"), word("offset")
+    header = ([joint, kind, "α(i−1)", f"a(i−1){unit}", "θ(i)", f"d(i){unit}", offset]
               if modified else
-              ["joint", "type", "θ(i)", f"d(i){unit}", f"a(i){unit}", "α(i)", "offset"])
+              [joint, kind, "θ(i)", f"d(i){unit}", f"a(i){unit}", "α(i)", offset])
     rows = []
     for i, lk in enumerate(links, 1):
         qi = f"q{i}" if getattr(lk, "direction", 1) > 0 else f"−q{i}"  # counted against z

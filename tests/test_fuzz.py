@@ -448,6 +448,15 @@ def _colour(v: Any) -> bool:
         return False
 
 
+def _in_language(language: Any) -> str:
+    """The language tables print in after ``set_language(language)`` (then back to default)."""
+    try:
+        rikin.i18n.set_language(language)
+        return rikin.i18n.language()
+    finally:
+        rikin.i18n.set_language(None)
+
+
 def _texts(k: int) -> Callable[[Any], bool]:
     return lambda v: isinstance(v, (list, tuple)) and len(v) == k and all(map(_text, v))
 
@@ -844,6 +853,10 @@ def _api_cases() -> list[Case]:
           30.0, fn=widgets.TeachPanel.set),
         C("widgets.IKPanel.set", "y", lambda v: _set(widgets.IKPanel(p2), False, y=v), 3.0,
           fn=widgets.IKPanel.set, slow=True),
+        # rikin.i18n
+        C("i18n.set_language", "language", _in_language, "es", fn=rikin.i18n.set_language,
+          accepts_none=True, numeric=False,
+          accept=lambda v: isinstance(v, str) and v.strip().lower() in rikin.i18n.LANGUAGES),
         # rikin.tables
         C("tables.table header", "header", lambda v: str(tables.table(v, [[1.0, 2.0]])),
           ["a", "b"], fn=[tables.table, tables.Table], numeric=False, accept=_texts(2)),

@@ -5,6 +5,7 @@
     python3 tools/dev.py test [-- ARGS]    set up .venv with everything, run every test
     python3 tools/dev.py lint              set up .venv with everything, run ruff (the whole
                                            repository) and mypy (rikin, grader/rikingrade)
+    python3 tools/dev.py translations      refresh the Spanish catalogues (book/locales/)
     python3 tools/dev.py lab [-- ARGS]     set up .venv with everything, start JupyterLab
                                            at the repository root (book/, exercises/, ...)
 
@@ -152,30 +153,81 @@ def child_env() -> dict[str, str]:
     return env
 
 
-def cmd_book(args: argparse.Namespace) -> int:
-    ensure_venv("book")
+#: The book's other editions: language code -> folder of the built site (``_build/html/es``).
+#: Each is built from the same sources with Sphinx's gettext catalogues in book/locales/.
+EDITIONS = {"es": "es"}
+
+
+def _substitute(text: str, pattern: str, replacement: str, what: str) -> str:
+    """``text`` with the one line matching ``pattern`` replaced (exit when it is not one)."""
+    new, n = re.subn(pattern, replacement, text, flags=re.M)
+    if n != 1:
+        sys.exit(f"dev.py: could not find {what} in _config.yml")
+    return new
+
+
+def _book_config(cached: bool, language: str = "en") -> Path | None:
+    """The config file one edition is built with (``None``: _config.yml as it is).
+
+    ``cached`` switches ``execute_notebooks: force`` to ``cache``; another language than
+    English sets ``language`` and puts the edition's ``html.baseurl`` in its folder. The
+    file is written next to _config.yml (jupyter-book resolves local_extensions relative
+    to the config file's folder; git-ignored).
+    """
+    if not cached and language == "en":
+        return None
+    text = (ROOT / "_config.yml").read_text()
+    if cached:
+        text = _substitute(text, r"^(\s*execute_notebooks\s*:\s*)force\b", r"\1cache",
+                           "'execute_notebooks: force'")
+    if language != "en":
+        text = _substitute(text, r"^(\s*language\s*:\s*)en\s*$", rf"\g<1>{language}",
+                           "'language: en' (under sphinx: config:)")
+        text = _substitute(text, r'^(\s*baseurl\s*:\s*)"([^"]*?)/?"',
+                           rf'\g<1>"\g<2>/{EDITIONS[language]}/"', "html.baseurl")
+    name = "_config.cached.yml" if language == "en" else f"_config.{language}.yml"
+    if cached and language != "en":
+        name = f"_config.{language}.cached.yml"
+    path = ROOT / name
+    path.write_text(text)
+    return path
+
+
+def _build_edition(cached: bool, language: str) -> int:
+    """Build one edition; a translated one is built in _build/_<lang> and copied into place."""
     jb = [BIN / "jupyter-book", "build", ROOT, "-W", "-n", "--keep-going"]
-    if args.cached:
-        # Reuse the jupyter-cache and Sphinx's incremental build: only pages whose code
-        # changed are re-executed. Edits to rikin/ are NOT noticed in this mode.
-        config = ROOT / "_config.yml"
-        text, n = re.subn(
-            r"(?m)^(\s*execute_notebooks\s*:\s*)force\b", r"\1cache", config.read_text()
-        )
-        if n != 1:
-            sys.exit("dev.py: could not find 'execute_notebooks: force' in _config.yml")
-        # next to _config.yml: jupyter-book resolves local_extensions (book/_ext) relative to
-        # the config file's folder (git-ignored)
-        cached_config = ROOT / "_config.cached.yml"
-        cached_config.write_text(text)
-        jb += ["--config", cached_config]
-    else:
+    config = _book_config(cached, language)
+    if config is not None:
+        jb += ["--config", config]
+    if not cached:
         # Fresh: re-read every page (--all) and execute every notebook (execute: force).
         jb += ["--all"]
-    rc = run(jb, child_env())
+    env = child_env()
+    if language == "en":
+        return run(jb, env)
+    # Cells print rikin's table headers and branch names in the edition's language.
+    env["RIKIN_LANG"] = language
+    work = BUILD / f"_{language}"
+    rc = run([*jb, "--path-output", work], env)
+    if rc == 0:
+        dest = BUILD / "html" / EDITIONS[language]
+        shutil.rmtree(dest, ignore_errors=True)
+        shutil.copytree(work / "_build" / "html", dest)
+    return rc
+
+
+def cmd_book(args: argparse.Namespace) -> int:
+    ensure_venv("book")
+    # The English edition first: the others are copied into its _build/html/.
+    rc = _build_edition(args.cached, "en")
+    for language in EDITIONS if rc == 0 else ():
+        rc = _build_edition(args.cached, language)
+        if rc:
+            break
     index = BUILD / "html" / "index.html"
     if rc == 0:
-        print(f"\nBook built: {index}\n(open file://{index} in a browser)", flush=True)
+        print(f"\nBook built: {index}\n(open file://{index} in a browser; the Spanish "
+              f"edition is in {index.parent / 'es'})", flush=True)
         print(_published_note(), flush=True)
     else:
         print(
@@ -184,6 +236,31 @@ def cmd_book(args: argparse.Namespace) -> int:
             flush=True,
         )
     return rc
+
+
+def cmd_translations() -> int:
+    """Refresh the translation catalogues (book/locales/<lang>/LC_MESSAGES/) from the sources.
+
+    Sphinx's gettext builder extracts every paragraph, heading, caption and admonition of
+    the book (notebooks are not executed for this) into ``_build/gettext/*.pot``; sphinx-intl
+    merges them into each language's ``.po`` files: new text gets an empty translation,
+    changed text keeps the old one marked ``fuzzy`` until a translator checks it. The book
+    build and the tests refuse a catalogue with an empty or fuzzy entry.
+    """
+    ensure_venv("all")
+    text = (ROOT / "_config.yml").read_text()
+    config = ROOT / "_config.gettext.yml"
+    config.write_text(_substitute(text, r"^(\s*execute_notebooks\s*:\s*)force\b", r'\1"off"',
+                                  "'execute_notebooks: force'"))
+    pot = BUILD / "gettext"
+    shutil.rmtree(pot, ignore_errors=True)
+    check([BIN / "jupyter-book", "build", ROOT, "--config", config, "--builder", "custom",
+           "--custom-builder", "gettext", "--path-output", BUILD / "_gettext"], child_env())
+    shutil.copytree(BUILD / "_gettext" / "_build" / "gettext", pot)
+    for language in EDITIONS:
+        check([BIN / "sphinx-intl", "update", "-p", pot, "-d", ROOT / "book" / "locales",
+               "-l", language, "-w", "0"], child_env())
+    return 0
 
 
 def _published_note() -> str:
@@ -357,6 +434,8 @@ def main(argv: list[str] | None = None) -> int:
     )
     sub.add_parser("test", help="set up .venv and run every test; pytest args after --")
     sub.add_parser("lint", help="set up .venv and run ruff and mypy (pyproject.toml)")
+    sub.add_parser("translations", help="refresh the book's translation catalogues "
+                   "(book/locales/) from its sources")
     sub.add_parser("lab", help="set up .venv and start JupyterLab at the repository root; "
                    "jupyter lab args after --")
     args = p.parse_args(argv)
@@ -370,6 +449,8 @@ def main(argv: list[str] | None = None) -> int:
         if extra:
             p.error("lint takes no arguments after --")
         return cmd_lint()
+    if args.command == "translations":
+        return cmd_translations()
     return cmd_test(args, extra)
 
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from .._validate import FloatArray, check_index
 from ..errors import InputError, NotIndexedError
+from ..i18n import branch_name, word
 
 __all__ = ["Branch", "IKResult", "BatchIKResult"]
 
@@ -171,12 +172,16 @@ class IKResult:
         if not whole or not 0 <= decimals <= 15:
             raise InputError(f"decimals must be a whole number from 0 to 15, got {decimals!r}")
         k, n = self.q.shape
-        head = f"{'#':>2}  {'branch':<22}" + "".join(f"{'q' + str(j + 1):>11}" for j in range(n))
+        names = [branch_name(label) for label in self.labels]
+        w = max([22, *map(len, names)])
+        head = f"{'#':>2}  {word('branch'):<{w}}" + "".join(f"{'q' + str(j + 1):>11}"
+                                                          for j in range(n))
         rows = [head]
         qd = self.degrees()
         for i in range(k):
             rows.append(
-                f"{i + 1:>2}  {self.labels[i]:<22}" + "".join(f"{v:>11.{decimals}f}" for v in qd[i])
+                f"{i + 1:>2}  {names[i]:<{w}}"
+                + "".join(f"{v:>11.{decimals}f}" for v in qd[i])
             )
         if self.singular:
             rows.append(f"singular: {self.singularity}; free joints {self.free_joints}")
