@@ -51,6 +51,7 @@ from ._validate import (
 )
 from .dh import SerialArm, check_arm
 from .errors import InputError, UnreachableError
+from .i18n import branch_name, phrase
 from .ik.kernels import elbow_above, reach_excess, two_link
 from .ik.result import IKResult
 
@@ -872,7 +873,7 @@ def _solution_title(arm: SerialArm, q: FloatArray, i: int, label: str,
                     twins: Sequence[int], wrap: bool = False) -> str:
     """A panel's title: its number and branch, its joints (on two lines with ``wrap``),
     and its twins if any."""
-    head = f"{i + 1}: {label}" if label else f"solution {i + 1}"
+    head = f"{i + 1}: {branch_name(label)}" if label else phrase("solution {n}", n=i + 1)
     joints = _q_text(arm, q)
     if wrap and arm.n > 1:
         parts, half = joints.split(", "), (arm.n + 1) // 2
@@ -880,7 +881,8 @@ def _solution_title(arm: SerialArm, q: FloatArray, i: int, label: str,
     title = f"{head}\n{joints}"
     if twins:
         verb = "has" if len(twins) == 1 else "have"
-        title += "\njoints where #" + ", #".join(map(str, twins)) + f" {verb} them"
+        title += "\n" + phrase(f"joints where #{{twins}} {verb} them",
+                               twins=", #".join(map(str, twins)))
     return title
 
 
@@ -888,7 +890,7 @@ def _lay_out_solutions(fig: Figure, name: str, k: int, note: str | None, rows: i
                        three_d: bool, key: bool, wrap: bool = False) -> None:
     """The suptitle (the arm's name, k solutions, the note), and the panels spaced to
     leave room for it, the 3D axis labels, the titles' extra line (``wrap``) and the key."""
-    sup = f"{name}: {k} IK solution{'s' if k != 1 else ''}"
+    sup = phrase(f"{{name}}: {{k}} IK solution{'s' if k != 1 else ''}", name=name, k=k)
     fig.suptitle(sup if note is None else f"{sup}\n{note}", fontsize=11)
     height = fig.get_size_inches()[1]
     top = 1.0 - (0.45 + (0.2 if note else 0.0)) / height   # room for the suptitle
@@ -903,12 +905,14 @@ def _lay_out_solutions(fig: Figure, name: str, k: int, note: str | None, rows: i
 
 
 def _solutions_key(fig: Figure, three_d: bool, ghosts: bool, twins: bool) -> None:
-    words = MARKER_KEY if three_d else MARKER_KEY.replace("approach along z", "approach along x")
+    words = phrase(MARKER_KEY)
+    if not three_d:
+        words = words.replace(phrase("approach along z"), phrase("approach along x"))
     extra = []
     if ghosts:
-        extra.append("light grey: the other solutions")
+        extra.append(phrase("light grey: the other solutions"))
     if twins:
-        extra.append("purple arrow: a joint axis reversed in the twin solution")
+        extra.append(phrase("purple arrow: a joint axis reversed in the twin solution"))
     if extra:
         words += "  ·  " + "  ·  ".join(extra)
     fig.text(0.5, 0.005, words, ha="center", va="bottom", fontsize=SMALLEST_FONT_PT,

@@ -12,6 +12,16 @@ What this extension adds to every page of either edition:
   edition (``es/<page>.html`` from the English site, ``../<page>.html`` back);
 * ``<link rel="alternate" hreflang=...>`` for both editions, so a search engine offers a
   reader the page in their language.
+
+And what makes the catalogues hold every text a page shows, not only its markdown: a
+figure's caption and alt text written in a code cell's metadata (``mystnb: figure: caption``,
+``mystnb: image: alt``) or in a ``glue:figure`` directive exist in the page only once its
+notebook ran, and ``tools/dev.py translations`` extracts without running any. In that
+(gettext) build the texts are added to the page as :class:`late_texts` nodes, with exactly
+the messages Sphinx's ``Locale`` transform looks up in the executed Spanish build (a
+caption's paragraph, its lines joined by spaces; an image's alt text). The Spanish build
+marks every text it found no translation for with the class ``untranslated``
+(``translation_progress_classes``), which the tests look for in the built pages.
 """
 
 from __future__ import annotations
@@ -19,10 +29,19 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from docutils import nodes
+from myst_nb.ext.glue.directives import PasteFigureDirective
+from sphinx import addnodes
 from sphinx.application import Sphinx
+from sphinx.transforms import SphinxTransform
 
 #: The editions: language code -> (folder below the site root, the language's own name).
 EDITIONS: dict[str, tuple[str, str]] = {"en": ("", "English"), "es": ("es/", "Español")}
+#: The switch's tooltip, in the language of the edition it leads to (who wants that edition
+#: reads that language).
+SWITCH_TITLE = {"en": "Read this page in English", "es": "Lee esta página en español"}
+#: The builder that extracts the messages (``tools/dev.py translations``).
+GETTEXT = "gettext"
 #: The template (in ``templates/``) that draws the switch in the article header.
 SWITCH_TEMPLATE = "rikin-language-switch.html"
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -69,7 +88,8 @@ def add_switch(
     here = edition(app.config.language)
     others = [lang for lang in EDITIONS if lang != here]
     context["rikin_editions"] = [
-        {"lang": lang, "name": EDITIONS[lang][1], "url": page_url(pagename, here, lang)}
+        {"lang": lang, "name": EDITIONS[lang][1], "title": SWITCH_TITLE[lang],
+         "url": page_url(pagename, here, lang)}
         for lang in others
     ]
     links = "".join(
@@ -79,7 +99,99 @@ def add_switch(
     context["metatags"] = context.get("metatags", "") + links
 
 
+class late_texts(nodes.Element, addnodes.translatable):
+    """Texts of a figure that a page shows only after its notebook ran, in the gettext build.
+
+    ``self["messages"]`` are the messages, as Sphinx's ``Locale`` transform looks them up in
+    the executed build (:func:`caption_messages`, an alt text as it is). The node exists
+    only in the doctrees of the gettext builder, which renders none.
+    """
+
+    def preserve_original_messages(self) -> None:
+        pass
+
+    def apply_translated_message(self, original_message: str, translated_message: str) -> None:
+        pass
+
+    def extract_original_messages(self) -> list[str]:
+        return list(self["messages"])
+
+
+def caption_messages(text: str) -> list[str]:
+    """The messages of a caption written in markdown: one per paragraph, lines joined by spaces.
+
+    The same as Sphinx extracts from the caption (and legend) paragraphs MyST makes of
+    ``text`` (a paragraph's source with its newlines replaced by spaces).
+    """
+    paragraphs: list[list[str]] = [[]]
+    for line in text.strip().splitlines():
+        if line.strip():
+            paragraphs[-1].append(line.strip())
+        elif paragraphs[-1]:
+            paragraphs.append([])
+    return [" ".join(p) for p in paragraphs if p]
+
+
+def cell_texts(metadata: Any) -> list[str]:
+    """A code cell's figure caption and image alt text (myst-nb cell metadata), as messages."""
+    mystnb = metadata.get("mystnb") if isinstance(metadata, dict) else None
+    if not isinstance(mystnb, dict):
+        return []
+    figure, image = mystnb.get("figure") or {}, mystnb.get("image") or {}
+    texts = caption_messages(str(figure.get("caption") or ""))
+    alt = str(image.get("alt") or "").strip()
+    return texts + ([alt] if alt else [])
+
+
+def _late_node(messages: list[str], source: str, line: int | None) -> late_texts:
+    node = late_texts(messages=messages)
+    node.source, node.line = source, line
+    return node
+
+
+class ExtractCellTexts(SphinxTransform):
+    """In the gettext build, give each code cell's caption and alt text to the catalogue."""
+
+    default_priority = 15  # before Locale (20) and the UIDs the gettext builder needs (880)
+
+    def apply(self, **kwargs: Any) -> None:
+        if self.app.builder.name != GETTEXT:
+            return
+        for cell in list(self.document.findall(nodes.container)):
+            if cell.get("nb_element") != "cell_code":
+                continue
+            texts = cell_texts(cell.get("cell_metadata"))
+            if texts:
+                cell += _late_node(texts, self.document["source"], cell.line)
+
+
+class GlueFigure(PasteFigureDirective):
+    """myst-nb's ``glue:figure``; in the gettext build its caption and alt text are extracted
+    even though no notebook ran (the glued output is missing there)."""
+
+    def run(self) -> list[nodes.Node]:
+        result = super().run()
+        env = getattr(self.state.document.settings, "env", None)
+        if env is None or env.app.builder.name != GETTEXT:
+            return result
+        texts = caption_messages("\n".join(self.content))
+        alt = str(self.options.get("alt") or "").strip()
+        source, line = self.state_machine.get_source_and_line(self.lineno)
+        return [*result, _late_node(texts + ([alt] if alt else []), source or "", line)]
+
+
+def mark_untranslated(app: Sphinx, config: Any) -> None:
+    """A translated edition marks each text it has no translation for (class ``untranslated``)."""
+    if edition(config.language) != "en":
+        config.translation_progress_classes = "untranslated"
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
+    app.setup_extension("myst_nb")  # its glue domain first: GlueFigure replaces a directive
+    app.add_node(late_texts)
+    app.add_transform(ExtractCellTexts)
+    app.add_directive_to_domain("glue", "figure", GlueFigure, override=True)
     app.connect("config-inited", add_switch_template)
+    app.connect("config-inited", mark_untranslated)
     app.connect("html-page-context", add_switch)
     return {"version": "1.0", "parallel_read_safe": True, "parallel_write_safe": True}
