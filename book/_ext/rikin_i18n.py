@@ -40,6 +40,15 @@ EDITIONS: dict[str, tuple[str, str]] = {"en": ("", "English"), "es": ("es/", "Es
 #: The switch's tooltip, in the language of the edition it leads to (who wants that edition
 #: reads that language).
 SWITCH_TITLE = {"en": "Read this page in English", "es": "Lee esta página en español"}
+#: What a translated edition says where the config speaks (not in any catalogue: Sphinx
+#: extracts no message from the config): the book's title, the search box, the footer.
+SITE_TEXTS: dict[str, dict[str, str]] = {
+    "es": {
+        "html_title": "rikin: cinemática inversa, resuelta y verificada",
+        "search_bar_text": "Buscar en este libro…",
+        "copyright": "2025 rikin contributors. Texto y figuras CC BY 4.0, código MIT",
+    },
+}
 #: The builder that extracts the messages (``tools/dev.py translations``).
 GETTEXT = "gettext"
 #: The template (in ``templates/``) that draws the switch in the article header.
@@ -180,18 +189,40 @@ class GlueFigure(PasteFigureDirective):
         return [*result, _late_node(texts + ([alt] if alt else []), source or "", line)]
 
 
-def mark_untranslated(app: Sphinx, config: Any) -> None:
-    """A translated edition marks each text it has no translation for (class ``untranslated``)."""
-    if edition(config.language) != "en":
-        config.translation_progress_classes = "untranslated"
+def translated_config(app: Sphinx, config: Any) -> None:
+    """A translated edition: its own title, search box and footer (:data:`SITE_TEXTS`), and
+    each text it has no translation for marked (class ``untranslated``)."""
+    texts = SITE_TEXTS.get(edition(config.language))
+    if texts is None:
+        return
+    config.translation_progress_classes = "untranslated"
+    config.html_title, config.copyright = texts["html_title"], texts["copyright"]
+    config.html_theme_options = {**(config.html_theme_options or {}),
+                                 "search_bar_text": texts["search_bar_text"]}
+
+
+class KeepCellOutputs(SphinxTransform):
+    """What a cell printed is not looked up in the catalogues (it is not in them: it exists
+    only once the notebook ran, in the language rikin prints in, see rikin.i18n); marked
+    so, a Markdown output is neither translated nor reported untranslated."""
+
+    default_priority = 15  # before Locale (20)
+
+    def apply(self, **kwargs: Any) -> None:
+        for output in self.document.findall(nodes.container):
+            if output.get("nb_element") != "cell_code_output":
+                continue
+            for node in output.findall(nodes.TextElement):
+                node["translatable"] = False
 
 
 def setup(app: Sphinx) -> dict[str, Any]:
     app.setup_extension("myst_nb")  # its glue domain first: GlueFigure replaces a directive
     app.add_node(late_texts)
     app.add_transform(ExtractCellTexts)
+    app.add_transform(KeepCellOutputs)
     app.add_directive_to_domain("glue", "figure", GlueFigure, override=True)
     app.connect("config-inited", add_switch_template)
-    app.connect("config-inited", mark_untranslated)
+    app.connect("config-inited", translated_config)
     app.connect("html-page-context", add_switch)
     return {"version": "1.0", "parallel_read_safe": True, "parallel_write_safe": True}
