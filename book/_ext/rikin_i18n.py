@@ -19,7 +19,9 @@ figure's caption and alt text written in a code cell's metadata (``mystnb: figur
 notebook ran, and ``tools/dev.py translations`` extracts without running any. In that
 (gettext) build the texts are added to the page as :class:`late_texts` nodes, with exactly
 the messages Sphinx's ``Locale`` transform looks up in the executed Spanish build (a
-caption's paragraph, its lines joined by spaces; an image's alt text). The Spanish build
+caption's paragraph, its lines joined by spaces; an image's alt text); the site's title,
+footer and search box (the config's) go into the first page's catalogue, and a translated
+edition takes them from there. The Spanish build
 marks every text it found no translation for with the class ``untranslated``
 (``translation_progress_classes``), which the tests look for in the built pages.
 """
@@ -40,15 +42,10 @@ EDITIONS: dict[str, tuple[str, str]] = {"en": ("", "English"), "es": ("es/", "Es
 #: The switch's tooltip, in the language of the edition it leads to (who wants that edition
 #: reads that language).
 SWITCH_TITLE = {"en": "Read this page in English", "es": "Lee esta página en español"}
-#: What a translated edition says where the config speaks (not in any catalogue: Sphinx
-#: extracts no message from the config): the book's title, the search box, the footer.
-SITE_TEXTS: dict[str, dict[str, str]] = {
-    "es": {
-        "html_title": "rikin: cinemática inversa, resuelta y verificada",
-        "search_bar_text": "Buscar en este libro…",
-        "copyright": "2025 rikin contributors. Texto y figuras CC BY 4.0, código MIT",
-    },
-}
+#: The site's texts that the config gives, not a page (the title, the footer, the search
+#: box): the gettext build puts them in the first page's catalogue, and a translated
+#: edition takes them from its catalogues (:func:`translated_config`).
+SITE_TEXTS = ("html_title", "copyright", "search_bar_text")
 #: The builder that extracts the messages (``tools/dev.py translations``).
 GETTEXT = "gettext"
 #: The template (in ``templates/``) that draws the switch in the article header.
@@ -159,13 +156,17 @@ def _late_node(messages: list[str], source: str, line: int | None) -> late_texts
 
 
 class ExtractCellTexts(SphinxTransform):
-    """In the gettext build, give each code cell's caption and alt text to the catalogue."""
+    """In the gettext build, give each code cell's caption and alt text to the catalogue
+    (and the site's texts, :data:`SITE_TEXTS`, to the first page's)."""
 
     default_priority = 15  # before Locale (20) and the UIDs the gettext builder needs (880)
 
     def apply(self, **kwargs: Any) -> None:
         if self.app.builder.name != GETTEXT:
             return
+        if self.env.docname == self.config.root_doc:
+            texts = [t for t in site_texts(self.config).values() if t]
+            self.document += _late_node(texts, self.document["source"], None)
         for cell in list(self.document.findall(nodes.container)):
             if cell.get("nb_element") != "cell_code":
                 continue
@@ -189,16 +190,42 @@ class GlueFigure(PasteFigureDirective):
         return [*result, _late_node(texts + ([alt] if alt else []), source or "", line)]
 
 
+def site_texts(config: Any) -> dict[str, str]:
+    """The config's :data:`SITE_TEXTS` (the search box's is a theme option)."""
+    options = config.html_theme_options or {}
+    values = {"html_title": config.html_title, "copyright": config.copyright,
+              "search_bar_text": options.get("search_bar_text")}
+    return {name: str(values[name] or "") for name in SITE_TEXTS}
+
+
+def catalogue_strings(folders: list[Path], language: str) -> dict[str, str]:
+    """Every translated, not fuzzy message of ``language`` in the catalogue ``folders``."""
+    from babel.messages.pofile import read_po
+
+    strings: dict[str, str] = {}
+    for folder in folders:
+        for po in sorted((folder / language / "LC_MESSAGES").rglob("*.po")):
+            with po.open("rb") as f:
+                for m in read_po(f):
+                    if isinstance(m.id, str) and m.id and m.string and not m.fuzzy:
+                        strings.setdefault(m.id, str(m.string))
+    return strings
+
+
 def translated_config(app: Sphinx, config: Any) -> None:
-    """A translated edition: its own title, search box and footer (:data:`SITE_TEXTS`), and
-    each text it has no translation for marked (class ``untranslated``)."""
-    texts = SITE_TEXTS.get(edition(config.language))
-    if texts is None:
+    """A translated edition: the site's title, footer and search box (:data:`SITE_TEXTS`)
+    as its catalogues translate them, and each text of a page it has no translation for
+    marked (class ``untranslated``, which the tests look for)."""
+    language = edition(config.language)
+    if language == "en":
         return
     config.translation_progress_classes = "untranslated"
+    strings = catalogue_strings([Path(app.srcdir) / d for d in config.locale_dirs], language)
+    texts = {name: strings.get(text, text) for name, text in site_texts(config).items()}
     config.html_title, config.copyright = texts["html_title"], texts["copyright"]
-    config.html_theme_options = {**(config.html_theme_options or {}),
-                                 "search_bar_text": texts["search_bar_text"]}
+    if texts["search_bar_text"]:
+        config.html_theme_options = {**(config.html_theme_options or {}),
+                                     "search_bar_text": texts["search_bar_text"]}
 
 
 class KeepCellOutputs(SphinxTransform):
