@@ -137,7 +137,7 @@ def test_both_editions_build_strict_with_no_warning(editions: Editions) -> None:
     assert "WARNING" not in editions.log and "ERROR" not in editions.log
     for folder in ("", *EDITIONS.values()):
         for page in BOOK_PAGES:
-            assert (editions.html / folder / page).is_file(), f"{folder}{page} not built"
+            assert (editions.html / folder / page).is_file(), f"{folder}/{page} not built"
 
 
 @pytest.mark.book
@@ -148,7 +148,7 @@ def test_same_numbers_in_both_editions(page: str, book_html: Path) -> None:
     for folder in EDITIONS.values():
         other = output_numbers(book_html / folder / page)
         assert other == english, (
-            f"{folder}{page}: the outputs' numbers differ from the English page's "
+            f"{folder}/{page}: the outputs' numbers differ from the English page's "
             f"(first difference at {_first_difference(english, other)})")
 
 
@@ -166,7 +166,7 @@ def test_pages_say_their_language(language: str, book_html: Path) -> None:
     folder = EDITIONS.get(language, "")
     for page in SWITCH_PAGES:
         head = (book_html / folder / page).read_text(encoding="utf-8")[:2000]
-        assert re.search(rf'<html lang="{language}"', head), f"{folder}{page}: not lang={language}"
+        assert re.search(rf'<html lang="{language}"', head), f"{folder}/{page}: not lang={language}"
 
 
 @pytest.mark.book
@@ -224,10 +224,10 @@ def test_the_switch_goes_to_the_same_page_and_back(page: str, book_html: Path, s
     for language, folder in EDITIONS.items():
         _open(driver, f"{server}/{page}")
         there = urlsplit(_switch(driver, language)).path
-        assert there == f"/{folder}{page}", f"{page}: the switch went to {there}"
+        assert there == f"/{folder}/{page}", f"{page}: the switch went to {there}"
         assert driver.execute_script("return document.documentElement.lang") == language
         back = urlsplit(_switch(driver, "en")).path
-        assert back == f"/{page}", f"{folder}{page}: the switch back went to {back}"
+        assert back == f"/{page}", f"{folder}/{page}: the switch back went to {back}"
         assert driver.execute_script("return document.documentElement.lang") == "en"
 
 
