@@ -19,11 +19,12 @@ figure's caption and alt text written in a code cell's metadata (``mystnb: figur
 notebook ran, and ``tools/dev.py translations`` extracts without running any. In that
 (gettext) build the texts are added to the page as :class:`late_texts` nodes, with exactly
 the messages Sphinx's ``Locale`` transform looks up in the executed Spanish build (a
-caption's paragraph, its lines joined by spaces; an image's alt text); the site's title,
-footer and search box (the config's) go into the first page's catalogue, and a translated
-edition takes them from there. The Spanish build
-marks every text it found no translation for with the class ``untranslated``
-(``translation_progress_classes``), which the tests look for in the built pages.
+caption's paragraph, its lines joined by spaces; an image's alt text). The site's texts
+that the config gives (title, footer, search box, the buttons that fold a cell) go into the
+first page's catalogue, and a translated edition takes them from there. What cells print is
+not looked up in the catalogues (rikin prints its words in the page's language, see
+``rikin/i18n.py``). The Spanish build marks every text it found no translation for with
+the class ``untranslated`` (``translation_progress_classes``), which the tests look for.
 """
 
 from __future__ import annotations
