@@ -135,10 +135,11 @@ def caption_messages(text: str) -> list[str]:
     paragraphs: list[list[str]] = [[]]
     for line in text.strip().splitlines():
         if line.strip():
-            paragraphs[-1].append(line.strip())
+            paragraphs[-1].append(line)
         elif paragraphs[-1]:
             paragraphs.append([])
-    return [" ".join(p) for p in paragraphs if p]
+    # a paragraph's source keeps the inner lines' indentation, not its ends' whitespace
+    return [" ".join(p).strip() for p in paragraphs if p]
 
 
 def cell_texts(metadata: Any) -> list[str]:
