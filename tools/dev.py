@@ -28,6 +28,8 @@ import shlex
 import shutil
 import subprocess
 import sys
+from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -140,39 +142,113 @@ def ensure_venv(what: str = "all") -> None:
     STAMP.write_text(json.dumps(stamps, indent=1, sort_keys=True) + "\n")
 
 
-def child_env() -> dict[str, str]:
+def child_env(bin_dir: Path = BIN) -> dict[str, str]:
+    """The environment of every command run: .venv (``bin_dir``'s) first on PATH, seeded."""
     env = dict(os.environ)
     env["PYTHONHASHSEED"] = "0"
     env.setdefault("MPLBACKEND", "Agg")
-    env["VIRTUAL_ENV"] = str(VENV)
-    env["PATH"] = str(BIN) + os.pathsep + env.get("PATH", "")
+    env["VIRTUAL_ENV"] = str(bin_dir.parent)
+    env["PATH"] = str(bin_dir) + os.pathsep + env.get("PATH", "")
     env.pop("PYTHONHOME", None)
     # Kernels must come from .venv (where rikin is installed), not from ~/.local.
     env["JUPYTER_PREFER_ENV_PATH"] = "1"
     return env
 
 
+@dataclass(frozen=True)
+class BookBuild:
+    """How one build of the book differs from ``_config.yml`` as it is.
+
+    The instructor's ``tools/dev.py book`` and the tests' one shared build
+    (tests/book_build.py) both go through :func:`build_book` with one of these.
+
+    Parameters
+    ----------
+    cached : bool
+        Reuse the jupyter-cache and Sphinx's incremental build (``execute_notebooks: cache``,
+        no ``--all``): only pages whose code changed are re-executed; edits to rikin/ are
+        NOT noticed. Otherwise every page is re-read and every notebook executed.
+    base_url : str or None
+        ``html.baseurl`` (where the notebooks install rikin from); None keeps _config.yml's.
+    launch_repository : str or None
+        ``rikin_launch_repository`` (the launch links' key); None keeps _config.yml's.
+    output : Path or None
+        ``--path-output`` (the site lands in ``output/_build/html``); None: the repository.
+    tag : str
+        Names the derived config file, ``_config.<tag>.yml``.
+    """
+
+    cached: bool = False
+    base_url: str | None = None
+    launch_repository: str | None = None
+    output: Path | None = None
+    tag: str = "cached"
+
+
+def _substitute(text: str, pattern: str, replacement: str, what: str) -> str:
+    """``text`` with the one line matching ``pattern`` replaced (exit when it is not one)."""
+    new, n = re.subn(pattern, replacement, text, flags=re.M)
+    if n != 1:
+        sys.exit(f"dev.py: could not find {what} in _config.yml")
+    return new
+
+
+def book_config(build: BookBuild) -> Path | None:
+    """The config file ``build`` is made with (``None``: _config.yml as it is).
+
+    Written next to _config.yml (jupyter-book resolves local_extensions, book/_ext, relative
+    to the config file's folder); git-ignored, and removed after the build.
+    """
+    if not build.cached and build.base_url is None and build.launch_repository is None:
+        return None
+    text = (ROOT / "_config.yml").read_text(encoding="utf-8")
+    if build.cached:
+        text = _substitute(text, r"^(\s*execute_notebooks\s*:\s*)force\b", r"\1cache",
+                           "'execute_notebooks: force'")
+    if build.base_url is not None:
+        text = _substitute(text, r"^(\s+baseurl:\s*).*$", rf'\g<1>"{build.base_url}"',
+                           "one html.baseurl line")
+    if build.launch_repository is not None:
+        text = _substitute(text, r"^(\s+rikin_launch_repository:\s*).*$",
+                           rf'\g<1>"{build.launch_repository}"',
+                           "one rikin_launch_repository line")
+    path = ROOT / f"_config.{build.tag}.yml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def book_command(build: BookBuild, config: Path | None, bin_dir: Path = BIN) -> list[str]:
+    """The ``jupyter-book build`` command line of ``build``: strict (-W -n --keep-going)."""
+    jb: list[str | Path] = [bin_dir / "jupyter-book", "build", ROOT, "-W", "-n", "--keep-going"]
+    if config is not None:
+        jb += ["--config", config]
+    if build.output is not None:
+        jb += ["--path-output", build.output]
+    if not build.cached:
+        jb += ["--all"]
+    return [str(c) for c in jb]
+
+
+def build_book(build: BookBuild,
+               runner: Callable[[list[str], dict[str, str]], int] | None = None,
+               bin_dir: Path = BIN) -> int:
+    """Build the book as ``build`` says; the exit code of the first build that failed, or 0.
+
+    ``runner(cmd, env)`` runs one command (default :func:`run`: printed, output shown); the
+    tests pass their own, which keeps the log. Every edition the book has is built here, so
+    that the tests build exactly what instructors build.
+    """
+    config = book_config(build)
+    try:
+        return (runner or run)(book_command(build, config, bin_dir), child_env(bin_dir))
+    finally:
+        if config is not None:
+            config.unlink(missing_ok=True)
+
+
 def cmd_book(args: argparse.Namespace) -> int:
     ensure_venv("book")
-    jb = [BIN / "jupyter-book", "build", ROOT, "-W", "-n", "--keep-going"]
-    if args.cached:
-        # Reuse the jupyter-cache and Sphinx's incremental build: only pages whose code
-        # changed are re-executed. Edits to rikin/ are NOT noticed in this mode.
-        config = ROOT / "_config.yml"
-        text, n = re.subn(
-            r"(?m)^(\s*execute_notebooks\s*:\s*)force\b", r"\1cache", config.read_text()
-        )
-        if n != 1:
-            sys.exit("dev.py: could not find 'execute_notebooks: force' in _config.yml")
-        # next to _config.yml: jupyter-book resolves local_extensions (book/_ext) relative to
-        # the config file's folder (git-ignored)
-        cached_config = ROOT / "_config.cached.yml"
-        cached_config.write_text(text)
-        jb += ["--config", cached_config]
-    else:
-        # Fresh: re-read every page (--all) and execute every notebook (execute: force).
-        jb += ["--all"]
-    rc = run(jb, child_env())
+    rc = build_book(BookBuild(cached=args.cached))
     index = BUILD / "html" / "index.html"
     if rc == 0:
         print(f"\nBook built: {index}\n(open file://{index} in a browser)", flush=True)
