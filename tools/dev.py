@@ -236,7 +236,9 @@ def build_book(build: BookBuild,
 
     ``runner(cmd, env)`` runs one command (default :func:`run`: printed, output shown); the
     tests pass their own, which keeps the log. Every edition the book has is built here, so
-    that the tests build exactly what instructors build.
+    that the tests build exactly what instructors build: another language is one more
+    command after the English one (same ``build``, its own config and output, its site
+    copied into ``<output>/_build/html/<language>/``).
     """
     config = book_config(build)
     try:
