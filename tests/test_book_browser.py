@@ -104,9 +104,9 @@ def book_html(browser_paths: tuple[str, str], request: pytest.FixtureRequest) ->
             pytest.fail(f"RIKIN_BOOK_HTML={given} has no index.html: build the book first")
         return html
     # the session's one strict build (tests/book_build.py), asked for only when needed
-    proc: Site = request.getfixturevalue("book_site")
-    assert proc.returncode == 0, f"book build failed ({proc.returncode}):\n{proc.log[-20000:]}"
-    return Path(proc.html)
+    site: Site = request.getfixturevalue("book_site")
+    assert site.returncode == 0, f"book build failed ({site.returncode}):\n{site.log[-20000:]}"
+    return Path(site.html)
 
 
 class _QuietHandler(http.server.SimpleHTTPRequestHandler):
