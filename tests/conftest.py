@@ -1,4 +1,5 @@
-"""Shared pytest setup: headless matplotlib and deterministic Hypothesis runs."""
+"""Shared pytest setup: headless matplotlib, deterministic Hypothesis runs, and the book
+built once per test session (``book_site``)."""
 
 from __future__ import annotations
 
@@ -7,6 +8,8 @@ import os
 # Must happen before anything imports matplotlib.pyplot.
 os.environ.setdefault("MPLBACKEND", "Agg")
 
+import pytest  # noqa: E402
+from book_build import Site, shared_site  # noqa: E402
 from hypothesis import HealthCheck, settings  # noqa: E402
 
 # Property tests are derandomized (same examples on every run and machine), have no
@@ -37,3 +40,10 @@ def pytest_report_header(config):
     return (
         f"grader sandbox: UNAVAILABLE, the grader's sandbox tests will FAIL: {why.splitlines()[0]}"
     )
+
+
+@pytest.fixture(scope="session")
+def book_site(tmp_path_factory: pytest.TempPathFactory) -> Site:
+    """The session's one strict fresh build of the book, shared by every module and every
+    xdist worker (tests/book_build.py); built by the first test that asks for it."""
+    return shared_site(tmp_path_factory)
