@@ -10,7 +10,9 @@ on a *structure of arrays*: a batch of 3x3 matrices held as a nested list
 is one contiguous array and small matrix products become a handful of
 whole-array multiply-adds (:func:`const_matmul`, :func:`matmul_const`,
 :func:`rz_inverse_times`), plus :func:`pose_defects` and
-:func:`wrap_in_place`.
+:func:`wrap_in_place`; and the same for batches of affine maps held as their top
+three rows, 12 entries (:func:`affine_mul`, :func:`affine_mul_const`, :func:`affine_turn`),
+with which :func:`chain_fk_error` checks a 6R chain's solutions by FK.
 
 Inputs are trusted arrays; shapes are given per function.
 """
@@ -18,7 +20,7 @@ Inputs are trusted arrays; shapes are given per function.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -245,3 +247,93 @@ def wrap_in_place(q: FloatArray) -> FloatArray:
     np.add(q, 2.0 * np.pi, out=q, where=q <= -np.pi)
     np.minimum(q, np.pi, out=q)
     return q
+
+
+# ---------------------------------------------------------------- affine maps, 12 entries
+#: An affine map (or a batch of them) as the top three rows of its 4x4 matrix, row by row:
+#: 12 floats, or 12 arrays of one shape.
+Affine = tuple[Any, ...]
+
+
+def as_affine(M: FloatArray) -> tuple[float, ...]:
+    """The top three rows of a 4x4 matrix, row by row, as 12 floats."""
+    return tuple(float(v) for v in np.asarray(M)[:3].ravel())
+
+
+def affine_mul(a: Affine, b: Affine) -> Affine:
+    """The product ``a b`` of two affine maps (12 entries each: floats or arrays)."""
+    a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = a
+    b00, b01, b02, b03, b10, b11, b12, b13, b20, b21, b22, b23 = b
+    return (a00 * b00 + a01 * b10 + a02 * b20, a00 * b01 + a01 * b11 + a02 * b21,
+            a00 * b02 + a01 * b12 + a02 * b22, a00 * b03 + a01 * b13 + a02 * b23 + a03,
+            a10 * b00 + a11 * b10 + a12 * b20, a10 * b01 + a11 * b11 + a12 * b21,
+            a10 * b02 + a11 * b12 + a12 * b22, a10 * b03 + a11 * b13 + a12 * b23 + a13,
+            a20 * b00 + a21 * b10 + a22 * b20, a20 * b01 + a21 * b11 + a22 * b21,
+            a20 * b02 + a21 * b12 + a22 * b22, a20 * b03 + a21 * b13 + a22 * b23 + a23)
+
+
+def affine_turn(T: Affine, c: Any, s: Any) -> Affine:
+    """``T Rz(t)`` of an affine map given as 12 entries, with ``c, s`` the cosine and sine."""
+    out = list(T)
+    for r in (0, 4, 8):
+        x, y = T[r], T[r + 1]
+        out[r], out[r + 1] = x * c + y * s, y * c - x * s
+    return tuple(out)
+
+
+def affine_mul_const(a: Affine, b: tuple[float, ...]) -> Affine:
+    """``a b`` for a constant affine map ``b`` (12 floats), skipping its zero and unit
+    entries (a DH table's matrices are mostly 0 and 1)."""
+    out: list[Any] = []
+    for i in (0, 4, 8):
+        for j in range(4):
+            acc: Any = a[i + 3] if j == 3 else 0.0
+            for m in range(3):
+                v = b[4 * m + j]
+                if v != 0.0:
+                    acc = acc + (a[i + m] if v == 1.0 else a[i + m] * v)
+            out.append(acc)
+    return tuple(out)
+
+
+def chain_fk_error(
+    M: Sequence[tuple[float, ...]], cs: Sequence[tuple[FloatArray, FloatArray]], goal: Affine,
+    scale: float, split: int,
+) -> FloatArray:
+    """How far the chain ``M0 Rz(th1) M1 ... Rz(th6) M6`` is from ``goal``, per solution:
+    ``max(|p - p_goal| / scale, max |R - R_goal|)``.
+
+    Parameters
+    ----------
+    M : sequence of 7 affine maps (12 floats each)
+        The chain's constant factors (:func:`as_affine` of ``pieper.ChainModel.M``).
+    cs : sequence of 6 pairs of arrays
+        The cosine and sine of each joint's theta, broadcasting to the solutions' shape
+        ``S`` (callers that have them from the closed form pass them on). Joints
+        ``1..split`` and ``split+1..6`` may each have fewer distinct values than
+        solutions (an arm's position branches share joints 1-3): the two ends of the
+        chain are multiplied out on their own shapes, then once together.
+    goal : affine map, 12 arrays broadcasting to ``S``
+        The target pose in the chain's frame (and length units).
+    scale : float
+        The arm's size, in the chain's length units.
+
+    Returns
+    -------
+    ndarray, shape ``S``
+    """
+    c, s = [x for x, _ in cs], [y for _, y in cs]
+    head: Affine = tuple(M[0])
+    for i in range(split):
+        head = affine_turn(head, c[i], s[i])
+        if i + 1 < split:
+            head = affine_mul_const(head, M[i + 1])
+    tail: Affine = tuple(M[split])
+    for i in range(split, len(cs)):
+        tail = affine_mul_const(affine_turn(tail, c[i], s[i]), M[i + 1])
+    T = affine_mul(head, tail)
+    dp = [T[i] - goal[i] for i in (3, 7, 11)]
+    err = np.sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]) / scale
+    for i in (0, 1, 2, 4, 5, 6, 8, 9, 10):
+        err = np.maximum(err, np.abs(T[i] - goal[i]))
+    return err

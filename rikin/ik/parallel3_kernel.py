@@ -41,14 +41,14 @@ value near +-pi, or nothing reachable. The margins are :mod:`rikin.ik.pieper_ker
 from __future__ import annotations
 
 from math import acos, atan2, cos, hypot, pi, remainder, sin, sqrt
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from .._validate import FloatArray
 from ..tolerances import REACH_TOL
 from ..transforms import _inv_transform
-from .kernels import wrap_in_place
+from .kernels import affine_mul, affine_mul_const, as_affine, chain_fk_error, wrap_in_place
 from .pieper import ACCEPT_TOL
 from .pieper_kernel import LABEL, NEAR_AXIS1, WRAP_EDGE
 from .result import Branch
@@ -141,11 +141,6 @@ def single_kernel(solver: KernelSource, arm: SerialArm) -> ParallelKernel | None
     return kernel if kernel.usable else None
 
 
-def _affine(M: np.ndarray) -> tuple[float, ...]:
-    """The top three rows of a 4x4 matrix, row by row, as 12 floats."""
-    return tuple(float(v) for v in M[:3].ravel())
-
-
 def _z_turn(M: np.ndarray) -> tuple[bool, float]:
     """Whether ``M``'s rotation is exactly ``Rz(gamma)`` or ``Rz(gamma) Rx(pi)``, and
     ``gamma``."""
@@ -188,7 +183,7 @@ class ParallelKernel:
         else:
             A, B = sv.M0_inv @ U @ _inv_transform(base), _inv_transform(tool) @ U_inv @ sv.M6_inv
         self.reverse = sv.reverse
-        self.A, self.B = _affine(A), _affine(B)
+        self.A, self.B = as_affine(A), as_affine(B)
         # (A), (B): n . W[:, 2] and n . W[:, 3] minus c0; joint 1 from lam . (A, B)
         self.u = tuple(float(x) for x in sv.u)
         self.c0 = (float(sv.c0[0]), float(sv.c0[1]))
@@ -224,7 +219,7 @@ class ParallelKernel:
         self.gamma2 = gamma2
         self.up = (float(up[0]), float(up[1]))
         self.offsets = tuple(float(o) for o in sv.offsets)
-        self.M = [_affine(M[k]) for k in range(7)]  # the batch's FK check
+        self.M = [as_affine(M[k]) for k in range(7)]  # the batch's FK check
         self.wrist_offset = self.offsets[1] if sv.reverse else self.offsets[4]
         #: ``labels[front][elbow up][sin(q of the wrist's middle joint) >= 0]``
         self.labels = [
@@ -243,8 +238,8 @@ class ParallelKernel:
             x03, x13, x23 = (-(x00 * x03 + x01 * x13 + x02 * x23),
                              -(x10 * x03 + x11 * x13 + x12 * x23),
                              -(x20 * x03 + x21 * x13 + x22 * x23))
-        return _mul(self.A, _mul((x00, x01, x02, x03, x10, x11, x12, x13, x20, x21, x22, x23),
-                                 self.B))
+        x = (x00, x01, x02, x03, x10, x11, x12, x13, x20, x21, x22, x23)
+        return affine_mul(self.A, affine_mul(x, self.B))
 
     def solve(self, rows: list[list[float]]) -> tuple[list[float], list[Branch]] | None:
         """Every solution of the world pose ``rows`` (``T.tolist()``, a checked rigid pose):
@@ -391,18 +386,6 @@ class ParallelKernel:
         return True
 
 
-def _mul(a: tuple[Any, ...], b: tuple[Any, ...]) -> tuple[Any, ...]:
-    """The product of two affine maps given as their top three rows (12 floats each)."""
-    a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = a
-    b00, b01, b02, b03, b10, b11, b12, b13, b20, b21, b22, b23 = b
-    return (a00 * b00 + a01 * b10 + a02 * b20, a00 * b01 + a01 * b11 + a02 * b21,
-            a00 * b02 + a01 * b12 + a02 * b22, a00 * b03 + a01 * b13 + a02 * b23 + a03,
-            a10 * b00 + a11 * b10 + a12 * b20, a10 * b01 + a11 * b11 + a12 * b21,
-            a10 * b02 + a11 * b12 + a12 * b22, a10 * b03 + a11 * b13 + a12 * b23 + a13,
-            a20 * b00 + a21 * b10 + a22 * b20, a20 * b01 + a21 * b11 + a22 * b21,
-            a20 * b02 + a21 * b12 + a22 * b22, a20 * b03 + a21 * b13 + a22 * b23 + a23)
-
-
 # ------------------------------------------------------------------------- many poses
 # The same closed form on stacks: every scalar above becomes an array over the poses (last
 # axis), joint 1's roots an axis of 2, joint 5's a second, the elbows a third (the slots in
@@ -443,7 +426,7 @@ def _batch_chain(k: ParallelKernel, X: np.ndarray) -> tuple[np.ndarray, ...]:
                          -(x10 * x03 + x11 * x13 + x12 * x23),
                          -(x20 * x03 + x21 * x13 + x22 * x23))
     x = (x00, x01, x02, x03, x10, x11, x12, x13, x20, x21, x22, x23)
-    return _mul(k.A, _mul_const(x, k.B))
+    return affine_mul(k.A, affine_mul_const(x, k.B))
 
 
 def _batch_joint1(k: ParallelKernel, W: tuple[np.ndarray, ...]
@@ -544,44 +527,8 @@ def _batch_fk_error(k: ParallelKernel, W: tuple[np.ndarray, ...], th: list[np.nd
                     ) -> np.ndarray:
     """``max(|p - p_goal| / scale, max |R - R_goal|)`` ``(2, 2, 2, n)`` of the chain's
     joints ``th`` (6 arrays broadcasting to that shape) against ``W``, both between ``M0``
-    and ``M6`` (the general batch kernel's check). Joints 1, 5 and 6 have fewer distinct
-    values than slots: the chain's two ends are multiplied out on their own shapes."""
-    c = [np.cos(t) for t in th]
-    s = [np.sin(t) for t in th]
+    and ``M6`` (the general batch kernel's check). Joints 5 and 6 have fewer distinct
+    values than slots: the chain's tail is multiplied out on its own shape."""
     M = k.M
-    head = _mul_const(_turn(M[0], c[0], s[0]), M[1])  # (2, 1, 1, n)
-    tail = _mul_const(_turn(_mul_const(_turn(M[4], c[4], s[4]), M[5]), c[5], s[5]), M[6])
-    T = _turn(_mul_const(_turn(_mul_const(_turn(head, c[1], s[1]), M[2]), c[2], s[2]), M[3]),
-              c[3], s[3])
-    T = _mul(T, tail)
-    goal = _mul_const(_mul(M[0], W), M[6])
-    dp = [T[i] - goal[i] for i in (3, 7, 11)]
-    pos = np.sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]) / k.L
-    rot = np.abs(T[0] - goal[0])
-    for i in (1, 2, 4, 5, 6, 8, 9, 10):
-        rot = np.maximum(rot, np.abs(T[i] - goal[i]))
-    return np.maximum(pos, rot)
-
-
-def _turn(T: tuple[Any, ...], c: np.ndarray, s: np.ndarray) -> tuple[Any, ...]:
-    """``T Rz(t)`` of an affine map given as 12 entries, with ``c, s`` the cosine and sine."""
-    out = list(T)
-    for r in (0, 4, 8):
-        x, y = T[r], T[r + 1]
-        out[r], out[r + 1] = x * c + y * s, y * c - x * s
-    return tuple(out)
-
-
-def _mul_const(a: tuple[Any, ...], b: tuple[float, ...]) -> tuple[Any, ...]:
-    """``a b`` for a constant affine map ``b`` (12 floats), skipping its zero and unit
-    entries (a DH table's matrices are mostly 0 and 1)."""
-    out: list[Any] = []
-    for i in (0, 4, 8):
-        for j in range(4):
-            acc: Any = a[i + 3] if j == 3 else 0.0
-            for m in range(3):
-                v = b[4 * m + j]
-                if v != 0.0:
-                    acc = acc + (a[i + m] if v == 1.0 else a[i + m] * v)
-            out.append(acc)
-    return tuple(out)
+    goal = affine_mul_const(affine_mul(M[0], W), M[6])
+    return chain_fk_error(M, [(np.cos(t), np.sin(t)) for t in th], goal, k.L, split=4)

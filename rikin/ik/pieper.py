@@ -51,6 +51,7 @@ from ..errors import InputError
 from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL, SINGULAR_TOL
 from .base import RawSolutions, Singularity, TargetKind
 from .kernels import spherical_wrist, wrap_in_place
+from .pieper_batch import PieperBatchKernel, batch_kernel
 from .pieper_kernel import PieperKernel, single_kernel
 from .reach import nearest_reachable, rounding_note
 from .result import Branch
@@ -892,6 +893,14 @@ class Pieper6RSolver(ChainPolish):
         """The plain-float kernel for one regular pose (:mod:`rikin.ik.pieper_kernel`), or
         None; :func:`rikin.ik.api.solve` looks it up once per arm."""
         return single_kernel(self, arm)
+
+    def batch_kernel(self, arm: SerialArm) -> PieperBatchKernel | None:
+        """The many-pose kernel (:mod:`rikin.ik.pieper_batch`), or None; built once per arm,
+        :func:`rikin.ik.api.solve_batch` looks it up."""
+        cache = self.__dict__.setdefault("_batch_kernels", weakref.WeakKeyDictionary())
+        if arm not in cache:
+            cache[arm] = batch_kernel(self, arm, self.single_kernel(arm), self.slots, ACCEPT_TOL)
+        return cache[arm]
 
     # -------------------------------------------------------------- position
     def _g(self, th3: FloatArray) -> FloatArray:
