@@ -337,3 +337,66 @@ def chain_fk_error(
     for i in (0, 1, 2, 4, 5, 6, 8, 9, 10):
         err = np.maximum(err, np.abs(T[i] - goal[i]))
     return err
+
+
+# ---------------------------------------------------------------- quartics
+#: Roots of a quartic closer than this (relative) are left to the companion matrix's
+#: eigenvalues rather than Ferrari's formulas (:func:`ferrari`).
+SEPARATE_ROOTS = 1e-3
+
+
+def ferrari(
+    A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The roots ``(M, 4)`` of the monic quartics ``z^4 + A z^3 + B z^2 + C z + D``
+    (complex arrays ``(M,)``) by Ferrari's method, each polished by one Newton step, and
+    ``(M,)`` whether they are confirmed: every step small and the roots' sum ``-A`` (four
+    distinct roots, none found twice), and none within ``SEPARATE_ROOTS`` of another. The
+    vectorised form of the one-pose kernel's ``pieper_kernel._quartic``; where unconfirmed,
+    the roots are to be found otherwise."""
+    with np.errstate(all="ignore"):
+        a = A / 4
+        aa = a * a
+        p = B - 6 * aa
+        q = C - 2 * B * a + 8 * aa * a
+        r = D - C * a + B * aa - 3 * aa * aa
+        # resolvent cubic, depressed: x^3 + P x + Q with m = x - p / 3
+        P = -p * p / 12 - r
+        Q = -p * p * p / 108 + p * r / 3 - q * q / 8
+        disc = np.sqrt(Q * Q / 4 + P * P * P / 27)
+        u3 = np.where(np.abs(-Q / 2 - disc) > np.abs(-Q / 2 + disc), -Q / 2 - disc, -Q / 2 + disc)
+        u = u3 ** (1 / 3)
+        safe_u = np.where(u == 0, 1.0, u)
+        m = np.full(u.shape, -p / 3, dtype=complex)
+        best = np.full(u.shape, -1.0)
+        for w in (1.0, complex(-0.5, 0.8660254037844386), complex(-0.5, -0.8660254037844386)):
+            uw = safe_u * w
+            cand = np.where(u == 0, -p / 3, uw - P / (3 * uw) - p / 3)
+            bigger = np.abs(cand) > best
+            m, best = np.where(bigger, cand, m), np.where(bigger, np.abs(cand), best)
+        s = np.sqrt(2 * m)
+        qs = q / (2 * np.where(s == 0, 1.0, s))
+        half = p / 2 + m
+        roots = []
+        sure = (m != 0) & (s != 0)
+        for b, c in ((-s, half + qs), (s, half - qs)):  # y^2 + b y + c = 0
+            d = np.sqrt(b * b - 4 * c)
+            d = np.where((np.conj(b) * d).real < 0, -d, d)
+            t = -(b + d) / 2
+            sure &= t != 0
+            roots += [t - a, c / np.where(t == 0, 1.0, t) - a]
+        z = np.stack(roots, axis=-1)
+        f = (((z + A[:, None]) * z + B[:, None]) * z + C[:, None]) * z + D[:, None]
+        df = ((4 * z + 3 * A[:, None]) * z + 2 * B[:, None]) * z + C[:, None]
+        step = f / np.where(df == 0, 1.0, df)
+        z = z - step
+        sure &= (
+            np.all(np.isfinite(z), axis=-1) & np.all(df != 0, axis=-1)
+            & np.all(np.abs(step) <= 1e-6 * (1 + np.abs(z)), axis=-1)
+            & (np.abs(z.sum(-1) + A) <= 1e-9 * (np.abs(A) + 4 * np.abs(z).max(-1)))
+        )
+        # near a multiple root (a fold of the arm) the companion matrix's eigenvalues
+        # split it the way the fold handling downstream was tuned for: leave it to them
+        for i, j in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
+            sure &= np.abs(z[:, i] - z[:, j]) > SEPARATE_ROOTS * (1 + np.abs(z[:, i]))
+    return z, sure

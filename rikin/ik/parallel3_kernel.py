@@ -48,7 +48,10 @@ import numpy as np
 from .._validate import FloatArray
 from ..tolerances import REACH_TOL
 from ..transforms import _inv_transform
-from .kernels import affine_mul, affine_mul_const, as_affine, chain_fk_error, wrap_in_place
+from .kernels import affine_mul as _mul
+from .kernels import affine_mul_const as _mul_const
+from .kernels import as_affine as _affine
+from .kernels import chain_fk_error, wrap_in_place
 from .pieper import ACCEPT_TOL
 from .pieper_kernel import LABEL, NEAR_AXIS1, WRAP_EDGE
 from .result import Branch
@@ -183,7 +186,7 @@ class ParallelKernel:
         else:
             A, B = sv.M0_inv @ U @ _inv_transform(base), _inv_transform(tool) @ U_inv @ sv.M6_inv
         self.reverse = sv.reverse
-        self.A, self.B = as_affine(A), as_affine(B)
+        self.A, self.B = _affine(A), _affine(B)
         # (A), (B): n . W[:, 2] and n . W[:, 3] minus c0; joint 1 from lam . (A, B)
         self.u = tuple(float(x) for x in sv.u)
         self.c0 = (float(sv.c0[0]), float(sv.c0[1]))
@@ -219,7 +222,7 @@ class ParallelKernel:
         self.gamma2 = gamma2
         self.up = (float(up[0]), float(up[1]))
         self.offsets = tuple(float(o) for o in sv.offsets)
-        self.M = [as_affine(M[k]) for k in range(7)]  # the batch's FK check
+        self.M = [_affine(M[k]) for k in range(7)]  # the batch's FK check
         self.wrist_offset = self.offsets[1] if sv.reverse else self.offsets[4]
         #: ``labels[front][elbow up][sin(q of the wrist's middle joint) >= 0]``
         self.labels = [
@@ -238,8 +241,8 @@ class ParallelKernel:
             x03, x13, x23 = (-(x00 * x03 + x01 * x13 + x02 * x23),
                              -(x10 * x03 + x11 * x13 + x12 * x23),
                              -(x20 * x03 + x21 * x13 + x22 * x23))
-        x = (x00, x01, x02, x03, x10, x11, x12, x13, x20, x21, x22, x23)
-        return affine_mul(self.A, affine_mul(x, self.B))
+        return _mul(self.A, _mul((x00, x01, x02, x03, x10, x11, x12, x13, x20, x21, x22, x23),
+                                 self.B))
 
     def solve(self, rows: list[list[float]]) -> tuple[list[float], list[Branch]] | None:
         """Every solution of the world pose ``rows`` (``T.tolist()``, a checked rigid pose):
@@ -426,7 +429,7 @@ def _batch_chain(k: ParallelKernel, X: np.ndarray) -> tuple[np.ndarray, ...]:
                          -(x10 * x03 + x11 * x13 + x12 * x23),
                          -(x20 * x03 + x21 * x13 + x22 * x23))
     x = (x00, x01, x02, x03, x10, x11, x12, x13, x20, x21, x22, x23)
-    return affine_mul(k.A, affine_mul_const(x, k.B))
+    return _mul(k.A, _mul_const(x, k.B))
 
 
 def _batch_joint1(k: ParallelKernel, W: tuple[np.ndarray, ...]
@@ -529,6 +532,5 @@ def _batch_fk_error(k: ParallelKernel, W: tuple[np.ndarray, ...], th: list[np.nd
     joints ``th`` (6 arrays broadcasting to that shape) against ``W``, both between ``M0``
     and ``M6`` (the general batch kernel's check). Joints 5 and 6 have fewer distinct
     values than slots: the chain's tail is multiplied out on its own shape."""
-    M = k.M
-    goal = affine_mul_const(affine_mul(M[0], W), M[6])
-    return chain_fk_error(M, [(np.cos(t), np.sin(t)) for t in th], goal, k.L, split=4)
+    goal = _mul_const(_mul(k.M[0], W), k.M[6])
+    return chain_fk_error(k.M, [(np.cos(t), np.sin(t)) for t in th], goal, k.L, split=4)

@@ -13,10 +13,10 @@ general solver's acceptance; the caller (:func:`rikin.ik.api.solve_batch`) solve
 again on the general path. Everywhere else the slots hold what ``arm.ik`` returns for the
 pose, computed by the same formulas.
 
-The position problem is taken in closed form where axes 1 and 2 meet or are parallel (two
-sinusoids) and where they are skew at right angles with axes 2 and 3 parallel (the KUKA
-KR 5 and ABB IRB 140 kind: :meth:`PieperKernel._th3_planar`); for other skew arms (a
-quartic) :func:`batch_kernel` returns None and the batch takes the general solver.
+The position problem: two sinusoids where axes 1 and 2 meet or are parallel; where they
+are skew, a quadratic in ``|g|^2`` when they are skew at right angles with axes 2 and 3
+parallel (the KUKA KR 5 and ABB IRB 140 kind: :meth:`PieperKernel._th3_planar`), else a
+quartic (Ferrari's formulas, shared with the general solver in :mod:`rikin.ik.kernels`).
 """
 
 from __future__ import annotations
@@ -34,6 +34,7 @@ from .kernels import (
     affine_mul_const,
     as_affine,
     chain_fk_error,
+    ferrari,
     wrap_in_place,
 )
 from .pieper_kernel import (
@@ -42,6 +43,7 @@ from .pieper_kernel import (
     NEAR,
     NEAR_AXIS1,
     OUT,
+    REAL_IN,
     REAL_OUT,
     ROOT_SEP,
     WRAP_EDGE,
@@ -67,11 +69,8 @@ def batch_kernel(
     accept: float,
 ) -> PieperBatchKernel | None:
     """The batch kernel of ``solver`` for ``arm`` (from its one-pose ``kernel``), or None
-    when the kernel takes no batch of this arm (no one-pose kernel; joint 3 from a
-    quartic; a constant sinusoid)."""
+    when the kernel takes no batch of this arm (no one-pose kernel; a constant sinusoid)."""
     if kernel is None:
-        return None
-    if kernel.case == "skew" and not kernel.planar:
         return None
     n0, nc, ns = kernel.n
     z0, zc, zs = kernel.z
@@ -112,7 +111,7 @@ class PieperBatchKernel:
             suspect = ~(rho_p >= NEAR_AXIS1 * k.L)
             P = px * px + py * py + pz * pz - k.a1 * k.a1 + k.d1 * k.d1 - 2.0 * k.d1 * pz
             if k.case == "skew":
-                pos, valid, bad = _positions_planar(k, px, py, pz, P)
+                pos, valid, bad = _positions_skew(k, px, py, pz, P)
             else:
                 pos, valid, bad = _positions_sinusoid(k, pz, P)
             th1, c1, s1, bad1 = _joint1(k, px, py, pos, valid)
@@ -120,12 +119,16 @@ class PieperBatchKernel:
             wrist = _wrist_orthogonal(k, rw) if k.orthogonal else _wrist_general(k, rw)
             th456, cs456, ok_w, bad_w = wrist
             wvalid = (valid[:, None] & ok_w).reshape(8, n)  # (4, 2, n) -> slots
-            th = [th1[:, None], pos[0][:, None], pos[3][:, None], *th456]
             cs = [(c1[:, None], s1[:, None]), (pos[1][:, None], pos[2][:, None]),
                   (pos[4][:, None], pos[5][:, None]), *cs456]
             goal = affine_mul(self.base_inv, affine_mul_const(tuple(rows), self.tool_inv))
             err = chain_fk_error(self.M, cs, goal, k.L, split=3).reshape(8, n)
-            q = np.stack(np.broadcast_arrays(*th), axis=2) - self.offsets[:, None]  # (4,2,6,n)
+            q = np.empty((4, 2, 6, n))
+            for j, t in enumerate((th1, pos[0], pos[3])):
+                np.subtract(t[:, None], self.offsets[j], out=q[:, :, j])
+            for j, (t0, t1) in enumerate(th456):
+                np.subtract(t0, self.offsets[3 + j], out=q[:, 0, 3 + j])
+                np.subtract(t1, self.offsets[3 + j], out=q[:, 1, 3 + j])
             q = wrap_in_place(q.reshape(8, 6, n))
             c5, s5 = (np.broadcast_to(x, (4, 2, n)).reshape(8, n) for x in cs456[1])
             sin_q5 = s5 * self.cos_o5 - c5 * self.sin_o5
@@ -187,11 +190,44 @@ def _positions_sinusoid(k: PieperKernel, pz: FloatArray, P: FloatArray) -> Posit
     return pos, np.repeat(ok2, 2, axis=0), bad
 
 
-def _positions_planar(
+def _positions_skew(
     k: PieperKernel, px: FloatArray, py: FloatArray, pz: FloatArray, P: FloatArray
 ) -> Positions:
-    """:meth:`PieperKernel._th3_planar` (its roots sorted by angle into the slots, the
-    general solver's order) and ``th2`` of each from both equations."""
+    """``th3`` of axes 1 and 2 skew (:meth:`PieperKernel._th3_planar` or
+    :meth:`PieperKernel._th3_skew`), its roots sorted by angle into the slots (the
+    general solver's order), and ``th2`` of each from both equations."""
+    if k.planar:
+        th3, ok, bad = _th3_planar(k, px, py, P)
+    else:
+        th3, ok, bad = _th3_quartic(k, pz, P)
+    c3, s3 = np.cos(th3), np.sin(th3)
+    gx, gy, gz = _g_of(k, c3, s3)
+    gxy = gx * gx + gy * gy
+    bad |= (ok & ~(gxy >= (NEAR * k.L) ** 2)).any(axis=0)
+    X = (P - (gxy + gz * gz)) / (2.0 * k.a1)
+    Y = (pz - k.d1 - k.ca1 * gz) / k.sa1
+    sn, cs = gx * Y - gy * X, gx * X + gy * Y
+    h = np.hypot(sn, cs)
+    return [np.arctan2(sn, cs), cs / h, sn / h, th3, c3, s3, gx, gy, gz], ok, bad
+
+
+def _sorted_roots(th: FloatArray, ok: np.ndarray, bad: np.ndarray, polished: FloatArray
+                  ) -> tuple[FloatArray, np.ndarray, np.ndarray]:
+    """Roots ``th (4, n)`` that exist (``ok``) sorted by angle, the others last, as the
+    general solver orders them; declined where near +-pi (where the two orders could
+    differ) or not ``ROOT_SEP`` apart. Returns ``polished`` in that order, ``ok``, ``bad``."""
+    bad = bad | (ok & ~(np.abs(th) <= pi - 1e-8)).any(axis=0)
+    order = np.argsort(np.where(ok, th, np.inf), axis=0)
+    th = np.take_along_axis(th, order, axis=0)
+    ok = np.take_along_axis(ok, order, axis=0)
+    bad |= _close_roots(th, ok)
+    return np.take_along_axis(polished, order, axis=0), ok, bad
+
+
+def _th3_planar(
+    k: PieperKernel, px: FloatArray, py: FloatArray, P: FloatArray
+) -> tuple[FloatArray, np.ndarray, np.ndarray]:
+    """:meth:`PieperKernel._th3_planar`: ``th3 (4, n)`` sorted, which exist, declined."""
     n0, nc, ns = k.n
     z0 = k.z[0]
     a1 = k.a1
@@ -208,21 +244,38 @@ def _positions_planar(
     delta = np.arccos(np.clip(ratio, -1.0, 1.0))
     phi = atan2(ns, nc)
     th = wrap_in_place(np.stack([phi + delta, phi - delta], axis=1).reshape(4, -1))
-    ok = np.repeat(ok, 2, axis=0)
-    bad |= (ok & ~(np.abs(th) <= pi - 1e-8)).any(axis=0)
-    order = np.argsort(np.where(ok, th, np.inf), axis=0)
-    th3 = np.take_along_axis(th, order, axis=0)
-    ok = np.take_along_axis(ok, order, axis=0)
-    bad |= _close_roots(th3, ok)
-    c3, s3 = np.cos(th3), np.sin(th3)
-    gx, gy, gz = _g_of(k, c3, s3)
-    gxy = gx * gx + gy * gy
-    bad |= (ok & ~(gxy >= (NEAR * k.L) ** 2)).any(axis=0)
-    X = (P - (gxy + gz * gz)) / (2.0 * a1)
-    Y = (pz - k.d1 - k.ca1 * gz) / k.sa1
-    sn, cs = gx * Y - gy * X, gx * X + gy * Y
-    h = np.hypot(sn, cs)
-    return [np.arctan2(sn, cs), cs / h, sn / h, th3, c3, s3, gx, gy, gz], ok, bad
+    return _sorted_roots(th, np.repeat(ok, 2, axis=0), bad, th)
+
+
+def _th3_quartic(
+    k: PieperKernel, pz: FloatArray, P: FloatArray
+) -> tuple[FloatArray, np.ndarray, np.ndarray]:
+    """:meth:`PieperKernel._th3_skew`: the real roots of the quartic in ``exp(i th3)``
+    (Ferrari's formulas, :func:`rikin.ik.kernels.ferrari`), each then polished by one
+    Newton step on the trigonometric equation; ``th3 (4, n)`` sorted, which exist,
+    declined (also where the formulas are not confirmed)."""
+    Pb, Hb = P - k.n[0], pz - k.d1 - k.ca1 * k.z[0]
+    s2, a2_ = k.F1
+    a0 = s2 * Pb * Pb + a2_ * Hb * Hb + k.K0
+    a1c = k.kP[0] * Pb + k.kH[0] * Hb + k.k1[0]
+    b1s = k.kP[1] * Pb + k.kH[1] * Hb + k.k1[1]
+    c1 = (a1c - 1j * b1s) * 0.5
+    big = np.maximum(np.maximum(np.abs(c1), np.abs(a0)), k.c2abs)
+    z, sure = ferrari(c1 * k.inv_c2, a0 * k.inv_c2, np.conj(c1) * k.inv_c2,
+                      np.full(a0.shape, k.D))
+    bad = ~(k.c2abs > 1e-8 * big) | ~sure
+    z = z.T  # (4, n)
+    m = np.abs(z)
+    gap = np.abs(m - 1.0)
+    ok = gap < REAL_OUT
+    bad |= (ok & ~(gap <= REAL_IN)).any(axis=0)
+    c, s = z.real / m, z.imag / m
+    cc, ss = c * c - s * s, 2.0 * c * s
+    f = a0 + a1c * c + b1s * s + k.a2c * cc + k.b2s * ss
+    df = b1s * c - a1c * s + 2.0 * (k.b2s * cc - k.a2c * ss)
+    bad |= (ok & ~(df != 0.0)).any(axis=0)
+    th = np.arctan2(s, c)
+    return _sorted_roots(th, ok, bad, th - f / df)
 
 
 def _close_roots(th: FloatArray, ok: np.ndarray) -> np.ndarray:
@@ -295,10 +348,12 @@ def _wrist_columns(k: PieperKernel, rows: list[Any], c1: FloatArray, s1: FloatAr
     return rw
 
 
-#: The wrist of every position: ``th4, th5, th6`` ``(4, 2, n)`` (wrist slot on axis 1),
-#: their cosines and sines (pairs of arrays broadcasting to that shape), which exist
-#: (broadcasting to it), and the positions ``(4, n)`` the one-pose kernel declines.
-Wrist = tuple[list[FloatArray], list[tuple[FloatArray, FloatArray]], np.ndarray, np.ndarray]
+#: The wrist of every position: ``th4, th5, th6``, each a pair (wrist slot 0, slot 1) of
+#: arrays ``(4, n)``; their cosines and sines (pairs of arrays broadcasting to
+#: ``(4, 2, n)``, the wrist slot on axis 1); which slots exist (broadcasting to it); and
+#: the positions ``(4, n)`` the one-pose kernel declines.
+Wrist = tuple[list[tuple[FloatArray, FloatArray]], list[tuple[FloatArray, FloatArray]],
+              np.ndarray, np.ndarray]
 
 
 def _wrist_orthogonal(k: PieperKernel, rw: list[FloatArray]) -> Wrist:
@@ -326,7 +381,7 @@ def _wrist_orthogonal(k: PieperKernel, rw: list[FloatArray]) -> Wrist:
     def slots(a: FloatArray, b: FloatArray) -> FloatArray:
         return np.stack([a, b], axis=1)
 
-    th = [slots(phi, phi + pi), slots(-theta, theta), slots(psi, psi + kappa * pi)]
+    th = [(phi, phi + pi), (-theta, theta), (psi, psi + kappa * pi)]
     cs = [(slots(cp, -cp), slots(sp, -sp)), (c5[:, None], slots(-s5, s5)),
           (slots(c6, -c6), slots(s6, -s6))]
     return th, cs, np.ones((1, 2, 1), dtype=bool), bad
@@ -368,6 +423,7 @@ def _wrist_general(k: PieperKernel, rw: list[FloatArray]) -> Wrist:
         values = (th4, np.arctan2(s, c5), np.arctan2(y6, x6), c4, s4, c5, s, x6 / h6, y6 / h6)
         for acc, v in zip(out, values, strict=True):
             acc.append(v)
-    th, cos_sin = [np.stack(v, axis=1) for v in out[:3]], [np.stack(v, axis=1) for v in out[3:]]
+    th = [(v[0], v[1]) for v in out[:3]]
+    cos_sin = [np.stack(v, axis=1) for v in out[3:]]
     cs = [(cos_sin[0], cos_sin[1]), (cos_sin[2], cos_sin[3]), (cos_sin[4], cos_sin[5])]
     return th, cs, np.stack([ok, ok], axis=1), bad
