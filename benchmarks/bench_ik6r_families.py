@@ -17,6 +17,9 @@ the machine's load hits all sides alike):
 * ``batch``: rikin ``arm.ik_batch(Ts, workers=2)`` of all ``N batch`` poses (2 threads);
 * ``eaik``: EAIK's ``DhRobot.IK(T)`` one pose at a time (C++; arms it decomposes only);
 * ``eaik/ik``, ``eaik/batch``: EAIK's time over rikin's (1 = as fast as EAIK);
+* ``cpu batch``, ``cpu eaik``, ``cpu e/b``: the batch's CPU time per pose (both threads),
+  EAIK's, and EAIK's over the batch's (what each pose costs, whatever the machine's load
+  does to the wall clock);
 * ``x sph``: this arm's ``arm.ik`` time over the Puma's (the general 6R's goal: <= 10);
 * with ``--baseline CHECKOUT``: the same two times of the rikin in another checkout (run in
   a subprocess, in turn with this one, round by round), and ``base/ik``, ``base/batch``: its
@@ -37,6 +40,7 @@ import os
 import subprocess
 import sys
 import time
+from functools import partial
 
 import numpy as np
 
@@ -119,11 +123,16 @@ def eaik_of(arm: SerialArm):
     return robot if robot.hasKnownDecomposition() else None
 
 
-def per_pose(fn, Ts: np.ndarray) -> float:
-    start = time.perf_counter()
+def per_pose(fn, Ts: np.ndarray) -> tuple[float, float]:
+    """Wall and CPU seconds per pose of ``fn(T)`` for each pose."""
+    start, cpu = time.perf_counter(), time.process_time()
     for T in Ts:
         fn(T)
-    return (time.perf_counter() - start) / len(Ts)
+    return (time.perf_counter() - start) / len(Ts), (time.process_time() - cpu) / len(Ts)
+
+
+#: The timed columns: seconds per pose (the batch's and EAIK's also in CPU seconds).
+KEYS = ("ik", "batch", "batch_cpu", "eaik", "eaik_cpu")
 
 
 def timings(poses: int, rounds: int, batch_poses: int) -> list[dict]:
@@ -140,16 +149,18 @@ def timings(poses: int, rounds: int, batch_poses: int) -> list[dict]:
         arm.ik(Ts[0])  # build the solver once (no derivation step: reading the table)
         arm.ik_batch(Ts[:2])
         robot = eaik_of(arm)
-        best = {"ik": np.inf, "batch": np.inf, "eaik": np.inf}
+        best = dict.fromkeys(KEYS, np.inf)
         for _ in range(rounds):
-            best["ik"] = min(best["ik"], per_pose(arm.ik, Ts))
-            start = time.perf_counter()
-            arm.ik_batch(Tb, workers=2)
-            best["batch"] = min(best["batch"], (time.perf_counter() - start) / nb)
+            best["ik"] = min(best["ik"], per_pose(arm.ik, Ts)[0])
+            batch = per_pose(partial(arm.ik_batch, workers=2), Tb[None])
+            best["batch"] = min(best["batch"], batch[0] / nb)
+            best["batch_cpu"] = min(best["batch_cpu"], batch[1] / nb)
             if robot is not None:
-                best["eaik"] = min(best["eaik"], per_pose(robot.IK, Ts))
-        out.append({"arm": arm.name, "family": family, "ik": best["ik"], "batch": best["batch"],
-                    "eaik": best["eaik"] if robot is not None else None, "n": nb})
+                wall, cpu = per_pose(robot.IK, Ts)
+                best["eaik"], best["eaik_cpu"] = min(best["eaik"], wall), min(best["eaik_cpu"], cpu)
+        if robot is None:
+            best["eaik"] = best["eaik_cpu"] = None
+        out.append({"arm": arm.name, "family": family, "n": nb, **best})
     return out
 
 
@@ -167,33 +178,40 @@ def best_of(runs: list[list[dict]]) -> list[dict]:
     out = [dict(row) for row in runs[0]]
     for run in runs[1:]:
         for mine, row in zip(out, run, strict=True):
-            for key in ("ik", "batch", "eaik"):
+            for key in KEYS:
                 if mine[key] is not None:
                     mine[key] = min(mine[key], row[key])
     return out
 
 
+def _ratio(a: float | None, b: float | None, width: int) -> str:
+    return f"{a / b:{width}.3f}" if a is not None and b else f"{'-':>{width}}"
+
+
+def _us(v: float | None, width: int) -> str:
+    return f"{v * 1e6:{width}.1f}" if v is not None else f"{'-':>{width}}"
+
+
 def print_table(rows: list[dict], base: list[dict] | None) -> None:
-    """The table of the module docstring; with a baseline, its times over these."""
-    head = f"{'arm':12} {'family':28} {'ik':>9} {'N batch':>7} {'batch':>8} {'eaik':>7} " \
-           f"{'eaik/ik':>8} {'eaik/batch':>10} {'x sph':>6}"
+    """The table of the module docstring (``cpu``: the batch's and EAIK's CPU time per pose,
+    and EAIK's over the batch's); with a baseline, its times over these."""
+    head = (f"{'arm':12} {'family':28} {'ik':>9} {'N batch':>7} {'batch':>8} {'eaik':>7} "
+            f"{'eaik/ik':>8} {'eaik/batch':>10} {'cpu batch':>9} {'cpu eaik':>8} "
+            f"{'cpu e/b':>7} {'x sph':>6}")
     if base is not None:
         head += f" {'base ik':>9} {'base batch':>10} {'base/ik':>8} {'base/batch':>10}"
     print(head)
     sph = rows[0]["ik"]
     for n, row in enumerate(rows):
-        us = {k: (v or 0.0) * 1e6 for k, v in row.items() if k in ("ik", "batch", "eaik")}
-        has = row["eaik"] is not None
-        e = f"{us['eaik']:7.1f}" if has else f"{'-':>7}"
-        r1 = f"{row['eaik'] / row['ik']:8.3f}" if has else f"{'-':>8}"
-        r2 = f"{row['eaik'] / row['batch']:10.3f}" if has else f"{'-':>10}"
-        line = (f"{row['arm'][:12]:12} {row['family']:28} {us['ik']:9.1f} {row['n']:7d} "
-                f"{us['batch']:8.1f} {e} "
-                f"{r1} {r2} {row['ik'] / sph:6.1f}")
+        line = (f"{row['arm'][:12]:12} {row['family']:28} {_us(row['ik'], 9)} {row['n']:7d} "
+                f"{_us(row['batch'], 8)} {_us(row['eaik'], 7)} "
+                f"{_ratio(row['eaik'], row['ik'], 8)} {_ratio(row['eaik'], row['batch'], 10)} "
+                f"{_us(row['batch_cpu'], 9)} {_us(row['eaik_cpu'], 8)} "
+                f"{_ratio(row['eaik_cpu'], row['batch_cpu'], 7)} {row['ik'] / sph:6.1f}")
         if base is not None:
             b = base[n]
-            line += (f" {b['ik'] * 1e6:9.1f} {b['batch'] * 1e6:10.1f} "
-                     f"{b['ik'] / row['ik']:8.2f} {b['batch'] / row['batch']:10.2f}")
+            line += (f" {_us(b['ik'], 9)} {_us(b['batch'], 10)} "
+                     f"{_ratio(b['ik'], row['ik'], 8)} {_ratio(b['batch'], row['batch'], 10)}")
         print(line)
 
 

@@ -18,7 +18,6 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from singular_poses import CROSSING_JOINT, singular_q
-from test_parallel3_kernel import same_q_bound
 from test_pieper import spherical_wrist_arms
 
 import rikin
@@ -114,6 +113,15 @@ def near_singular_q(arm, rng, n):
     return np.array(out)
 
 
+def same_q_bound(arm, q):
+    """How closely a pose fixes its joints ``q (k, 6)``: 1e-9 rad, or the rounding of the
+    pose over the Jacobian's smallest relative singular value where that is larger (no
+    bound at an exactly singular pose, whose free joints FK checks instead)."""
+    sv = np.linalg.svd(arm.jacobian(q), compute_uv=False)
+    ratio = float((sv[..., -1] / sv[..., 0]).min())
+    return np.inf if ratio == 0.0 else max(SAME_Q, 1e-14 / ratio)
+
+
 def assert_fast_equals_general(arm, Ts):
     """The array kernel's slots equal the general solver's (``solve`` without labels, the
     path the batch took before) on every pose the kernel does not call suspect: the same
@@ -188,7 +196,9 @@ def test_batch_equals_ik_pose_by_pose_random_and_near_singular(make):
 
 
 def test_batch_of_many_poses_in_chunks_and_threads_equals_one_chunk():
-    """Chunks split across threads fill the same rows as one chunk on one thread."""
+    """Chunks split across threads fill the same rows as one chunk on one thread (to
+    rounding: the general solver takes a chunk's suspect poses together, and its root
+    finder depends on how many there are)."""
     arm = with_base_tool(irb140)
     rng = np.random.default_rng(43)
     Ts = arm.fk(rng.uniform(-pi, pi, (2500, 6)))
@@ -197,7 +207,7 @@ def test_batch_of_many_poses_in_chunks_and_threads_equals_one_chunk():
     assert np.array_equal(one.valid, many.valid)
     assert np.array_equal(one.singular, many.singular)
     assert np.array_equal(np.isnan(one.q), np.isnan(many.q))
-    assert np.nanmax(np.abs(one.q - many.q)) == 0.0
+    assert np.nanmax(np.abs(one.q - many.q)) <= 1e-12
 
 
 @st.composite

@@ -21,7 +21,7 @@ quartic (Ferrari's formulas, shared with the general solver in :mod:`rikin.ik.ke
 
 from __future__ import annotations
 
-from math import atan2, hypot, pi
+from math import atan2, cos, hypot, pi, sin
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -107,7 +107,7 @@ class PieperBatchKernel:
             rows[i] = rows[i] * u
         with np.errstate(all="ignore"):  # NaN and inf end up in suspect
             px, py, pz = _wrist_centre(k, rows)
-            rho_p = np.hypot(px, py)
+            rho_p = _norm(px, py)
             suspect = ~(rho_p >= NEAR_AXIS1 * k.L)
             P = px * px + py * py + pz * pz - k.a1 * k.a1 + k.d1 * k.d1 - 2.0 * k.d1 * pz
             if k.case == "skew":
@@ -149,6 +149,25 @@ def _wrist_centre(k: PieperKernel, rows: list[Any]) -> tuple[FloatArray, ...]:
                                                                            strict=True))
 
 
+def _norm(x: FloatArray, y: FloatArray) -> FloatArray:
+    """``sqrt(x^2 + y^2)`` (a twentieth of ``np.hypot``'s time; the kernel's values are of
+    the arm's size, near 1 in the solver's units, far from overflow)."""
+    return np.sqrt(x * x + y * y)
+
+
+def _plus_minus(phi: Any, c_phi: Any, s_phi: Any, ratio: FloatArray, axis: int
+                ) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """``phi +- acos(ratio)`` (stacked on ``axis``: plus first), with their cosines and
+    sines from those of ``phi`` (the ratio clipped to [-1, 1])."""
+    cd = np.clip(ratio, -1.0, 1.0)
+    delta = np.arccos(cd)
+    sd = np.sqrt(1.0 - cd * cd)
+    a, b = c_phi * cd, s_phi * sd
+    c, d = s_phi * cd, c_phi * sd
+    return (np.stack([phi + delta, phi - delta], axis=axis), np.stack([a - b, a + b], axis=axis),
+            np.stack([c + d, c - d], axis=axis))
+
+
 def _g_of(k: PieperKernel, c3: FloatArray, s3: FloatArray) -> list[FloatArray]:
     """``g = g0 + cos(th3) gc + sin(th3) gs``, three arrays."""
     return [k.g0[i] + c3 * k.gc[i] + s3 * k.gs[i] for i in range(3)]
@@ -167,25 +186,22 @@ def _positions_sinusoid(k: PieperKernel, pz: FloatArray, P: FloatArray) -> Posit
     ratio = -k0 / hypot(kc, ks)
     ok3 = np.abs(ratio) <= 1.0 + OUT
     bad = ok3 & ~(np.abs(ratio) <= 1.0 - EDGE)
-    delta = np.arccos(np.clip(ratio, -1.0, 1.0))
     phi = atan2(ks, kc)
-    th3 = np.stack([phi + delta, phi - delta])  # (2, n)
-    c3, s3 = np.cos(th3), np.sin(th3)
+    th3, c3, s3 = _plus_minus(phi, cos(phi), sin(phi), ratio, axis=0)  # (2, n)
     gx, gy, gz = _g_of(k, c3, s3)
     gxy = gx * gx + gy * gy
     bad |= (ok3 & ~(gxy >= (NEAR * k.L) ** 2)).any(axis=0)
     rho2 = np.sqrt(gxy)
     if meet:  # gy cos2 + gx sin2 = A / sa1
         ratio2 = (pz - k.d1 - k.ca1 * gz) / k.sa1 / rho2
-        phi2 = np.arctan2(gx, gy)
+        phi2, c_phi2, s_phi2 = np.arctan2(gx, gy), gy / rho2, gx / rho2
     else:  # gx cos2 - gy sin2 = B / (2 a1)
         ratio2 = (P - (gxy + gz * gz)) / (2.0 * k.a1) / rho2
-        phi2 = np.arctan2(-gy, gx)
+        phi2, c_phi2, s_phi2 = np.arctan2(-gy, gx), gx / rho2, -gy / rho2
     ok2 = ok3 & (np.abs(ratio2) <= 1.0 + OUT)
     bad |= (ok2 & ~(np.abs(ratio2) <= 1.0 - EDGE)).any(axis=0)
-    d2 = np.arccos(np.clip(ratio2, -1.0, 1.0))
-    th2 = np.stack([phi2 + d2, phi2 - d2], axis=1).reshape(4, -1)
-    pos = [th2, np.cos(th2), np.sin(th2)] + [np.repeat(x, 2, axis=0)
+    th2 = _plus_minus(phi2, c_phi2, s_phi2, ratio2, axis=1)
+    pos = [x.reshape(4, -1) for x in th2] + [np.repeat(x, 2, axis=0)
                                              for x in (th3, c3, s3, gx, gy, gz)]
     return pos, np.repeat(ok2, 2, axis=0), bad
 
@@ -207,7 +223,7 @@ def _positions_skew(
     X = (P - (gxy + gz * gz)) / (2.0 * k.a1)
     Y = (pz - k.d1 - k.ca1 * gz) / k.sa1
     sn, cs = gx * Y - gy * X, gx * X + gy * Y
-    h = np.hypot(sn, cs)
+    h = _norm(sn, cs)
     return [np.arctan2(sn, cs), cs / h, sn / h, th3, c3, s3, gx, gy, gz], ok, bad
 
 
@@ -303,7 +319,9 @@ def _joint1(
     xp, yp = c2 * gx - s2 * gy, s2 * gx + c2 * gy
     rx, ry = xp + t1x, ca1s * yp - sa1s * gz + t1y
     th1 = np.arctan2(py, px) - np.arctan2(ry, rx)
-    c1, s1 = np.cos(th1), np.sin(th1)
+    # cos and sin of that difference, from the arguments of the two atan2
+    h1 = _norm(px, py) * _norm(rx, ry)
+    c1, s1 = (px * rx + py * ry) / h1, (py * rx - px * ry) / h1
     bad = ~(np.abs(px * c1 + py * s1) >= label_tol)
     ex, ey = c2 * t2x - s2 * t2y, s2 * t2x + c2 * t2y
     nl = xp * xp + yp * yp
@@ -367,14 +385,14 @@ def _wrist_orthogonal(k: PieperKernel, rw: list[FloatArray]) -> Wrist:
     m12, m22 = ca3 * y5b + sa3 * z4b, ca3 * z4b - sa3 * y5b
     if kappa < 0:  # C = diag(1, -1, -1)
         m02, m12, m22 = -m02, -m12, -m22
-    sw = np.hypot(m02, m12)
+    sw = _norm(m02, m12)
     bad = ~(sw >= NEAR)
     theta = sigma * np.arctan2(sw, m22)
     phi = np.arctan2(m12, m02)
     cp, sp = m02 / sw, m12 / sw
     y6, x6 = cp * m10 - sp * m00, m22 * (cp * m00 + sp * m10) - sw * m20
     psi = kappa * np.arctan2(y6, x6)
-    h5, h6 = np.hypot(sw, m22), np.hypot(y6, x6)
+    h5, h6 = _norm(sw, m22), _norm(y6, x6)
     c5, s5 = m22 / h5, sigma * sw / h5
     c6, s6 = x6 / h6, kappa * y6 / h6
 
@@ -405,7 +423,7 @@ def _wrist_general(k: PieperKernel, rw: list[FloatArray]) -> Wrist:
     out: list[list[FloatArray]] = [[] for _ in range(9)]  # th, cos, sin of joints 4-6
     for s in (s5, -s5):
         ax, ay = sb2 * s, -cb1 * sb2 * c5 - sb1 * cb2
-        bad |= ok & ~(np.hypot(ax, ay) >= NEAR)
+        bad |= ok & ~(_norm(ax, ay) >= NEAR)
         th4 = phi_w - np.arctan2(ay, ax)
         c4, s4 = np.cos(th4), np.sin(th4)
         rest = []
@@ -419,7 +437,7 @@ def _wrist_general(k: PieperKernel, rw: list[FloatArray]) -> Wrist:
             rest.append((x3, c2b * y3 + s2b * z2))
         (r00, r10), (r01, r11) = rest
         y6, x6 = r10 - r01, r00 + r11
-        h6 = np.hypot(y6, x6)
+        h6 = _norm(y6, x6)
         values = (th4, np.arctan2(s, c5), np.arctan2(y6, x6), c4, s4, c5, s, x6 / h6, y6 / h6)
         for acc, v in zip(out, values, strict=True):
             acc.append(v)
