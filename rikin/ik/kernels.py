@@ -11,7 +11,8 @@ is one contiguous array and small matrix products become a handful of
 whole-array multiply-adds (:func:`const_matmul`, :func:`matmul_const`,
 :func:`rz_inverse_times`), plus :func:`pose_defects` and
 :func:`wrap_in_place`; and the same for batches of affine maps held as their top
-three rows, 12 entries (:func:`affine_mul`, :func:`affine_mul_const`, :func:`affine_turn`),
+three rows, 12 entries (:func:`affine_mul`, :func:`affine_mul_const`,
+:func:`affine_const_mul`, :func:`affine_turn`),
 with which :func:`chain_fk_error` checks a 6R chain's solutions by FK.
 
 Inputs are trusted arrays; shapes are given per function.
@@ -273,26 +274,72 @@ def affine_mul(a: Affine, b: Affine) -> Affine:
 
 
 def affine_turn(T: Affine, c: Any, s: Any) -> Affine:
-    """``T Rz(t)`` of an affine map given as 12 entries, with ``c, s`` the cosine and sine."""
+    """``T Rz(t)`` of an affine map given as 12 entries, with ``c, s`` the cosine and sine.
+    Entries of ``T`` that are the floats 0 or +-1 (a constant DH factor's) cost nothing."""
     out = list(T)
     for r in (0, 4, 8):
         x, y = T[r], T[r + 1]
-        out[r], out[r + 1] = x * c + y * s, y * c - x * s
+        out[r] = _combine(_times(x, c), _times(y, s), 1.0)
+        out[r + 1] = _combine(_times(y, c), _times(x, s), -1.0)
     return tuple(out)
 
 
-def affine_mul_const(a: Affine, b: tuple[float, ...]) -> Affine:
-    """``a b`` for a constant affine map ``b`` (12 floats), skipping its zero and unit
-    entries (a DH table's matrices are mostly 0 and 1)."""
+def _combine(a: Any, b: Any, sign: float) -> Any:
+    """``a + sign b`` where either may be None (no term)."""
+    if b is None:
+        return 0.0 if a is None else a
+    if a is None:
+        return b if sign > 0 else -b
+    return a + b if sign > 0 else a - b
+
+
+def _times(x: Any, c: Any) -> Any:
+    """``x c``; None when ``x`` is the float 0 (no term)."""
+    if type(x) is float:
+        if x == 0.0:
+            return None
+        if x == 1.0:
+            return c
+        if x == -1.0:
+            return -c
+    return x * c
+
+
+def affine_const_mul(a: tuple[float, ...], b: Affine) -> Affine:
+    """``a b`` for a constant affine map ``a`` (12 floats), skipping its zero and unit
+    entries."""
     out: list[Any] = []
     for i in (0, 4, 8):
         for j in range(4):
             acc: Any = a[i + 3] if j == 3 else 0.0
             for m in range(3):
-                v = b[4 * m + j]
+                v = a[i + m]
                 if v != 0.0:
-                    acc = acc + (a[i + m] if v == 1.0 else a[i + m] * v)
+                    term = b[4 * m + j] if v == 1.0 else b[4 * m + j] * v
+                    acc = term if type(acc) is float and acc == 0.0 else acc + term
             out.append(acc)
+    return tuple(out)
+
+
+def affine_mul_const(a: Affine, b: tuple[float, ...]) -> Affine:
+    """``a b`` for a constant affine map ``b`` (12 floats), skipping its zero and unit
+    entries (a DH table's matrices are mostly 0 and 1) and the float zeros of ``a``."""
+    out: list[Any] = []
+    for i in (0, 4, 8):
+        for j in range(4):
+            acc: Any = a[i + 3] if j == 3 else None
+            if type(acc) is float and acc == 0.0:
+                acc = None
+            for m in range(3):
+                v, e = b[4 * m + j], a[i + m]
+                if v == 0.0 or (type(e) is float and e == 0.0):
+                    continue
+                if v == -1.0:
+                    acc = -e if acc is None else acc - e
+                else:
+                    term = e if v == 1.0 else e * v
+                    acc = term if acc is None else acc + term
+            out.append(0.0 if acc is None else acc)
     return tuple(out)
 
 

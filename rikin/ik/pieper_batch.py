@@ -30,7 +30,7 @@ from .._validate import FloatArray
 from ..tolerances import SINGULAR_TOL
 from ..transforms import _inv_transform
 from .kernels import (
-    affine_mul,
+    affine_const_mul,
     affine_mul_const,
     as_affine,
     chain_fk_error,
@@ -121,7 +121,7 @@ class PieperBatchKernel:
             wvalid = (valid[:, None] & ok_w).reshape(8, n)  # (4, 2, n) -> slots
             cs = [(c1[:, None], s1[:, None]), (pos[1][:, None], pos[2][:, None]),
                   (pos[4][:, None], pos[5][:, None]), *cs456]
-            goal = affine_mul(self.base_inv, affine_mul_const(tuple(rows), self.tool_inv))
+            goal = affine_const_mul(self.base_inv, affine_mul_const(tuple(rows), self.tool_inv))
             err = chain_fk_error(self.M, cs, goal, k.L, split=3).reshape(8, n)
             q = np.empty((4, 2, 6, n))
             for j, t in enumerate((th1, pos[0], pos[3])):
