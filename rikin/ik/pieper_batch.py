@@ -35,6 +35,7 @@ from .kernels import (
     as_affine,
     chain_fk_error,
     ferrari,
+    norm2,
     wrap_in_place,
 )
 from .pieper_kernel import (
@@ -107,7 +108,7 @@ class PieperBatchKernel:
             rows[i] = rows[i] * u
         with np.errstate(all="ignore"):  # NaN and inf end up in suspect
             px, py, pz = _wrist_centre(k, rows)
-            rho_p = _norm(px, py)
+            rho_p = norm2(px, py)
             suspect = ~(rho_p >= NEAR_AXIS1 * k.L)
             P = px * px + py * py + pz * pz - k.a1 * k.a1 + k.d1 * k.d1 - 2.0 * k.d1 * pz
             if k.case == "skew":
@@ -147,12 +148,6 @@ def _wrist_centre(k: PieperKernel, rows: list[Any]) -> tuple[FloatArray, ...]:
     gt = k.Gt
     return tuple(g[0] * w[0] + g[1] * w[1] + g[2] * w[2] + t for g, t in zip(k.G, gt,
                                                                            strict=True))
-
-
-def _norm(x: FloatArray, y: FloatArray) -> FloatArray:
-    """``sqrt(x^2 + y^2)`` (a twentieth of ``np.hypot``'s time; the kernel's values are of
-    the arm's size, near 1 in the solver's units, far from overflow)."""
-    return np.sqrt(x * x + y * y)
 
 
 def _plus_minus(phi: Any, c_phi: Any, s_phi: Any, ratio: FloatArray, axis: int
@@ -223,7 +218,7 @@ def _positions_skew(
     X = (P - (gxy + gz * gz)) / (2.0 * k.a1)
     Y = (pz - k.d1 - k.ca1 * gz) / k.sa1
     sn, cs = gx * Y - gy * X, gx * X + gy * Y
-    h = _norm(sn, cs)
+    h = norm2(sn, cs)
     return [np.arctan2(sn, cs), cs / h, sn / h, th3, c3, s3, gx, gy, gz], ok, bad
 
 
@@ -320,7 +315,7 @@ def _joint1(
     rx, ry = xp + t1x, ca1s * yp - sa1s * gz + t1y
     th1 = np.arctan2(py, px) - np.arctan2(ry, rx)
     # cos and sin of that difference, from the arguments of the two atan2
-    h1 = _norm(px, py) * _norm(rx, ry)
+    h1 = norm2(px, py) * norm2(rx, ry)
     c1, s1 = (px * rx + py * ry) / h1, (py * rx - px * ry) / h1
     bad = ~(np.abs(px * c1 + py * s1) >= label_tol)
     ex, ey = c2 * t2x - s2 * t2y, s2 * t2x + c2 * t2y
@@ -385,14 +380,14 @@ def _wrist_orthogonal(k: PieperKernel, rw: list[FloatArray]) -> Wrist:
     m12, m22 = ca3 * y5b + sa3 * z4b, ca3 * z4b - sa3 * y5b
     if kappa < 0:  # C = diag(1, -1, -1)
         m02, m12, m22 = -m02, -m12, -m22
-    sw = _norm(m02, m12)
+    sw = norm2(m02, m12)
     bad = ~(sw >= NEAR)
     theta = sigma * np.arctan2(sw, m22)
     phi = np.arctan2(m12, m02)
     cp, sp = m02 / sw, m12 / sw
     y6, x6 = cp * m10 - sp * m00, m22 * (cp * m00 + sp * m10) - sw * m20
     psi = kappa * np.arctan2(y6, x6)
-    h5, h6 = _norm(sw, m22), _norm(y6, x6)
+    h5, h6 = norm2(sw, m22), norm2(y6, x6)
     c5, s5 = m22 / h5, sigma * sw / h5
     c6, s6 = x6 / h6, kappa * y6 / h6
 
@@ -423,7 +418,7 @@ def _wrist_general(k: PieperKernel, rw: list[FloatArray]) -> Wrist:
     out: list[list[FloatArray]] = [[] for _ in range(9)]  # th, cos, sin of joints 4-6
     for s in (s5, -s5):
         ax, ay = sb2 * s, -cb1 * sb2 * c5 - sb1 * cb2
-        bad |= ok & ~(_norm(ax, ay) >= NEAR)
+        bad |= ok & ~(norm2(ax, ay) >= NEAR)
         th4 = phi_w - np.arctan2(ay, ax)
         c4, s4 = np.cos(th4), np.sin(th4)
         rest = []
@@ -437,7 +432,7 @@ def _wrist_general(k: PieperKernel, rw: list[FloatArray]) -> Wrist:
             rest.append((x3, c2b * y3 + s2b * z2))
         (r00, r10), (r01, r11) = rest
         y6, x6 = r10 - r01, r00 + r11
-        h6 = _norm(y6, x6)
+        h6 = norm2(y6, x6)
         values = (th4, np.arctan2(s, c5), np.arctan2(y6, x6), c4, s4, c5, s, x6 / h6, y6 / h6)
         for acc, v in zip(out, values, strict=True):
             acc.append(v)
