@@ -242,7 +242,7 @@ def typed_arms(draw):
     return arm.replace(links=links)
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=30, deadline=None)
 @given(typed_arms(), st.integers(0, 2**32 - 1))
 def test_random_typed_tables_batch_equals_ik(arm, seed):
     verdict = rikin.ik.classify(arm)
