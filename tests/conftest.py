@@ -46,7 +46,6 @@ def pytest_report_header(config):
 #: Modules that ask for ``book_site`` at run time (``request.getfixturevalue``) unless the
 #: environment variable names a site built before.
 _BOOK_SITE_ON_DEMAND = {"test_book_browser.py": "RIKIN_BOOK_HTML",
-                        "test_book_editions.py": "RIKIN_BOOK_HTML",
                         "test_student_download.py": "RIKIN_STUDENT_SITE"}
 
 
