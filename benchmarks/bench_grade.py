@@ -209,7 +209,7 @@ def bench_nbgrader(
     }
 
 
-def main(argv: list[str] | None = None) -> int:
+def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         description=__doc__.split("\n\n")[0], formatter_class=argparse.RawDescriptionHelpFormatter
     )
@@ -239,86 +239,106 @@ def main(argv: list[str] | None = None) -> int:
     )
     p.add_argument("--json", action="store_true", help="print the figures as JSON too")
     p.add_argument("--keep", action="store_true", help="keep the generated folder")
-    args = p.parse_args(argv)
+    return p
+
+
+def _solution_path(args: argparse.Namespace, notebook: str) -> Path:
+    """The solution notebook the class is made from (``--solution``, or the assignment's)."""
+    if args.solution:
+        return Path(args.solution)
+    if Path(args.assignment).resolve() == FAKE_ASSIGNMENT:
+        return FAKE_SOLUTION
+    return ROOT / "solutions" / notebook
+
+
+def _write_class(class_: list, folder: Path) -> dict[str, int]:
+    """Each submission of ``class_`` as ``<student>.ipynb`` in ``folder``; count per kind."""
+    folder.mkdir()
+    for student, _kind, nb in class_:
+        (folder / f"{student}.ipynb").write_text(json.dumps(nb))
+    return {k: sum(1 for _, kk, _ in class_ if kk == k) for k in {k for _, k, _ in class_}}
+
+
+def _report_rikin(ours: dict, class_: list, workers: int) -> dict:
+    """Print rikin-grade's rate and correctness; its figures (with the misgraded students)."""
+    res = ours["results"]
+    full = [s for s, k, _ in class_ if k == "correct" or k in HOSTILE_FULL_MARKS]
+    not_full = [s for s, k, _ in class_ if s not in full]
+    missed = [s for s in full if res[s][0] != res[s][1]]
+    false_pass = [s for s in not_full if res[s][0] >= res[s][1]]
+    print(
+        f"rikin-grade: {ours['n']} notebooks in {ours['seconds']:.1f} s = {ours['per_min']:.0f} "
+        f"notebooks/min ({workers} workers, sandbox start included; "
+        f"1-minute load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs); "
+        f"{ours['cpu_seconds']:.1f} s of CPU"
+    )
+    print(
+        f"  correct notebooks with full marks: {len(full) - len(missed)}/{len(full)}; "
+        f"false passes among wrong/hostile: {len(false_pass)}/{len(not_full)}"
+    )
+    return {
+        "n": ours["n"],
+        "workers": workers,
+        "seconds": round(ours["seconds"], 3),
+        "notebooks_per_min": round(ours["per_min"], 1),
+        "cpu_seconds": round(ours["cpu_seconds"], 2),
+        "missed_full_marks": missed,
+        "false_passes": false_pass,
+    }
+
+
+def _compare_nbgrader(args: argparse.Namespace, ours: dict, class_: list, solution: dict,
+                      notebook: str, work: Path) -> dict:
+    """Grade the correct and wrong submissions with nbgrader when it is there; print the
+    ratio of the rates; the figures to add (none when nbgrader is skipped or missing)."""
+    nbg = find_nbgrader(args.nbgrader) if args.nbgrader_n > 0 else None
+    if args.nbgrader_n <= 0:
+        print("nbgrader: skipped (--nbgrader-n 0)")
+        return {}
+    if nbg is None:
+        print(
+            "nbgrader: not installed (pip install nbgrader, or set NBGRADER=/path/to/nbgrader); "
+            "no ratio"
+        )
+        return {}
+    subset = [c for c in class_ if c[1] in ("correct", "wrong")][: args.nbgrader_n]
+    theirs = bench_nbgrader(nbg, solution, notebook, subset, work, args.nbgrader_timeout)
+    print(
+        f"nbgrader autograde: {theirs['n']} notebooks in {theirs['seconds']:.1f} s = "
+        f"{theirs['per_min']:.1f} notebooks/min (serial; {theirs['graded']} graded; hostile "
+        "notebooks excluded: no sandbox)"
+    )
+    if theirs["returncode"] != 0:
+        print(f"  nbgrader exited with {theirs['returncode']}:\n{theirs['log_tail']}")
+    ratio = ours["per_min"] / theirs["per_min"] if theirs["per_min"] else float("inf")
+    print(f"ratio: rikin-grade is {ratio:.1f}x nbgrader autograde (notebooks/min)")
+    return {
+        "nbgrader_n": theirs["n"],
+        "nbgrader_seconds": round(theirs["seconds"], 3),
+        "nbgrader_per_min": round(theirs["per_min"], 2),
+        "ratio": round(ratio, 1),
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
 
     from rikingrade.assignment import load_assignment
 
-    assignment = args.assignment
-    a = load_assignment(assignment)
-    if args.solution:
-        solution_path = Path(args.solution)
-    elif Path(assignment).resolve() == FAKE_ASSIGNMENT:
-        solution_path = FAKE_SOLUTION
-    else:
-        solution_path = ROOT / "solutions" / a.notebook
+    a = load_assignment(args.assignment)
+    solution_path = _solution_path(args, a.notebook)
     solution = json.loads(solution_path.read_text())
     class_ = make_class(solution, list(a.functions), args.n, hostile_every=args.hostile_every)
     work = Path(tempfile.mkdtemp(prefix="bench-grade-"))
     try:
-        folder = work / "class"
-        folder.mkdir()
-        for student, _kind, nb in class_:
-            (folder / f"{student}.ipynb").write_text(json.dumps(nb))
-        kinds = {k: sum(1 for _, kk, _ in class_ if kk == k) for k in {k for _, k, _ in class_}}
+        kinds = _write_class(class_, work / "class")
         print(f"class: {args.n} submissions of {a.exercise} from {solution_path.name}: {kinds}")
-
-        ours = bench_rikin(assignment, folder, args.workers)
-        res = ours["results"]
-        full = [s for s, k, _ in class_ if k == "correct" or k in HOSTILE_FULL_MARKS]
-        not_full = [s for s, k, _ in class_ if s not in full]
-        missed = [s for s in full if res[s][0] != res[s][1]]
-        false_pass = [s for s in not_full if res[s][0] >= res[s][1]]
-        print(
-            f"rikin-grade: {ours['n']} notebooks in {ours['seconds']:.1f} s = {ours['per_min']:.0f} "  # noqa: E501
-            f"notebooks/min ({args.workers} workers, sandbox start included; "
-            f"1-minute load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs); "
-            f"{ours['cpu_seconds']:.1f} s of CPU"
-        )
-        print(
-            f"  correct notebooks with full marks: {len(full) - len(missed)}/{len(full)}; "
-            f"false passes among wrong/hostile: {len(false_pass)}/{len(not_full)}"
-        )
-        figures = {
-            "n": ours["n"],
-            "workers": args.workers,
-            "seconds": round(ours["seconds"], 3),
-            "notebooks_per_min": round(ours["per_min"], 1),
-            "cpu_seconds": round(ours["cpu_seconds"], 2),
-            "missed_full_marks": missed,
-            "false_passes": false_pass,
-        }
-
-        nbg = find_nbgrader(args.nbgrader) if args.nbgrader_n > 0 else None
-        if args.nbgrader_n <= 0:
-            print("nbgrader: skipped (--nbgrader-n 0)")
-        elif nbg is None:
-            print(
-                "nbgrader: not installed (pip install nbgrader, or set NBGRADER=/path/to/nbgrader); "  # noqa: E501
-                "no ratio"
-            )
-        else:
-            subset = [c for c in class_ if c[1] in ("correct", "wrong")][: args.nbgrader_n]
-            theirs = bench_nbgrader(nbg, solution, a.notebook, subset, work, args.nbgrader_timeout)
-            print(
-                f"nbgrader autograde: {theirs['n']} notebooks in {theirs['seconds']:.1f} s = "
-                f"{theirs['per_min']:.1f} notebooks/min (serial; {theirs['graded']} graded; hostile "  # noqa: E501
-                "notebooks excluded: no sandbox)"
-            )
-            if theirs["returncode"] != 0:
-                print(f"  nbgrader exited with {theirs['returncode']}:\n{theirs['log_tail']}")
-            ratio = ours["per_min"] / theirs["per_min"] if theirs["per_min"] else float("inf")
-            print(f"ratio: rikin-grade is {ratio:.1f}x nbgrader autograde (notebooks/min)")
-            figures.update(
-                {
-                    "nbgrader_n": theirs["n"],
-                    "nbgrader_seconds": round(theirs["seconds"], 3),
-                    "nbgrader_per_min": round(theirs["per_min"], 2),
-                    "ratio": round(ratio, 1),
-                }
-            )
+        ours = bench_rikin(args.assignment, work / "class", args.workers)
+        figures = _report_rikin(ours, class_, args.workers)
+        figures.update(_compare_nbgrader(args, ours, class_, solution, a.notebook, work))
         if args.json:
             print(json.dumps(figures))
-        return 0 if not missed and not false_pass else 1
+        return 0 if not figures["missed_full_marks"] and not figures["false_passes"] else 1
     finally:
         if args.keep:
             print(f"kept {work}")

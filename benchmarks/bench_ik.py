@@ -328,6 +328,80 @@ def bench_memory(n: int) -> dict[str, Any]:
     }
 
 
+def _print_batch_table(rows: list[dict], sizes: list[int], info: dict) -> None:
+    """The batch rows, each with its ratio to rikin's ik_batch at the largest N (added to
+    the row as ``ratio_vs_batch``)."""
+    ref = rows[len(sizes) - 1]["poses_per_s"]
+    print(f"{'method':<62} {'N':>8} {'poses/s':>12} {'x slower':>9}  note")
+    for r in rows:
+        note = (
+            f"{r['solutions_per_pose']:.2f} solutions/pose"
+            if "solutions_per_pose" in r
+            else f"success {100 * r['success_rate']:.0f}%"
+        )
+        if r.get("poses_per_cpu_s"):
+            note += f"; {r['poses_per_cpu_s']:,.0f} poses per CPU-second"
+        if "own_success_rate" in r:
+            note += (
+                f" (own flag {100 * r['own_success_rate']:.0f}%, max FK error "
+                f"{r['max_fk_error']:.1e})"
+            )
+        print(
+            f"{r['method']:<62} {r['n']:>8,} {r['poses_per_s']:>12,.0f} "
+            f"{ref / r['poses_per_s']:>9.1f}  {note}"
+        )
+        r["ratio_vs_batch"] = ref / r["poses_per_s"]
+    print(f"(x slower: rikin ik_batch at N = {sizes[-1]:,} poses/s divided by the method's)")
+    load = load_average()
+    if load is not None:
+        print(
+            f"(1-minute load average now {load:.2f} on {info['nproc']} CPUs: above ~0.5 other "
+            "processes share the CPUs and the wall-clock figures drop)"
+        )
+
+
+def _print_single(single: list[dict], robot: object) -> None:
+    """One pose at a time: rikin's arm.ik and (when timed) roboticstoolbox's analytic IK."""
+    print(f"\none pose at a time ({single[0]['n']} seeded poses, best of 5 alternating rounds):")
+    for r in single:
+        print(
+            f"  {r['arm']:<12} rikin arm.ik (all solutions, labelled, FK-checked) "
+            f"{r['rikin_poses_per_s']:>9,.0f} poses/s, {r['rikin_poses_per_cpu_s']:>9,.0f} per "
+            f"CPU-s ({r['rikin_solutions_per_pose']:.2f} solutions/pose)"
+        )
+        if "ratio" in r:
+            print(
+                f"  {r['arm']:<12} roboticstoolbox analytic_ik().solve             "
+                f"{r['rtb_poses_per_s']:>9,.0f} poses/s, {r['rtb_poses_per_cpu_s']:>9,.0f} per "
+                f"CPU-s ({r['rtb_solutions_per_pose']:.2f} solutions/pose; derivation "
+                f"{r['rtb_derivation_s']:.1f} s)"
+            )
+            print(
+                f"  {r['arm']:<12} ratio rikin / roboticstoolbox: {r['ratio']:.1f}x by wall "
+                f"clock, {r['ratio_cpu']:.1f}x by CPU time"
+            )
+    if robot is None:
+        print("  (roboticstoolbox analytic_ik not timed: not installed, or --quick)")
+    load = load_average()
+    if load is not None:
+        print(f"  (1-minute load average now {load:.2f})")
+
+
+def _report_memory(n_mem: int) -> dict:
+    """ik_batch's peak memory for ``n_mem`` poses, measured in a child process; printed."""
+    memory = bench_memory(n_mem)
+    print(f"\nmemory, ik_batch of N = {n_mem:,} in a child process ({memory['method']}):")
+    print(
+        f"  peak RSS {memory['peak_rss_mib']:.0f} MiB; after importing numpy + rikin "
+        f"{memory['baseline_import_mib']:.0f} MiB; peak minus that "
+        f"{memory['peak_minus_import_mib']:.0f} MiB (input poses "
+        f"{memory['input_mib']:.0f} MiB + output {memory['output_mib']:.0f} MiB + working "
+        f"memory); rise during ik_batch (over the RSS just before it) "
+        f"{memory['batch_increase_mib']:.0f} MiB"
+    )
+    return memory
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="small sizes, for a smoke run")
@@ -373,70 +447,10 @@ def main(argv: list[str] | None = None) -> int:
     c4 = rikin.robots.epson_c4()
     single.append(bench_single(c4, reachable_poses(c4, n_single), None))
 
-    ref = rows[len(sizes) - 1]["poses_per_s"]
-    print(f"{'method':<62} {'N':>8} {'poses/s':>12} {'x slower':>9}  note")
-    for r in rows:
-        note = (
-            f"{r['solutions_per_pose']:.2f} solutions/pose"
-            if "solutions_per_pose" in r
-            else f"success {100 * r['success_rate']:.0f}%"
-        )
-        if r.get("poses_per_cpu_s"):
-            note += f"; {r['poses_per_cpu_s']:,.0f} poses per CPU-second"
-        if "own_success_rate" in r:
-            note += (
-                f" (own flag {100 * r['own_success_rate']:.0f}%, max FK error "
-                f"{r['max_fk_error']:.1e})"
-            )
-        print(
-            f"{r['method']:<62} {r['n']:>8,} {r['poses_per_s']:>12,.0f} "
-            f"{ref / r['poses_per_s']:>9.1f}  {note}"
-        )
-        r["ratio_vs_batch"] = ref / r["poses_per_s"]
-    print(f"(x slower: rikin ik_batch at N = {sizes[-1]:,} poses/s divided by the method's)")
-    load = load_average()
-    if load is not None:
-        print(
-            f"(1-minute load average now {load:.2f} on {info['nproc']} CPUs: above ~0.5 other "
-            "processes share the CPUs and the wall-clock figures drop)"
-        )
+    _print_batch_table(rows, sizes, info)
+    _print_single(single, robot)
 
-    print(f"\none pose at a time ({n_single} seeded poses, best of 5 alternating rounds):")
-    for r in single:
-        print(
-            f"  {r['arm']:<12} rikin arm.ik (all solutions, labelled, FK-checked) "
-            f"{r['rikin_poses_per_s']:>9,.0f} poses/s, {r['rikin_poses_per_cpu_s']:>9,.0f} per "
-            f"CPU-s ({r['rikin_solutions_per_pose']:.2f} solutions/pose)"
-        )
-        if "ratio" in r:
-            print(
-                f"  {r['arm']:<12} roboticstoolbox analytic_ik().solve             "
-                f"{r['rtb_poses_per_s']:>9,.0f} poses/s, {r['rtb_poses_per_cpu_s']:>9,.0f} per "
-                f"CPU-s ({r['rtb_solutions_per_pose']:.2f} solutions/pose; derivation "
-                f"{r['rtb_derivation_s']:.1f} s)"
-            )
-            print(
-                f"  {r['arm']:<12} ratio rikin / roboticstoolbox: {r['ratio']:.1f}x by wall "
-                f"clock, {r['ratio_cpu']:.1f}x by CPU time"
-            )
-    if robot is None:
-        print("  (roboticstoolbox analytic_ik not timed: not installed, or --quick)")
-    load = load_average()
-    if load is not None:
-        print(f"  (1-minute load average now {load:.2f})")
-
-    memory = None
-    if not args.no_memory:
-        memory = bench_memory(n_mem)
-        print(f"\nmemory, ik_batch of N = {n_mem:,} in a child process ({memory['method']}):")
-        print(
-            f"  peak RSS {memory['peak_rss_mib']:.0f} MiB; after importing numpy + rikin "
-            f"{memory['baseline_import_mib']:.0f} MiB; peak minus that "
-            f"{memory['peak_minus_import_mib']:.0f} MiB (input poses "
-            f"{memory['input_mib']:.0f} MiB + output {memory['output_mib']:.0f} MiB + working "
-            f"memory); rise during ik_batch (over the RSS just before it) "
-            f"{memory['batch_increase_mib']:.0f} MiB"
-        )
+    memory = None if args.no_memory else _report_memory(n_mem)
 
     if args.json:
         with open(args.json, "w") as f:

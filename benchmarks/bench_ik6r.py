@@ -364,6 +364,20 @@ def time_sides(case: Case, Ts: np.ndarray, rounds: int) -> tuple[float, float, f
     return best[0], best[1], best[3], best[4], best[2]
 
 
+def _case_note(case: Case, lost: object, reg: Tally, sing: Tally) -> str:
+    """The note printed under the table for one arm: FK agreement and what the two
+    tallies (random and singular poses) hold beyond the table's counts."""
+    return (
+        f"{case.name}: FK of rikin and roboticstoolbox agree to {case.fk_agreement:.1e}; "
+        f"generating q not among rikin's solutions: {lost}; "
+        f"solutions the sides hold only up to conditioning: {sing.loose + reg.loose}, only "
+        f"within a singular family: {sing.family + reg.family}; of the ill-conditioned, "
+        f"nearer the 40-digit root rikin/rtb: {reg.nearer[0] + sing.nearer[0]}/"
+        f"{reg.nearer[1] + sing.nearer[1]}; no isolated root near: "
+        f"{reg.unresolved + sing.unresolved}; poses without any "
+        f"solution rikin/rtb: {reg.none[0] + sing.none[0]}/{reg.none[1] + sing.none[1]}")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--poses", type=int, default=1000, help="random poses per arm")
@@ -430,15 +444,7 @@ def main() -> None:
             f"{res[1]:>9.1e}{t_r * us:>9.0f}{t_b * us:>9.1f}{t_t * us:>8.0f}"
             f"{t_t / t_r:>7.2f}{c_t / c_r:>6.1f}{t_t / t_b:>7.1f}{case.derive_s:>9.1f}")
         print(rows[-1], flush=True)
-        notes.append(
-            f"{case.name}: FK of rikin and roboticstoolbox agree to {case.fk_agreement:.1e}; "
-            f"generating q not among rikin's solutions: {lost}; "
-            f"solutions the sides hold only up to conditioning: {sing.loose + reg.loose}, only "
-            f"within a singular family: {sing.family + reg.family}; of the ill-conditioned, "
-            f"nearer the 40-digit root rikin/rtb: {reg.nearer[0] + sing.nearer[0]}/"
-            f"{reg.nearer[1] + sing.nearer[1]}; no isolated root near: "
-            f"{reg.unresolved + sing.unresolved}; poses without any "
-            f"solution rikin/rtb: {reg.none[0] + sing.none[0]}/{reg.none[1] + sing.none[1]}")
+        notes.append(_case_note(case, lost, reg, sing))
         notes += reg.notes + sing.notes
         print("\n".join(notes[n_notes:]), flush=True)
     print("\n" + head)

@@ -1,24 +1,32 @@
 """Time of all-solution IK per 6R family, rikin against EAIK, side by side, with ratios.
 
 Arms typed from their DH tables: the Puma 560 (spherical wrist; roboticstoolbox's table),
-UR5e and UR10e (three parallel axes; Universal Robots' tables), the Kinova Jaco
-(roboticstoolbox's table: a general 6R for rikin) and a random 6R (random twists, lengths and
-offsets, seeded). Poses: FK of ``--poses`` seeded random joint vectors per arm.
+the KUKA KR5, ABB IRB 140 and IRB 2400 (spherical wrist, axes 1 and 2 skew; standard DH
+without joint offsets, so that EAIK takes them too), Craig's Puma 560 in modified DH on a
+tilted base with a tool and joints 2 and 5 reversed (as a user types a data sheet; EAIK
+takes standard DH only), UR5e and UR10e (three parallel axes; Universal Robots' tables),
+the Kinova Jaco (roboticstoolbox's table: a general 6R for rikin) and a random 6R (random
+twists, lengths and offsets, seeded). Poses: FK of ``--poses`` seeded random joint vectors
+per arm, and for the batch of a closed-form family ``--batch-poses`` more (a batch is
+split into chunks of at least 1,024 poses per thread: 2 threads need 2,048).
 
 Printed per arm, microseconds per pose (best of ``--rounds`` alternating rounds, so that
 the machine's load hits all sides alike):
 
 * ``ik``: rikin ``arm.ik(T)``, one float64 4x4 array at a time;
-* ``batch``: rikin ``arm.ik_batch(Ts, workers=2)`` of all poses (2 threads);
+* ``batch``: rikin ``arm.ik_batch(Ts, workers=2)`` of all ``N batch`` poses (2 threads);
 * ``eaik``: EAIK's ``DhRobot.IK(T)`` one pose at a time (C++; arms it decomposes only);
 * ``eaik/ik``, ``eaik/batch``: EAIK's time over rikin's (1 = as fast as EAIK);
+* ``cpu batch``, ``cpu eaik``, ``cpu e/b``: the batch's CPU time per pose (both threads),
+  EAIK's, and EAIK's over the batch's (what each pose costs, whatever the machine's load
+  does to the wall clock);
 * ``x sph``: this arm's ``arm.ik`` time over the Puma's (the general 6R's goal: <= 10);
 * with ``--baseline CHECKOUT``: the same two times of the rikin in another checkout (run in
   a subprocess, in turn with this one, round by round), and ``base/ik``, ``base/batch``: its
   times over this checkout's (2 = this one twice as fast).
 
     python benchmarks/bench_ik6r_families.py             # 300 poses per arm
-    python benchmarks/bench_ik6r_families.py --poses 30  # a smoke run
+    python benchmarks/bench_ik6r_families.py --poses 30 --batch-poses 30  # a smoke run
     python benchmarks/bench_ik6r_families.py --baseline /work/main  # against main
 
 EAIK (``pip install eaik``) is in requirements.txt; without it its columns are blank.
@@ -32,6 +40,7 @@ import os
 import subprocess
 import sys
 import time
+from functools import partial
 
 import numpy as np
 
@@ -71,53 +80,96 @@ def arms() -> list[SerialArm]:
     general = SerialArm(tuple(
         Link(a=rng.uniform(-1, 1), d=rng.uniform(-1, 1), alpha=rng.uniform(-pi, pi))
         for _ in range(6)), name="random 6R", units="m")
-    return [puma, ur("UR5e", 0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996),
+    return [puma, *skew_wrist_arms(), craig_puma(),
+            ur("UR5e", 0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996),
             ur("UR10e", 0.1807, -0.6127, -0.57155, 0.17415, 0.11985, 0.11655), jaco, general]
+
+
+def skew_wrist_arms() -> list[SerialArm]:
+    """KUKA KR5, ABB IRB 140 and IRB 2400 (standard DH, metres; the makers' lengths,
+    zero poses without the joint offsets of their data sheets)."""
+    def arm(name: str, d1: float, a1: float, a2: float, a3: float, d4: float, d6: float,
+            sign: float) -> SerialArm:
+        return SerialArm((
+            Link(d=d1, a=a1, alpha=sign * pi / 2), Link(a=a2), Link(a=a3, alpha=sign * pi / 2),
+            Link(d=sign * d4, alpha=-sign * pi / 2), Link(alpha=sign * pi / 2),
+            Link(d=sign * d6, alpha=pi if sign > 0 else 0.0),
+        ), name=name, units="m")
+
+    return [arm("KUKA KR5", 0.4, 0.18, 0.6, 0.12, -0.62, -0.115, 1.0),
+            arm("ABB IRB 140", 0.352, 0.07, 0.36, 0.0, 0.38, 0.065, -1.0),
+            arm("ABB IRB 2400", 0.615, 0.1, 0.705, 0.135, 0.755, 0.085, -1.0)]
+
+
+def craig_puma() -> SerialArm:
+    """Craig's Puma 560 in modified DH, joints 2 and 5 counted the other way, on a tilted
+    base with a tool."""
+    base = rikin.homogeneous(rikin.rotz(0.7) @ rikin.rotx(0.3), [0.2, -0.1, 0.4])
+    tool = rikin.homogeneous(rikin.roty(0.5), [0.03, 0.0, 0.11])
+    return SerialArm((
+        Link(), Link(alpha=-pi / 2, direction=-1), Link(a=0.4318, d=0.15005),
+        Link(alpha=-pi / 2, a=0.0203, d=0.4318), Link(alpha=pi / 2, direction=-1),
+        Link(alpha=-pi / 2),
+    ), convention="modified", base=base, tool=tool, name="Puma (Craig)", units="m")
 
 
 def eaik_of(arm: SerialArm):
     """EAIK's robot of the same table, when EAIK has it and decomposes it, else None."""
-    if DhRobot is None or any(lk.offset for lk in arm.links):
+    if DhRobot is None or any(lk.offset for lk in arm.links) or arm.convention != "standard" \
+            or arm.reversed_joints or not (np.array_equal(arm.base, np.eye(4))
+                                           and np.array_equal(arm.tool, np.eye(4))):
         return None
     robot = DhRobot(*(np.array([getattr(lk, k) for lk in arm.links]) for k in ("alpha", "a", "d")))
     return robot if robot.hasKnownDecomposition() else None
 
 
-def per_pose(fn, Ts: np.ndarray) -> float:
-    start = time.perf_counter()
+def per_pose(fn, Ts: np.ndarray) -> tuple[float, float]:
+    """Wall and CPU seconds per pose of ``fn(T)`` for each pose."""
+    start, cpu = time.perf_counter(), time.process_time()
     for T in Ts:
         fn(T)
-    return (time.perf_counter() - start) / len(Ts)
+    return (time.perf_counter() - start) / len(Ts), (time.process_time() - cpu) / len(Ts)
 
 
-def timings(poses: int, rounds: int) -> list[dict]:
+#: The timed columns: seconds per pose (the batch's and EAIK's also in CPU seconds).
+KEYS = ("ik", "batch", "batch_cpu", "eaik", "eaik_cpu")
+
+
+def timings(poses: int, rounds: int, batch_poses: int) -> list[dict]:
     """Per arm: its name, family, and the best of ``rounds`` of ``ik``, ``batch`` and
-    ``eaik`` (seconds per pose; eaik None where EAIK has no solver for the arm)."""
+    ``eaik`` (seconds per pose; eaik None where EAIK has no solver for the arm), and how
+    many poses the batch had (``batch_poses`` for a closed-form family, else ``poses``)."""
     rng = np.random.default_rng(2026)
     out = []
     for arm in arms():
         Ts = arm.fk(rng.uniform(-pi, pi, size=(poses, 6)))
-        arm.ik(Ts[0])  # build the solver once (no derivation step: reading the table)
-        robot = eaik_of(arm)
-        best = {"ik": np.inf, "batch": np.inf, "eaik": np.inf}
-        for _ in range(rounds):
-            best["ik"] = min(best["ik"], per_pose(arm.ik, Ts))
-            start = time.perf_counter()
-            arm.ik_batch(Ts, workers=2)
-            best["batch"] = min(best["batch"], (time.perf_counter() - start) / len(Ts))
-            if robot is not None:
-                best["eaik"] = min(best["eaik"], per_pose(robot.IK, Ts))
         family = str(rikin.ik.classify(arm)).split(":")[0][:28]
-        out.append({"arm": arm.name, "family": family, "ik": best["ik"], "batch": best["batch"],
-                    "eaik": best["eaik"] if robot is not None else None})
+        nb = poses if family.startswith("general") else batch_poses
+        Tb = arm.fk(rng.uniform(-pi, pi, size=(nb, 6)))
+        arm.ik(Ts[0])  # build the solver once (no derivation step: reading the table)
+        arm.ik_batch(Ts[:2])
+        robot = eaik_of(arm)
+        best = dict.fromkeys(KEYS, np.inf)
+        for _ in range(rounds):
+            best["ik"] = min(best["ik"], per_pose(arm.ik, Ts)[0])
+            batch = per_pose(partial(arm.ik_batch, workers=2), Tb[None])
+            best["batch"] = min(best["batch"], batch[0] / nb)
+            best["batch_cpu"] = min(best["batch_cpu"], batch[1] / nb)
+            if robot is not None:
+                wall, cpu = per_pose(robot.IK, Ts)
+                best["eaik"], best["eaik_cpu"] = min(best["eaik"], wall), min(best["eaik_cpu"], cpu)
+        if robot is None:
+            best["eaik"] = best["eaik_cpu"] = None
+        out.append({"arm": arm.name, "family": family, "n": nb, **best})
     return out
 
 
-def baseline_timings(checkout: str, poses: int) -> list[dict]:
+def baseline_timings(checkout: str, poses: int, batch_poses: int) -> list[dict]:
     """:func:`timings` (one round) of the rikin in another checkout, in a subprocess."""
     env = dict(os.environ, PYTHONPATH=os.path.abspath(checkout))
-    done = subprocess.run([sys.executable, __file__, "--poses", str(poses), "--rounds", "1",
-                           "--json"], env=env, capture_output=True, text=True, check=True)
+    done = subprocess.run([sys.executable, __file__, "--poses", str(poses), "--batch-poses",
+                           str(batch_poses), "--rounds", "1", "--json"],
+                          env=env, capture_output=True, text=True, check=True)
     return json.loads(done.stdout)
 
 
@@ -126,53 +178,63 @@ def best_of(runs: list[list[dict]]) -> list[dict]:
     out = [dict(row) for row in runs[0]]
     for run in runs[1:]:
         for mine, row in zip(out, run, strict=True):
-            for key in ("ik", "batch", "eaik"):
+            for key in KEYS:
                 if mine[key] is not None:
                     mine[key] = min(mine[key], row[key])
     return out
 
 
+def _ratio(a: float | None, b: float | None, width: int) -> str:
+    return f"{a / b:{width}.3f}" if a is not None and b else f"{'-':>{width}}"
+
+
+def _us(v: float | None, width: int) -> str:
+    return f"{v * 1e6:{width}.1f}" if v is not None else f"{'-':>{width}}"
+
+
 def print_table(rows: list[dict], base: list[dict] | None) -> None:
-    """The table of the module docstring; with a baseline, its times over these."""
-    head = f"{'arm':12} {'family':28} {'ik':>9} {'batch':>8} {'eaik':>7} {'eaik/ik':>8} " \
-           f"{'eaik/batch':>10} {'x sph':>6}"
+    """The table of the module docstring (``cpu``: the batch's and EAIK's CPU time per pose,
+    and EAIK's over the batch's); with a baseline, its times over these."""
+    head = (f"{'arm':12} {'family':28} {'ik':>9} {'N batch':>7} {'batch':>8} {'eaik':>7} "
+            f"{'eaik/ik':>8} {'eaik/batch':>10} {'cpu batch':>9} {'cpu eaik':>8} "
+            f"{'cpu e/b':>7} {'x sph':>6}")
     if base is not None:
         head += f" {'base ik':>9} {'base batch':>10} {'base/ik':>8} {'base/batch':>10}"
     print(head)
     sph = rows[0]["ik"]
     for n, row in enumerate(rows):
-        us = {k: (v or 0.0) * 1e6 for k, v in row.items() if k in ("ik", "batch", "eaik")}
-        has = row["eaik"] is not None
-        e = f"{us['eaik']:7.1f}" if has else f"{'-':>7}"
-        r1 = f"{row['eaik'] / row['ik']:8.3f}" if has else f"{'-':>8}"
-        r2 = f"{row['eaik'] / row['batch']:10.3f}" if has else f"{'-':>10}"
-        line = (f"{row['arm']:12} {row['family']:28} {us['ik']:9.1f} {us['batch']:8.1f} {e} "
-                f"{r1} {r2} {row['ik'] / sph:6.1f}")
+        line = (f"{row['arm'][:12]:12} {row['family']:28} {_us(row['ik'], 9)} {row['n']:7d} "
+                f"{_us(row['batch'], 8)} {_us(row['eaik'], 7)} "
+                f"{_ratio(row['eaik'], row['ik'], 8)} {_ratio(row['eaik'], row['batch'], 10)} "
+                f"{_us(row['batch_cpu'], 9)} {_us(row['eaik_cpu'], 8)} "
+                f"{_ratio(row['eaik_cpu'], row['batch_cpu'], 7)} {row['ik'] / sph:6.1f}")
         if base is not None:
             b = base[n]
-            line += (f" {b['ik'] * 1e6:9.1f} {b['batch'] * 1e6:10.1f} "
-                     f"{b['ik'] / row['ik']:8.2f} {b['batch'] / row['batch']:10.2f}")
+            line += (f" {_us(b['ik'], 9)} {_us(b['batch'], 10)} "
+                     f"{_ratio(b['ik'], row['ik'], 8)} {_ratio(b['batch'], row['batch'], 10)}")
         print(line)
 
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--poses", type=int, default=300, help="random poses per arm")
+    ap.add_argument("--batch-poses", type=int, default=4096,
+                    help="poses of a closed-form family's batch (a general 6R's: --poses)")
     ap.add_argument("--rounds", type=int, default=3, help="alternating timing rounds")
     ap.add_argument("--baseline", metavar="CHECKOUT",
                     help="another checkout of rikin (e.g. /work/main), timed in turn with this one")
     ap.add_argument("--json", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args()
     if args.json:
-        print(json.dumps(timings(args.poses, args.rounds)))
+        print(json.dumps(timings(args.poses, args.rounds, args.batch_poses)))
         return
     if args.baseline is None:
-        print_table(timings(args.poses, args.rounds), None)
+        print_table(timings(args.poses, args.rounds, args.batch_poses), None)
         return
     mine, theirs = [], []
     for _ in range(args.rounds):  # in turn, so that the machine's load hits both alike
-        theirs.append(baseline_timings(args.baseline, args.poses))
-        mine.append(timings(args.poses, 1))
+        theirs.append(baseline_timings(args.baseline, args.poses, args.batch_poses))
+        mine.append(timings(args.poses, 1, args.batch_poses))
     print_table(best_of(mine), best_of(theirs))
 
 

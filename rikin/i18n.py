@@ -42,6 +42,9 @@ _SPANISH = {
     "joint": "articulación",
     "type": "tipo",
     "offset": "desfase",
+    # DH conventions
+    "standard": "estándar",
+    "modified": "modificado",
     # branch names: shoulder, elbow, wrist
     "front": "delante",
     "back": "detrás",
@@ -72,6 +75,21 @@ _SPANISH_PHRASES = {
     "step {s}: {n} solutions": "paso {s}: {n} soluciones",
     "▶ play": "▶ reproducir",
     "path": "trayectoria",
+    # drawings of one arm (rikin.plot)
+    "{name} at q = {q}": "{name} en q = {q}",
+    "{name}: DH frames ({convention}) at q = {q}":
+        "{name}: sistemas DH ({convention}) en q = {q}",
+    "{name}: wrist centre p_w = p − l·z (l = {l})":
+        "{name}: centro de la muñeca p_w = p − l·z (l = {l})",
+    "two-link triangle (law of cosines)": "triángulo de dos eslabones (teorema del coseno)",
+    "TCP: {r_in} ≤ r ≤ {r_out}": "TCP: {r_in} ≤ r ≤ {r_out}",
+    "wrist point: {w_in} ≤ r ≤ {w_out}": "centro de la muñeca: {w_in} ≤ r ≤ {w_out}",
+    "{name}: reachable region": "{name}: región alcanzable",
+    "{name}: {n} reachable TCP positions": "{name}: {n} posiciones alcanzables del TCP",
+    "{name}: {n} reachable wrist centre positions":
+        "{name}: {n} posiciones alcanzables del centro de la muñeca",
+    "view from above": "vista desde arriba",
+    "view along {axis}": "vista según {axis}",
     # the key under the all-solution figures (rikin.plot.MARKER_KEY)
     ("frame axes: x red, y green, z blue  ·  ○ revolute joint, □ prismatic joint  ·  "
      "★ TCP with the gripper (fingers open along y, approach along z)  ·  "

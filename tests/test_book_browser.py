@@ -25,10 +25,11 @@ And one interactive figure is operated: on the first chapter with an all-solutio
 figure, clicking a solution's button must change the traces shown, the title (to that
 solution's branch) and the pixels drawn, with plotly.js served by the book itself.
 
-The book is built once per module into a temporary directory with the same strict command
-as ``test_book_build.py``; set ``RIKIN_BOOK_HTML`` to an existing ``_build/html`` folder to
-test that build instead. Chromium and chromedriver come from the Debian packages
-``chromium`` and ``chromium-driver`` (``tools/dev.py test`` installs them as root); without
+The book is the test session's one strict build (``book_site`` in conftest.py, shared with
+``test_book_build.py`` and ``test_student_download.py``: a loopback base URL, the launch key
+set); set ``RIKIN_BOOK_HTML`` to an existing ``_build/html`` folder to test that build
+instead. Chromium and chromedriver come from the Debian packages ``chromium`` and
+``chromium-driver`` (``tools/dev.py test`` installs them as root); without
 them these tests fail, saying how to install them (never skip).
 """
 
@@ -39,7 +40,6 @@ import http.server
 import os
 import re
 import shutil
-import sys
 import threading
 import time
 from collections.abc import Iterator
@@ -48,7 +48,7 @@ from urllib.parse import unquote, urlsplit
 
 import pytest
 import yaml
-from book_build import run_build
+from book_build import Site
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGE_TIMEOUT_S = 60.0
@@ -96,35 +96,17 @@ def browser_paths() -> tuple[str, str]:
 
 
 @pytest.fixture(scope="module")
-def book_html(browser_paths: tuple[str, str], tmp_path_factory: pytest.TempPathFactory) -> Path:
+def book_html(browser_paths: tuple[str, str], request: pytest.FixtureRequest) -> Path:
     given = os.environ.get("RIKIN_BOOK_HTML")
     if given:
         html = Path(given)
         if not (html / "index.html").is_file():
             pytest.fail(f"RIKIN_BOOK_HTML={given} has no index.html: build the book first")
         return html
-    out = tmp_path_factory.mktemp("book")
-    exe = Path(sys.executable).parent / ("jupyter-book.exe" if os.name == "nt" else "jupyter-book")
-    env = dict(os.environ, PYTHONHASHSEED="0", JUPYTER_PREFER_ENV_PATH="1")
-    env.setdefault("MPLBACKEND", "Agg")
-    env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
-    proc = run_build(
-        [
-            str(exe),
-            "build",
-            str(ROOT),
-            "--path-output",
-            str(out),
-            "--all",
-            "-W",
-            "-n",
-            "--keep-going",
-        ],
-        cwd=out,
-        env=env,
-    )
-    assert proc.returncode == 0, f"book build failed ({proc.returncode}):\n{proc.stdout[-20000:]}"
-    return out / "_build" / "html"
+    # the session's one strict build (tests/book_build.py), asked for only when needed
+    site: Site = request.getfixturevalue("book_site")
+    assert site.returncode == 0, f"book build failed ({site.returncode}):\n{site.log[-20000:]}"
+    return Path(site.html)
 
 
 class _QuietHandler(http.server.SimpleHTTPRequestHandler):

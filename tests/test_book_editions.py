@@ -11,15 +11,15 @@
   other edition and back, and the Spanish search finds a Spanish word.
 
 The site comes from the ``editions`` fixture: ``RIKIN_BOOK_HTML`` (a ``_build/html`` that
-``tools/dev.py book`` made, with its ``es/``), else one build of both editions into a
-temporary folder for this module.
+``tools/dev.py book`` made, with its ``es/``), else the session's one strict build
+(``book_site``, tests/book_build.py), which builds every edition as ``tools/dev.py book``
+does (``dev.build_book``).
 """
 
 from __future__ import annotations
 
 import os
 import re
-import shutil
 import sys
 import time
 from dataclasses import dataclass
@@ -28,7 +28,8 @@ from urllib.parse import urlsplit
 
 import pytest
 import test_book_browser as _browser
-from book_build import run_build
+import yaml
+from book_build import Site
 from bs4 import BeautifulSoup
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -60,34 +61,8 @@ class Editions:
     log: str
 
 
-def _build_editions(out: Path) -> Editions:
-    """Build English into ``out`` and Spanish into ``out/_es``, strict, as ``dev.py book``
-    does, and put the Spanish site into the English one's ``es/``."""
-    exe = Path(sys.executable).parent / ("jupyter-book.exe" if os.name == "nt" else "jupyter-book")
-    env = dict(os.environ, PYTHONHASHSEED="0", JUPYTER_PREFER_ENV_PATH="1")
-    env.setdefault("MPLBACKEND", "Agg")
-    env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
-    env.pop("RIKIN_LANG", None)
-    strict = ["-W", "-n", "--keep-going", "--all"]
-    logs = []
-    proc = run_build([exe, "build", ROOT, "--path-output", out, *strict], cwd=out, env=env)
-    logs.append(proc.stdout)
-    for language, folder in EDITIONS.items():
-        if proc.returncode:
-            break
-        config = dev._book_config(False, language)
-        work = out / f"_{language}"
-        work.mkdir()
-        proc = run_build([exe, "build", ROOT, "--config", config, "--path-output", work,
-                          *strict], cwd=work, env=dict(env, RIKIN_LANG=language))
-        logs.append(proc.stdout)
-        if proc.returncode == 0:
-            shutil.copytree(work / "_build" / "html", out / "_build" / "html" / folder)
-    return Editions(out / "_build" / "html", proc.returncode, "\n".join(logs))
-
-
 @pytest.fixture(scope="module")
-def editions(tmp_path_factory: pytest.TempPathFactory) -> Editions:
+def editions(request: pytest.FixtureRequest) -> Editions:
     given = os.environ.get("RIKIN_BOOK_HTML")
     if given:
         html = Path(given)
@@ -97,7 +72,9 @@ def editions(tmp_path_factory: pytest.TempPathFactory) -> Editions:
             pytest.fail(f"RIKIN_BOOK_HTML={given}: no {missing}: build the book first "
                         "(python3 tools/dev.py book)")
         return Editions(html, 0, "")
-    return _build_editions(tmp_path_factory.mktemp("editions"))
+    # the session's one strict build of both editions (tests/book_build.py, dev.build_book)
+    site: Site = request.getfixturevalue("book_site")
+    return Editions(Path(site.html), site.returncode, site.log)
 
 
 @pytest.fixture(scope="module")
@@ -137,7 +114,7 @@ def test_both_editions_build_strict_with_no_warning(editions: Editions) -> None:
     assert "WARNING" not in editions.log and "ERROR" not in editions.log
     for folder in ("", *EDITIONS.values()):
         for page in BOOK_PAGES:
-            assert (editions.html / folder / page).is_file(), f"{folder}{page} not built"
+            assert (editions.html / folder / page).is_file(), f"{folder}/{page} not built"
 
 
 @pytest.mark.book
@@ -148,7 +125,7 @@ def test_same_numbers_in_both_editions(page: str, book_html: Path) -> None:
     for folder in EDITIONS.values():
         other = output_numbers(book_html / folder / page)
         assert other == english, (
-            f"{folder}{page}: the outputs' numbers differ from the English page's "
+            f"{folder}/{page}: the outputs' numbers differ from the English page's "
             f"(first difference at {_first_difference(english, other)})")
 
 
@@ -166,7 +143,7 @@ def test_pages_say_their_language(language: str, book_html: Path) -> None:
     folder = EDITIONS.get(language, "")
     for page in SWITCH_PAGES:
         head = (book_html / folder / page).read_text(encoding="utf-8")[:2000]
-        assert re.search(rf'<html lang="{language}"', head), f"{folder}{page}: not lang={language}"
+        assert re.search(rf'<html lang="{language}"', head), f"{folder}/{page}: not lang={language}"
 
 
 @pytest.mark.book
@@ -183,6 +160,31 @@ def test_every_text_of_a_translated_page_is_translated(language: str, book_html:
             missing.append(f"{page}: <{el.name}> {text[:80]!r}")
     assert not missing, (f"{len(missing)} texts not translated (python3 tools/dev.py "
                          f"translations, then translate them):\n" + "\n".join(missing[:40]))
+
+
+def _site_texts(page_html: str) -> list[str]:
+    """The texts a page has from the config: the book's title, the search box, the
+    buttons that fold a cell, the footer."""
+    config = yaml.safe_load((ROOT / "_config.yml").read_text(encoding="utf-8"))
+    placeholder = re.search(r'placeholder="([^"]+)"', page_html)
+    folds = re.findall(r"(?:Show|Hide) code cell \w+", page_html)[:1]
+    return [config["title"], config["copyright"], *folds,
+            *(placeholder.group(1) for _ in [0] if placeholder)]
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("language", list(EDITIONS))
+def test_the_site_texts_are_translated(language: str, book_html: Path) -> None:
+    """The title, search box, fold buttons and footer come from the config, not from a page:
+    the translated edition takes them from its catalogues (rikin_i18n.SITE_TEXTS)."""
+    english = _site_texts((book_html / "book/decoupling.html").read_text(encoding="utf-8"))
+    assert len(english) == 4, english
+    left = []
+    for page in BOOK_PAGES:
+        text = (book_html / EDITIONS[language] / page).read_text(encoding="utf-8")
+        left += [f"{page}: {t!r}" for t in english if t in text.replace("&#39;", "'")]
+    assert not left, "English left in the Spanish pages:\n" + "\n".join(left[:20])
 
 
 def test_the_number_comparison_sees_a_changed_number(tmp_path: Path) -> None:
@@ -224,10 +226,10 @@ def test_the_switch_goes_to_the_same_page_and_back(page: str, book_html: Path, s
     for language, folder in EDITIONS.items():
         _open(driver, f"{server}/{page}")
         there = urlsplit(_switch(driver, language)).path
-        assert there == f"/{folder}{page}", f"{page}: the switch went to {there}"
+        assert there == f"/{folder}/{page}", f"{page}: the switch went to {there}"
         assert driver.execute_script("return document.documentElement.lang") == language
         back = urlsplit(_switch(driver, "en")).path
-        assert back == f"/{page}", f"{folder}{page}: the switch back went to {back}"
+        assert back == f"/{page}", f"{folder}/{page}: the switch back went to {back}"
         assert driver.execute_script("return document.documentElement.lang") == "en"
 
 
@@ -249,6 +251,29 @@ def test_the_spanish_search_finds_a_spanish_word(word: str, page: str, book_html
         time.sleep(0.2)
     assert any(href.split("?")[0].endswith(page.split("/")[-1]) for href in found), (
         f"searching {word!r} in the Spanish edition found {found}")
-    placeholder = driver.execute_script(
-        "return document.querySelector('input[name=q]').getAttribute('placeholder')")
-    assert placeholder.startswith("Buscar"), placeholder
+
+
+def test_build_book_builds_every_edition(tmp_path: Path) -> None:
+    """dev.build_book (the instructors' and the tests' one build) runs English, then each
+    other edition with its language, its base URL folder and RIKIN_LANG, and puts its site
+    into the English one's folder; the derived configs are removed."""
+    tag = f"test-{os.getpid()}-editions"
+    seen: list[tuple[str | None, str]] = []
+
+    def runner(cmd: list[str], env: dict[str, str]) -> int:
+        config = Path(cmd[cmd.index("--config") + 1]).read_text(encoding="utf-8")
+        seen.append((env.get("RIKIN_LANG"), config))
+        site = Path(cmd[cmd.index("--path-output") + 1]) / "_build" / "html"
+        site.mkdir(parents=True, exist_ok=True)
+        (site / "index.html").write_text(env.get("RIKIN_LANG", "en"), encoding="utf-8")
+        return 0
+
+    build = dev.BookBuild(base_url="http://127.0.0.1:20001/", output=tmp_path, tag=tag)
+    assert dev.build_book(build, runner) == 0
+    assert [language for language, _ in seen] == [None, *EDITIONS]
+    for (language, config), folder in zip(seen[1:], EDITIONS.values(), strict=True):
+        assert re.search(rf"^\s*language:\s*{language}\s*$", config, re.M)
+        assert f'baseurl: "http://127.0.0.1:20001/{folder}/"' in config
+        assert (tmp_path / "_build" / "html" / folder / "index.html").read_text() == language
+    assert re.search(r"^\s*language:\s*en\s*$", seen[0][1], re.M)
+    assert not list(ROOT.glob(f"_config.{tag}*.yml"))

@@ -1,4 +1,4 @@
-"""No function in rikin/, grader/ or tools/ is longer than a screen (80 lines).
+"""No function in rikin/, grader/, tools/ or benchmarks/ is longer than a screen (80 lines).
 
 A long function is split where a step wants a name. ``STILL_LONG`` lists the functions that
 are longer today, each waiting for its split: the test fails when one of them has become
@@ -13,7 +13,7 @@ from collections.abc import Iterator
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-FOLDERS = ("rikin", "grader", "tools")
+FOLDERS = ("rikin", "grader", "tools", "benchmarks")
 MAX_LINES = 80
 
 #: "path::Qualified.name" of each function still over MAX_LINES. Only ever remove entries.

@@ -145,3 +145,27 @@ def test_path_figure_speaks_spanish(spanish):
     html = json.dumps(fig.to_plotly_json(), ensure_ascii=False).replace("<br>", " ")
     assert "el objetivo a lo largo de una trayectoria" in html and "paso 1: 8 soluciones" in html
     assert "reproducir" in html and "the target along" not in html
+
+
+def test_every_phrase_keeps_its_fields():
+    """A translated phrase fills in the same values as the English (so the same numbers)."""
+    import string
+
+    def fields(text: str) -> list[str]:
+        return sorted(f for _, f, _, _ in string.Formatter().parse(text) if f is not None)
+
+    phrases = rikin.i18n._PHRASES["es"]
+    assert len(phrases) > 20
+    bad = {en: es for en, es in phrases.items() if fields(en) != fields(es)}
+    assert not bad
+
+
+def test_drawings_of_one_arm_speak_spanish(spanish):
+    import matplotlib.pyplot as plt
+
+    from rikin import plot as rplot
+
+    arm = robots.aula10_6r()
+    assert rplot.plot_arm(arm, Q_AULA10).get_title().startswith("Aula 10 6R en q = (99.6°, 9.0°")
+    assert "sistemas DH (estándar) en q" in rplot.plot_dh_frames(arm, Q_AULA10).get_title()
+    plt.close("all")

@@ -200,10 +200,11 @@ def test_quartic_roots_are_the_polynomials_roots(coeffs):
 
 
 def test_vectorised_ferrari_agrees_with_eigenvalues_and_declines_double_roots():
-    """The batch solver's ``_ferrari`` (rikin.ik.pieper): the confirmed roots of 20,000
+    """The batch solvers' ``ferrari`` (rikin.ik.kernels): the confirmed roots of 20,000
     random quartics are the companion matrix's eigenvalues; quartics built with a double
     root, or two roots 1e-5 apart, are never confirmed (the eigenvalues take them)."""
-    from rikin.ik.pieper import SEPARATE_ROOTS, _ferrari
+    from rikin.ik.kernels import SEPARATE_ROOTS
+    from rikin.ik.kernels import ferrari as _ferrari
 
     rng = np.random.default_rng(17)
     M = 20000

@@ -1,6 +1,7 @@
 """What a student does: download a chapter and an exercise from the hosted book, run them.
 
-The book is built with a test base URL (``html.baseurl`` = ``http://127.0.0.1:<port>/``),
+The book is built with a test base URL (``html.baseurl`` = ``http://127.0.0.1:<port>/``;
+the test session's one build, tests/book_build.py),
 and everything a student's side does then runs in a network namespace that has nothing but
 its own loopback (bubblewrap ``--unshare-net``): ``python -m http.server`` serves
 ``_build/html`` on 127.0.0.1, the notebooks are downloaded from it into an empty folder and
@@ -23,7 +24,6 @@ import json
 import os
 import re
 import shutil
-import socket
 import subprocess
 import sys
 import threading
@@ -36,7 +36,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "book" / "_ext"))
 import rikin_site  # noqa: E402
-from book_build import run_build  # noqa: E402
+from book_build import LAUNCH_REPOSITORY, Site  # noqa: E402
 
 #: A chapter with drawings, sympy and every planar IK branch, and the chapter that reads
 #: the exercise notebooks (from the book, when it is not inside the repository).
@@ -46,8 +46,6 @@ EXERCISE = "scara"
 STUDENT_PACKAGES = ["nbclient>=0.8,<1", "ipykernel>=6.25,<8"]
 #: JupyterLab's own pieces and nothing else, as `pip install jupyterlab` gives them.
 LAB_PACKAGES = ["jupyterlab>=4.0,<5"]
-#: The launch key the test build is given (the links are checked, not followed).
-LAUNCH_REPOSITORY = "https://github.com/rikin-course/book/tree/gh-pages"
 
 # Run by the fresh venv's Python inside the sandbox: serve the site, download, execute.
 DRIVER = r'''
@@ -112,12 +110,6 @@ finally:
 '''
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def _run(cmd: list, **kw) -> subprocess.CompletedProcess:
     t0 = time.monotonic()
     proc = subprocess.run(
@@ -128,30 +120,15 @@ def _run(cmd: list, **kw) -> subprocess.CompletedProcess:
     return proc
 
 
-def _build_book(base: str, out: Path) -> Path:
-    """Build the book as an instructor would, with ``base`` as its html.baseurl."""
-    config = (ROOT / "_config.yml").read_text(encoding="utf-8")
-    config, n = re.subn(r'(?m)^(\s+baseurl:\s*).*$', rf'\g<1>"{base}"', config)
-    assert n == 1, "_config.yml must have exactly one html.baseurl line"
-    config, n = re.subn(r'(?m)^(\s+rikin_launch_repository:\s*).*$',
-                        rf'\g<1>"{LAUNCH_REPOSITORY}"', config)
-    assert n == 1, "_config.yml must have exactly one rikin_launch_repository line"
-    # next to _config.yml: jupyter-book resolves local_extensions relative to the config's folder
-    cfg = ROOT / f"_config.student-{os.getpid()}.yml"
-    cfg.write_text(config, encoding="utf-8")
-    assert rikin_site.read_base_url(cfg) == base
-    env = dict(os.environ, PYTHONHASHSEED="0", JUPYTER_PREFER_ENV_PATH="1")
-    env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
-    try:
-        proc = run_build(
-            [Path(sys.executable).parent / "jupyter-book", "build", ROOT, "--path-output", out,
-             "--config", cfg, "--all"],
-            cwd=out, env=env,
-        )
-        assert proc.returncode == 0, f"book build failed:\n{proc.stdout[-6000:]}"
-    finally:
-        cfg.unlink()
-    return out / "_build" / "html"
+def _built_site(build: Site) -> Path:
+    """The session's build of the book (tests/book_build.py): made as an instructor would,
+    with a loopback html.baseurl and the launch key set."""
+    assert build.returncode == 0, f"book build failed:\n{build.log[-6000:]}"
+    assert build.launch_repository == LAUNCH_REPOSITORY
+    site = Path(build.html)
+    cell = json.loads((site / rikin_site.EXERCISES_PATH / f"{EXERCISE}.ipynb").read_text())
+    assert f"RIKIN_BOOK = '{build.base}'" in "".join(cell["cells"][0]["source"])
+    return site
 
 
 def _student_env(home: Path, wheelhouse: Path) -> dict[str, str]:
@@ -215,8 +192,8 @@ def lab_venv(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Background
 
 
 @pytest.fixture(scope="module")
-def published(tmp_path_factory: pytest.TempPathFactory,
-              lab_venv: tuple[Path, Background]) -> Published:
+def published(tmp_path_factory: pytest.TempPathFactory, lab_venv: tuple[Path, Background],
+              request: pytest.FixtureRequest) -> Published:
     """Build the book as an instructor would, for a local base URL, and fetch rikin's
     dependencies from the package index into a wheelhouse (without rikin itself)."""
     given = os.environ.get("RIKIN_STUDENT_SITE")  # a site this fixture built before
@@ -225,8 +202,8 @@ def published(tmp_path_factory: pytest.TempPathFactory,
         cell = json.loads((site / rikin_site.EXERCISES_PATH / f"{EXERCISE}.ipynb").read_text())
         base = re.search(r"RIKIN_BOOK = '([^']+)'", "".join(cell["cells"][0]["source"]))[1]
     else:
-        base = f"http://127.0.0.1:{_free_port()}/"
-        site = _build_book(base, tmp_path_factory.mktemp("build"))
+        build: Site = request.getfixturevalue("book_site")  # the session's one build
+        base, site = build.base, _built_site(build)
     manifest = json.loads((site / rikin_site.DIST_PATH / rikin_site.MANIFEST).read_text())
     wheel = site / rikin_site.DIST_PATH / manifest["wheel"]["file"]
     assert rikin_site.sha256_of(wheel) == manifest["wheel"]["sha256"]
@@ -426,8 +403,13 @@ def site_server(published: Published):
             pass
 
     port = int(published.base.rstrip("/").rsplit(":", 1)[1])
-    httpd = http.server.ThreadingHTTPServer(
-        ("127.0.0.1", port), functools.partial(Quiet, directory=str(published.site)))
+    try:
+        httpd = http.server.ThreadingHTTPServer(
+            ("127.0.0.1", port), functools.partial(Quiet, directory=str(published.site)))
+    except OSError as exc:
+        pytest.fail(f"the book was built for {published.base}, but another process has taken "
+                    f"port {port} since ({exc}); run the tests again (tests/book_build.py picks "
+                    "that port outside the range the system hands out, to make this rare)")
     thread = threading.Thread(target=httpd.serve_forever, daemon=True)
     thread.start()
     try:

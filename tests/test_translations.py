@@ -295,3 +295,37 @@ def test_catalogues_hold_exactly_the_messages_of_the_sources(tmp_path, language)
                   for i in sorted(catalogue - source)]
     assert not stale, (f"{len(stale)} catalogue entries are stale: run python3 tools/dev.py "
                        "translations, then translate what it marks\n" + "\n".join(stale[:40]))
+
+
+def _i18n_extension():
+    sys.path.insert(0, str(ROOT / "book" / "_ext"))
+    import rikin_i18n
+
+    return rikin_i18n
+
+
+def test_caption_messages_are_what_sphinx_looks_up():
+    """A caption from cell metadata is extracted as the message Sphinx's Locale looks up in
+    the executed build: the source of each paragraph MyST makes of it, newlines as spaces."""
+    from docutils import nodes
+    from docutils.core import publish_doctree
+    from myst_parser.parsers.docutils_ import Parser
+
+    text = ("DH frames at $q = 0$. $z_0$ (blue) is the\n  vertical axis; *see* `fk`\n"
+            "and {numref}`fig-x`.\n\nA second paragraph\non two lines.\n")
+    doc = publish_doctree(text, parser=Parser(), settings_overrides={
+        "myst_enable_extensions": ["dollarmath"], "report_level": 5})
+    sphinx_messages = [p.rawsource.replace("\n", " ").strip()
+                       for p in doc.children if isinstance(p, nodes.paragraph)]
+    assert len(sphinx_messages) == 2
+    assert _i18n_extension().caption_messages(text) == sphinx_messages
+
+
+def test_cell_texts_read_caption_and_alt_from_cell_metadata():
+    ext = _i18n_extension()
+    meta = {"tags": ["hide-input"], "mystnb": {
+        "figure": {"caption": "Two arms.\nBoth reach.\n", "name": "fig-a"},
+        "image": {"alt": "Two arms side by side."}}}
+    assert ext.cell_texts(meta) == ["Two arms. Both reach.", "Two arms side by side."]
+    assert ext.cell_texts({"tags": ["hide-input"]}) == []
+    assert ext.cell_texts({"mystnb": {"figure": {"name": "fig-b"}}}) == []

@@ -29,6 +29,8 @@ import shlex
 import shutil
 import subprocess
 import sys
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -141,12 +143,13 @@ def ensure_venv(what: str = "all") -> None:
     STAMP.write_text(json.dumps(stamps, indent=1, sort_keys=True) + "\n")
 
 
-def child_env() -> dict[str, str]:
+def child_env(bin_dir: Path = BIN) -> dict[str, str]:
+    """The environment of every command run: .venv (``bin_dir``'s) first on PATH, seeded."""
     env = dict(os.environ)
     env["PYTHONHASHSEED"] = "0"
     env.setdefault("MPLBACKEND", "Agg")
-    env["VIRTUAL_ENV"] = str(VENV)
-    env["PATH"] = str(BIN) + os.pathsep + env.get("PATH", "")
+    env["VIRTUAL_ENV"] = str(bin_dir.parent)
+    env["PATH"] = str(bin_dir) + os.pathsep + env.get("PATH", "")
     env.pop("PYTHONHOME", None)
     # Kernels must come from .venv (where rikin is installed), not from ~/.local.
     env["JUPYTER_PREFER_ENV_PATH"] = "1"
@@ -158,6 +161,36 @@ def child_env() -> dict[str, str]:
 EDITIONS = {"es": "es"}
 
 
+@dataclass(frozen=True)
+class BookBuild:
+    """How one build of the book differs from ``_config.yml`` as it is.
+
+    The instructor's ``tools/dev.py book`` and the tests' one shared build
+    (tests/book_build.py) both go through :func:`build_book` with one of these.
+
+    Parameters
+    ----------
+    cached : bool
+        Reuse the jupyter-cache and Sphinx's incremental build (``execute_notebooks: cache``,
+        no ``--all``): only pages whose code changed are re-executed; edits to rikin/ are
+        NOT noticed. Otherwise every page is re-read and every notebook executed.
+    base_url : str or None
+        ``html.baseurl`` (where the notebooks install rikin from); None keeps _config.yml's.
+    launch_repository : str or None
+        ``rikin_launch_repository`` (the launch links' key); None keeps _config.yml's.
+    output : Path or None
+        ``--path-output`` (the site lands in ``output/_build/html``); None: the repository.
+    tag : str
+        Names the derived config file, ``_config.<tag>.yml``.
+    """
+
+    cached: bool = False
+    base_url: str | None = None
+    launch_repository: str | None = None
+    output: Path | None = None
+    tag: str = "cached"
+
+
 def _substitute(text: str, pattern: str, replacement: str, what: str) -> str:
     """``text`` with the one line matching ``pattern`` replaced (exit when it is not one)."""
     new, n = re.subn(pattern, replacement, text, flags=re.M)
@@ -166,64 +199,99 @@ def _substitute(text: str, pattern: str, replacement: str, what: str) -> str:
     return new
 
 
-def _book_config(cached: bool, language: str = "en") -> Path | None:
-    """The config file one edition is built with (``None``: _config.yml as it is).
+def book_config(build: BookBuild, language: str = "en") -> Path | None:
+    """The config file ``build`` is made with (``None``: _config.yml as it is), for the
+    edition in ``language`` (another than English sets ``language`` and puts the edition's
+    ``html.baseurl`` in its folder, :data:`EDITIONS`).
 
-    ``cached`` switches ``execute_notebooks: force`` to ``cache``; another language than
-    English sets ``language`` and puts the edition's ``html.baseurl`` in its folder. The
-    file is written next to _config.yml (jupyter-book resolves local_extensions relative
-    to the config file's folder; git-ignored).
+    Written next to _config.yml (jupyter-book resolves local_extensions, book/_ext, relative
+    to the config file's folder); git-ignored, and removed after the build.
     """
-    if not cached and language == "en":
+    if (not build.cached and build.base_url is None and build.launch_repository is None
+            and language == "en"):
         return None
-    text = (ROOT / "_config.yml").read_text()
-    if cached:
+    text = (ROOT / "_config.yml").read_text(encoding="utf-8")
+    if build.cached:
         text = _substitute(text, r"^(\s*execute_notebooks\s*:\s*)force\b", r"\1cache",
                            "'execute_notebooks: force'")
+    if build.base_url is not None:
+        text = _substitute(text, r"^(\s+baseurl:\s*).*$", rf'\g<1>"{build.base_url}"',
+                           "one html.baseurl line")
+    if build.launch_repository is not None:
+        text = _substitute(text, r"^(\s+rikin_launch_repository:\s*).*$",
+                           rf'\g<1>"{build.launch_repository}"',
+                           "one rikin_launch_repository line")
     if language != "en":
         text = _substitute(text, r"^(\s*language\s*:\s*)en\s*$", rf"\g<1>{language}",
                            "'language: en' (under sphinx: config:)")
         text = _substitute(text, r'^(\s*baseurl\s*:\s*)"([^"]*?)/?"',
                            rf'\g<1>"\g<2>/{EDITIONS[language]}/"', "html.baseurl")
-    name = "_config.cached.yml" if language == "en" else f"_config.{language}.yml"
-    if cached and language != "en":
-        name = f"_config.{language}.cached.yml"
-    path = ROOT / name
-    path.write_text(text)
+    suffix = "" if language == "en" else f".{language}"
+    path = ROOT / f"_config.{build.tag}{suffix}.yml"
+    path.write_text(text, encoding="utf-8")
     return path
 
 
-def _build_edition(cached: bool, language: str) -> int:
-    """Build one edition; a translated one is built in _build/_<lang> and copied into place."""
-    jb = [BIN / "jupyter-book", "build", ROOT, "-W", "-n", "--keep-going"]
-    config = _book_config(cached, language)
+def book_command(build: BookBuild, config: Path | None, bin_dir: Path = BIN) -> list[str]:
+    """The ``jupyter-book build`` command line of ``build``: strict (-W -n --keep-going)."""
+    jb: list[str | Path] = [bin_dir / "jupyter-book", "build", ROOT, "-W", "-n", "--keep-going"]
     if config is not None:
         jb += ["--config", config]
-    if not cached:
-        # Fresh: re-read every page (--all) and execute every notebook (execute: force).
+    if build.output is not None:
+        jb += ["--path-output", build.output]
+    if not build.cached:
         jb += ["--all"]
-    env = child_env()
-    if language == "en":
-        return run(jb, env)
-    # Cells print rikin's table headers and branch names in the edition's language.
-    env["RIKIN_LANG"] = language
-    work = BUILD / f"_{language}"
-    rc = run([*jb, "--path-output", work], env)
-    if rc == 0:
-        dest = BUILD / "html" / EDITIONS[language]
+    return [str(c) for c in jb]
+
+
+def build_book(build: BookBuild,
+               runner: Callable[[list[str], dict[str, str]], int] | None = None,
+               bin_dir: Path = BIN) -> int:
+    """Build the book as ``build`` says; the exit code of the first build that failed, or 0.
+
+    ``runner(cmd, env)`` runs one command (default :func:`run`: printed, output shown); the
+    tests pass their own, which keeps the log. Every edition the book has is built here, so
+    that the tests build exactly what instructors build: another language is one more
+    command after the English one (same ``build``, its own config and output, its site
+    copied into ``<output>/_build/html/<language>/``).
+    """
+    rc = _build_edition(build, "en", runner, bin_dir)
+    for language in EDITIONS if rc == 0 else ():
+        rc = _build_edition(build, language, runner, bin_dir)
+        if rc:
+            break
+    return rc
+
+
+def _build_edition(build: BookBuild, language: str,
+                   runner: Callable[[list[str], dict[str, str]], int] | None,
+                   bin_dir: Path) -> int:
+    """Build one edition; a translated one is built in ``_build/_<language>`` (its own
+    jupyter-cache: its cells print in its language) and copied into ``_build/html/<folder>``."""
+    config = book_config(build, language)
+    env = child_env(bin_dir)
+    root = build.output if build.output is not None else ROOT
+    if language != "en":
+        # Cells print rikin's table headers, branch names and figure titles in the language.
+        env["RIKIN_LANG"] = language
+        work = root / "_build" / f"_{language}"
+        work.mkdir(parents=True, exist_ok=True)
+        build = replace(build, output=work)
+    try:
+        rc = (runner or run)(book_command(build, config, bin_dir), env)
+    finally:
+        if config is not None:
+            config.unlink(missing_ok=True)
+    if rc == 0 and language != "en":
+        dest = root / "_build" / "html" / EDITIONS[language]
         shutil.rmtree(dest, ignore_errors=True)
-        shutil.copytree(work / "_build" / "html", dest)
+        shutil.copytree(root / "_build" / f"_{language}" / "_build" / "html", dest)
     return rc
 
 
 def cmd_book(args: argparse.Namespace) -> int:
     ensure_venv("book")
-    # The English edition first: the others are copied into its _build/html/.
-    rc = _build_edition(args.cached, "en")
-    for language in EDITIONS if rc == 0 else ():
-        rc = _build_edition(args.cached, language)
-        if rc:
-            break
+    rc = build_book(BookBuild(cached=args.cached))
     index = BUILD / "html" / "index.html"
     if rc == 0:
         print(f"\nBook built: {index}\n(open file://{index} in a browser; the Spanish "

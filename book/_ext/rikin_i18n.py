@@ -19,11 +19,12 @@ figure's caption and alt text written in a code cell's metadata (``mystnb: figur
 notebook ran, and ``tools/dev.py translations`` extracts without running any. In that
 (gettext) build the texts are added to the page as :class:`late_texts` nodes, with exactly
 the messages Sphinx's ``Locale`` transform looks up in the executed Spanish build (a
-caption's paragraph, its lines joined by spaces; an image's alt text); the site's title,
-footer and search box (the config's) go into the first page's catalogue, and a translated
-edition takes them from there. The Spanish build
-marks every text it found no translation for with the class ``untranslated``
-(``translation_progress_classes``), which the tests look for in the built pages.
+caption's paragraph, its lines joined by spaces; an image's alt text). The site's texts
+that the config gives (title, footer, search box, the buttons that fold a cell) go into the
+first page's catalogue, and a translated edition takes them from there. What cells print is
+not looked up in the catalogues (rikin prints its words in the page's language, see
+``rikin/i18n.py``). The Spanish build marks every text it found no translation for with
+the class ``untranslated`` (``translation_progress_classes``), which the tests look for.
 """
 
 from __future__ import annotations
@@ -43,9 +44,11 @@ EDITIONS: dict[str, tuple[str, str]] = {"en": ("", "English"), "es": ("es/", "Es
 #: reads that language).
 SWITCH_TITLE = {"en": "Read this page in English", "es": "Lee esta página en español"}
 #: The site's texts that the config gives, not a page (the title, the footer, the search
-#: box): the gettext build puts them in the first page's catalogue, and a translated
-#: edition takes them from its catalogues (:func:`translated_config`).
-SITE_TEXTS = ("html_title", "copyright", "search_bar_text")
+#: box, the buttons that fold a cell, "Show code cell {type}" with {type} source, outputs
+#: or content): the gettext build puts them in the first page's catalogue, and a
+#: translated edition takes them from its catalogues (:func:`translated_config`).
+SITE_TEXTS = ("html_title", "copyright", "search_bar_text", "nb_code_prompt_show",
+              "nb_code_prompt_hide")
 #: The builder that extracts the messages (``tools/dev.py translations``).
 GETTEXT = "gettext"
 #: The template (in ``templates/``) that draws the switch in the article header.
@@ -132,10 +135,11 @@ def caption_messages(text: str) -> list[str]:
     paragraphs: list[list[str]] = [[]]
     for line in text.strip().splitlines():
         if line.strip():
-            paragraphs[-1].append(line.strip())
+            paragraphs[-1].append(line)
         elif paragraphs[-1]:
             paragraphs.append([])
-    return [" ".join(p) for p in paragraphs if p]
+    # a paragraph's source keeps the inner lines' indentation, not its ends' whitespace
+    return [" ".join(p).strip() for p in paragraphs if p]
 
 
 def cell_texts(metadata: Any) -> list[str]:
@@ -194,7 +198,9 @@ def site_texts(config: Any) -> dict[str, str]:
     """The config's :data:`SITE_TEXTS` (the search box's is a theme option)."""
     options = config.html_theme_options or {}
     values = {"html_title": config.html_title, "copyright": config.copyright,
-              "search_bar_text": options.get("search_bar_text")}
+              "search_bar_text": options.get("search_bar_text"),
+              "nb_code_prompt_show": config.nb_code_prompt_show,
+              "nb_code_prompt_hide": config.nb_code_prompt_hide}
     return {name: str(values[name] or "") for name in SITE_TEXTS}
 
 
@@ -223,6 +229,8 @@ def translated_config(app: Sphinx, config: Any) -> None:
     strings = catalogue_strings([Path(app.srcdir) / d for d in config.locale_dirs], language)
     texts = {name: strings.get(text, text) for name, text in site_texts(config).items()}
     config.html_title, config.copyright = texts["html_title"], texts["copyright"]
+    config.nb_code_prompt_show = texts["nb_code_prompt_show"]
+    config.nb_code_prompt_hide = texts["nb_code_prompt_hide"]
     if texts["search_bar_text"]:
         config.html_theme_options = {**(config.html_theme_options or {}),
                                      "search_bar_text": texts["search_bar_text"]}

@@ -34,7 +34,7 @@ from .lmsfiles import MISSING_BLANK, MISSING_ZERO
 from .notebook import OUTPUT_MARK, Submission, SubmissionsError, discover, shown
 from .outputs import atomic_write
 from .policy import PolicyError, Rules, parse_time, show_time
-from .pool import failed_result, log_result
+from .pool import Batch, failed_result, log_result
 from .pool import run_pool as _run_pool
 from .probe import check_sandbox
 from .progress import Progress, summarize, summary_text
@@ -45,7 +45,6 @@ from .safetext import SafeFormatter
 from .sandbox import Limits, SandboxConfig
 from .sandbox.cgroup import machine_memory_mb
 from .sandbox.config import DESCRIBE, package_dir, resolve_mode
-from .spec import Call
 from .studentfiles import StudentFiles
 from .views import export, student_view, write_student
 
@@ -293,7 +292,8 @@ def _grade(
         try:
             if todo:
                 config = _sandbox_config(a, s, out, subs, gb_path)
-                _run(a, calls, options, key, config, todo, s.workers, run, bar, results)
+                batch = Batch(a, calls, options, key, config)
+                _run(batch, todo, s.workers, run, bar, results)
             state = "finished"
         finally:  # the views are written even after Ctrl-C: every committed grade is in them
             run.close()  # no worker records a result once they are being written
@@ -536,11 +536,7 @@ def _sandbox_config(
 
 
 def _run(
-    a: Assignment,
-    calls: list[list[Call]],
-    options: RunOptions,
-    key: str,
-    config: SandboxConfig,
+    batch: Batch,
     todo: list[Submission],
     workers: int,
     run: _GradebookRun,
@@ -549,6 +545,7 @@ def _run(
 ) -> None:
     """Grade ``todo`` in sandboxes of the strongest mode that works here (the log says
     which), each result recorded in ``run`` as it comes."""
+    config = batch.config
     resolve_mode(config)
     for note in config.notes:
         log.warning("%s", note)
@@ -558,7 +555,7 @@ def _run(
             "UNSAFE: grading without a sandbox (--unsafe-no-sandbox); "
             "student code can read and change this machine's files"
         )
-    _run_pool(a, calls, options, key, config, todo, max(1, int(workers)), run.commit, bar, results)
+    _run_pool(batch, todo, max(1, int(workers)), run.commit, bar, results)
 
 
 # ----------------------------------------------------------------- summary and export

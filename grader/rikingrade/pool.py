@@ -13,6 +13,7 @@ import shutil
 import threading
 import traceback
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 
 from .assignment import Assignment
@@ -30,12 +31,33 @@ log = logging.getLogger("rikingrade")
 Commit = Callable[[Submission, SubmissionResult], bool]
 
 
+@dataclass(frozen=True)
+class Batch:
+    """What every submission of one grading batch is graded with.
+
+    Attributes
+    ----------
+    assignment : Assignment
+        The exercise and its tests.
+    calls : list of list of Call
+        Each test's calls, drawn with the batch's seed.
+    options : RunOptions
+        The runner's limits and timeouts.
+    key : str
+        The grading key every result records (assignment, seed, grader version).
+    config : SandboxConfig
+        The sandbox each worker starts.
+    """
+
+    assignment: Assignment
+    calls: list[list[Call]]
+    options: RunOptions
+    key: str
+    config: SandboxConfig
+
+
 def run_pool(
-    a: Assignment,
-    calls: list[list[Call]],
-    options: RunOptions,
-    key: str,
-    config: SandboxConfig,
+    batch: Batch,
     todo: list[Submission],
     workers: int,
     done: Commit,
@@ -45,8 +67,8 @@ def run_pool(
     """Grade ``todo`` with ``workers`` sandboxes; ``done`` commits each result as it comes
     (False: it was not committed, the batch is being interrupted)."""
     workdir = sandbox_workdir()
-    prepare_workdir(workdir, config.sandbox)
-    pool = _Pool(a, calls, options, key, config, workdir, done, bar, results, todo)
+    prepare_workdir(workdir, batch.config.sandbox)
+    pool = _Pool(batch, workdir, done, bar, results, todo)
     try:
         pool.run(min(workers, len(todo)))
     finally:
@@ -60,19 +82,15 @@ class _Pool:
 
     def __init__(
         self,
-        a: Assignment,
-        calls: list[list[Call]],
-        options: RunOptions,
-        key: str,
-        config: SandboxConfig,
+        batch: Batch,
         workdir: Path,
         done: Commit,
         bar: Progress,
         results: dict[str, SubmissionResult],
         todo: list[Submission],
     ) -> None:
-        self.a, self.calls, self.options, self.key = a, calls, options, key
-        self.config, self.workdir = config, workdir
+        self.batch, self.workdir = batch, workdir
+        self.a, self.key, self.config = batch.assignment, batch.key, batch.config
         self.done, self.bar, self.results = done, bar, results
         self.jobs: queue.Queue[Submission] = queue.Queue()
         for s in todo:
@@ -109,7 +127,8 @@ class _Pool:
                 with self.lock:
                     self.start_errors.append(str(exc))
                 return
-            runner = SubmissionRunner(sandbox, self.a, self.calls, self.options, self.key)
+            runner = SubmissionRunner(sandbox, self.a, self.batch.calls, self.batch.options,
+                                      self.key)
             while not self.stop.is_set():
                 try:
                     sub = self.jobs.get_nowait()

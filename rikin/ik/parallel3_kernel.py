@@ -41,14 +41,17 @@ value near +-pi, or nothing reachable. The margins are :mod:`rikin.ik.pieper_ker
 from __future__ import annotations
 
 from math import acos, atan2, cos, hypot, pi, remainder, sin, sqrt
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from .._validate import FloatArray
 from ..tolerances import REACH_TOL
 from ..transforms import _inv_transform
-from .kernels import wrap_in_place
+from .kernels import affine_mul as _mul
+from .kernels import affine_mul_const as _mul_const
+from .kernels import as_affine as _affine
+from .kernels import chain_fk_error, norm2, wrap_in_place
 from .pieper import ACCEPT_TOL
 from .pieper_kernel import LABEL, NEAR_AXIS1, WRAP_EDGE
 from .result import Branch
@@ -139,11 +142,6 @@ def single_kernel(solver: KernelSource, arm: SerialArm) -> ParallelKernel | None
     kind it takes (joint 1 from a quartic; parallel axes' factors not exactly turns about z)."""
     kernel = ParallelKernel(solver, arm)
     return kernel if kernel.usable else None
-
-
-def _affine(M: np.ndarray) -> tuple[float, ...]:
-    """The top three rows of a 4x4 matrix, row by row, as 12 floats."""
-    return tuple(float(v) for v in M[:3].ravel())
 
 
 def _z_turn(M: np.ndarray) -> tuple[bool, float]:
@@ -391,18 +389,6 @@ class ParallelKernel:
         return True
 
 
-def _mul(a: tuple[Any, ...], b: tuple[Any, ...]) -> tuple[Any, ...]:
-    """The product of two affine maps given as their top three rows (12 floats each)."""
-    a00, a01, a02, a03, a10, a11, a12, a13, a20, a21, a22, a23 = a
-    b00, b01, b02, b03, b10, b11, b12, b13, b20, b21, b22, b23 = b
-    return (a00 * b00 + a01 * b10 + a02 * b20, a00 * b01 + a01 * b11 + a02 * b21,
-            a00 * b02 + a01 * b12 + a02 * b22, a00 * b03 + a01 * b13 + a02 * b23 + a03,
-            a10 * b00 + a11 * b10 + a12 * b20, a10 * b01 + a11 * b11 + a12 * b21,
-            a10 * b02 + a11 * b12 + a12 * b22, a10 * b03 + a11 * b13 + a12 * b23 + a13,
-            a20 * b00 + a21 * b10 + a22 * b20, a20 * b01 + a21 * b11 + a22 * b21,
-            a20 * b02 + a21 * b12 + a22 * b22, a20 * b03 + a21 * b13 + a22 * b23 + a23)
-
-
 # ------------------------------------------------------------------------- many poses
 # The same closed form on stacks: every scalar above becomes an array over the poses (last
 # axis), joint 1's roots an axis of 2, joint 5's a second, the elbows a third (the slots in
@@ -457,7 +443,7 @@ def _batch_joint1(k: ParallelKernel, W: tuple[np.ndarray, ...]
     B0, Bc, Bs = u2 * w23 - c0b, u0 * w03 + u1 * w13, u0 * w13 - u1 * w03
     la, lb = k.lam
     e0, ec, es = la * A0 + lb * B0, la * Ac + lb * Bc, la * As + lb * Bs
-    rho1 = np.hypot(ec, es)
+    rho1 = norm2(ec, es)
     ratio = -e0 / rho1
     suspect = ~(rho1 >= NEAR_AXIS1 * (1.0 + np.abs(e0))) | ~(np.abs(ratio) <= 1.0 - EDGE)
     phi1, d1 = np.arctan2(es, ec), np.arccos(np.clip(ratio, -1.0, 1.0))
@@ -474,7 +460,7 @@ def _batch_rest(k: ParallelKernel, W: tuple[np.ndarray, ...], th1: np.ndarray,
     u0, u1, u2 = k.u
     nx, ny = c1 * u0 - s1 * u1, s1 * u0 + c1 * u1
     ax, ay = w00 * nx + w10 * ny + w20 * u2, w01 * nx + w11 * ny + w21 * u2
-    na = np.hypot(ax, ay)
+    na = norm2(ax, ay)
     bad = ~(na >= NEAR_AXIS1)  # no labels here: only the margins of singularities
     if k.tilt_row:
         d5 = np.arctan2(na, w02 * nx + w12 * ny + w22 * u2)
@@ -499,7 +485,7 @@ def _batch_rest(k: ParallelKernel, W: tuple[np.ndarray, ...], th1: np.ndarray,
     ax, ay = ax[:, None], ay[:, None]
     dot, cross = ax * bx + ay * by, ax * by - ay * bx
     th6 = np.arctan2(cross, dot)
-    h = np.hypot(dot, cross)
+    h = norm2(dot, cross)
     c6, s6 = dot / h, cross / h
 
     def in_frame2(v: tuple[tuple[float, ...], ...]) -> tuple[np.ndarray, np.ndarray]:
@@ -544,44 +530,7 @@ def _batch_fk_error(k: ParallelKernel, W: tuple[np.ndarray, ...], th: list[np.nd
                     ) -> np.ndarray:
     """``max(|p - p_goal| / scale, max |R - R_goal|)`` ``(2, 2, 2, n)`` of the chain's
     joints ``th`` (6 arrays broadcasting to that shape) against ``W``, both between ``M0``
-    and ``M6`` (the general batch kernel's check). Joints 1, 5 and 6 have fewer distinct
-    values than slots: the chain's two ends are multiplied out on their own shapes."""
-    c = [np.cos(t) for t in th]
-    s = [np.sin(t) for t in th]
-    M = k.M
-    head = _mul_const(_turn(M[0], c[0], s[0]), M[1])  # (2, 1, 1, n)
-    tail = _mul_const(_turn(_mul_const(_turn(M[4], c[4], s[4]), M[5]), c[5], s[5]), M[6])
-    T = _turn(_mul_const(_turn(_mul_const(_turn(head, c[1], s[1]), M[2]), c[2], s[2]), M[3]),
-              c[3], s[3])
-    T = _mul(T, tail)
-    goal = _mul_const(_mul(M[0], W), M[6])
-    dp = [T[i] - goal[i] for i in (3, 7, 11)]
-    pos = np.sqrt(dp[0] * dp[0] + dp[1] * dp[1] + dp[2] * dp[2]) / k.L
-    rot = np.abs(T[0] - goal[0])
-    for i in (1, 2, 4, 5, 6, 8, 9, 10):
-        rot = np.maximum(rot, np.abs(T[i] - goal[i]))
-    return np.maximum(pos, rot)
-
-
-def _turn(T: tuple[Any, ...], c: np.ndarray, s: np.ndarray) -> tuple[Any, ...]:
-    """``T Rz(t)`` of an affine map given as 12 entries, with ``c, s`` the cosine and sine."""
-    out = list(T)
-    for r in (0, 4, 8):
-        x, y = T[r], T[r + 1]
-        out[r], out[r + 1] = x * c + y * s, y * c - x * s
-    return tuple(out)
-
-
-def _mul_const(a: tuple[Any, ...], b: tuple[float, ...]) -> tuple[Any, ...]:
-    """``a b`` for a constant affine map ``b`` (12 floats), skipping its zero and unit
-    entries (a DH table's matrices are mostly 0 and 1)."""
-    out: list[Any] = []
-    for i in (0, 4, 8):
-        for j in range(4):
-            acc: Any = a[i + 3] if j == 3 else 0.0
-            for m in range(3):
-                v = b[4 * m + j]
-                if v != 0.0:
-                    acc = acc + (a[i + m] if v == 1.0 else a[i + m] * v)
-            out.append(acc)
-    return tuple(out)
+    and ``M6`` (the general batch kernel's check). Joints 5 and 6 have fewer distinct
+    values than slots: the chain's tail is multiplied out on its own shape."""
+    goal = _mul_const(_mul(k.M[0], W), k.M[6])
+    return chain_fk_error(k.M, [(np.cos(t), np.sin(t)) for t in th], goal, k.L, split=4)

@@ -50,7 +50,9 @@ from ..dh import SerialArm, check_arm
 from ..errors import InputError
 from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL, SINGULAR_TOL
 from .base import RawSolutions, Singularity, TargetKind
+from .kernels import ferrari as _ferrari
 from .kernels import spherical_wrist, wrap_in_place
+from .pieper_batch import PieperBatchKernel, batch_kernel
 from .pieper_kernel import PieperKernel, single_kernel
 from .reach import nearest_reachable, rounding_note
 from .result import Branch
@@ -73,10 +75,6 @@ ACCEPT_TOL = max(REACH_TOL, 1e-10)
 
 #: Joint values closer than this (rad) are one root of the closed form.
 SAME_ROOT_TOL = 1e-7
-
-#: Roots of the quartic closer than this (relative) are left to the companion matrix's
-#: eigenvalues rather than Ferrari's formulas (``_ferrari``).
-SEPARATE_ROOTS = 1e-3
 
 #: Ferrari's formulas take a batch of at least this many quartics (for fewer, numpy's
 #: cost per call makes one call of the eigenvalue solver cheaper).
@@ -588,63 +586,6 @@ def _close_pairs(
     return half, close
 
 
-def _ferrari(
-    A: FloatArray, B: FloatArray, C: FloatArray, D: FloatArray
-) -> tuple[FloatArray, np.ndarray]:
-    """The roots ``(M, 4)`` of the monic quartics ``z^4 + A z^3 + B z^2 + C z + D``
-    (complex arrays ``(M,)``) by Ferrari's method, each polished by one Newton step, and
-    ``(M,)`` whether they are confirmed: every step small and the roots' sum ``-A`` (four
-    distinct roots, none found twice), and none within ``SEPARATE_ROOTS`` of another. The
-    vectorised form of the one-pose kernel's ``_quartic``; where unconfirmed, the roots
-    are to be found otherwise."""
-    with np.errstate(all="ignore"):
-        a = A / 4
-        aa = a * a
-        p = B - 6 * aa
-        q = C - 2 * B * a + 8 * aa * a
-        r = D - C * a + B * aa - 3 * aa * aa
-        # resolvent cubic, depressed: x^3 + P x + Q with m = x - p / 3
-        P = -p * p / 12 - r
-        Q = -p * p * p / 108 + p * r / 3 - q * q / 8
-        disc = np.sqrt(Q * Q / 4 + P * P * P / 27)
-        u3 = np.where(np.abs(-Q / 2 - disc) > np.abs(-Q / 2 + disc), -Q / 2 - disc, -Q / 2 + disc)
-        u = u3 ** (1 / 3)
-        safe_u = np.where(u == 0, 1.0, u)
-        m = np.full(u.shape, -p / 3, dtype=complex)
-        best = np.full(u.shape, -1.0)
-        for w in (1.0, complex(-0.5, 0.8660254037844386), complex(-0.5, -0.8660254037844386)):
-            uw = safe_u * w
-            cand = np.where(u == 0, -p / 3, uw - P / (3 * uw) - p / 3)
-            bigger = np.abs(cand) > best
-            m, best = np.where(bigger, cand, m), np.where(bigger, np.abs(cand), best)
-        s = np.sqrt(2 * m)
-        qs = q / (2 * np.where(s == 0, 1.0, s))
-        half = p / 2 + m
-        roots = []
-        sure = (m != 0) & (s != 0)
-        for b, c in ((-s, half + qs), (s, half - qs)):  # y^2 + b y + c = 0
-            d = np.sqrt(b * b - 4 * c)
-            d = np.where((np.conj(b) * d).real < 0, -d, d)
-            t = -(b + d) / 2
-            sure &= t != 0
-            roots += [t - a, c / np.where(t == 0, 1.0, t) - a]
-        z = np.stack(roots, axis=-1)
-        f = (((z + A[:, None]) * z + B[:, None]) * z + C[:, None]) * z + D[:, None]
-        df = ((4 * z + 3 * A[:, None]) * z + 2 * B[:, None]) * z + C[:, None]
-        step = f / np.where(df == 0, 1.0, df)
-        z = z - step
-        sure &= (
-            np.all(np.isfinite(z), axis=-1) & np.all(df != 0, axis=-1)
-            & np.all(np.abs(step) <= 1e-6 * (1 + np.abs(z)), axis=-1)
-            & (np.abs(z.sum(-1) + A) <= 1e-9 * (np.abs(A) + 4 * np.abs(z).max(-1)))
-        )
-        # near a multiple root (a fold of the arm) the companion matrix's eigenvalues
-        # split it the way the fold handling downstream was tuned for: leave it to them
-        for i, j in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
-            sure &= np.abs(z[:, i] - z[:, j]) > SEPARATE_ROOTS * (1 + np.abs(z[:, i]))
-    return z, sure
-
-
 def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
     """Real roots of trigonometric polynomials of degree 2 sampled at 5 angles.
 
@@ -892,6 +833,14 @@ class Pieper6RSolver(ChainPolish):
         """The plain-float kernel for one regular pose (:mod:`rikin.ik.pieper_kernel`), or
         None; :func:`rikin.ik.api.solve` looks it up once per arm."""
         return single_kernel(self, arm)
+
+    def batch_kernel(self, arm: SerialArm) -> PieperBatchKernel | None:
+        """The many-pose kernel (:mod:`rikin.ik.pieper_batch`), or None; built once per arm,
+        :func:`rikin.ik.api.solve_batch` looks it up."""
+        cache = self.__dict__.setdefault("_batch_kernels", weakref.WeakKeyDictionary())
+        if arm not in cache:
+            cache[arm] = batch_kernel(self, arm, self.single_kernel(arm), self.slots, ACCEPT_TOL)
+        return cache[arm]
 
     # -------------------------------------------------------------- position
     def _g(self, th3: FloatArray) -> FloatArray:

@@ -410,11 +410,12 @@ def write(
     return folder, roster_writer(chosen, where / f"{layout}-roster.csv")
 
 
-def fake_pool(a, calls, options, key, config, todo, workers, done, bar, results):
+def fake_pool(batch, todo, workers, done, bar, results):
     """Stands for :func:`rikingrade.api._run_pool`: grades each notebook by the points its
     metadata gives (no cell is run), committing each result as the real pool does."""
     from rikingrade.report import SubmissionResult, TestResult
 
+    a, key = batch.assignment, batch.key
     for s in todo:
         meta = json.loads(s.read_bytes())["metadata"]["rikin_test"]
         tests = [

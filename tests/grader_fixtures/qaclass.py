@@ -633,12 +633,13 @@ def extensions(people: list[Person], path: Path, lms: str) -> None:
 # ---------------------------------------------------------------- the fast path
 
 
-def fake_pool(a, calls, options, key, config, todo, workers, done, bar, results):
+def fake_pool(batch, todo, workers, done, bar, results):
     """Stands for ``api._run_pool``: each notebook earns ``frac`` of every test's points
     (no cell is run); a file that is not a notebook is ``invalid``; each result is
     committed as the real pool does."""
     from rikingrade.report import SubmissionResult, TestResult
 
+    a, key = batch.assignment, batch.key
     for s in todo:
         try:
             frac = json.loads(s.read_bytes())["metadata"]["qa27"]["frac"]
