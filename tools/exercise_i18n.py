@@ -42,6 +42,10 @@ LANGUAGES = ("es",)
 CATALOGUE = "locales/{lang}/LC_MESSAGES/exercises.po"
 #: The shared cells' message function (in tools/exercise_checks.py).
 MESSAGE_FUNCTION = "_t"
+#: The grader's message functions (rikingrade.i18n): translate, and mark for translation.
+GRADER_FUNCTIONS = ("t", "N_")
+#: The grader's catalogue of one language, below its package (grader/rikingrade/).
+GRADER_CATALOGUE = "locales/{lang}/LC_MESSAGES/rikingrade.po"
 
 MARKER = re.compile(r"^\s*<!-- (?:BEGIN|END) SOLUTION -->\s*$")
 FENCE = re.compile(r"^\s*(```|~~~)")
@@ -166,6 +170,23 @@ def notebook_messages(nb, shared_tags: tuple[str, ...]) -> Iterator[str]:
             yield from (text for text, yes in markdown_pieces(cell.source) if yes)
         elif cell.cell_type == "code" and code_has_words(cell.source):
             yield cell.source
+
+
+def grader_messages(package: Path) -> dict[str, list[str]]:
+    """The grader's messages by file: the literals of its ``t("...")`` and ``N_("...")``
+    calls (rikingrade.i18n)."""
+    out: dict[str, list[str]] = {}
+    for path in sorted(package.rglob("*.py")):
+        found = []
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+                    and node.func.id in GRADER_FUNCTIONS and node.args
+                    and isinstance(node.args[0], ast.Constant)
+                    and isinstance(node.args[0].value, str)):
+                found.append((node.lineno, node.args[0].value))
+        if found:
+            out[path.relative_to(package.parent).as_posix()] = [m for _, m in sorted(found)]
+    return out
 
 
 # ----------------------------------------------------------------------------- catalogue

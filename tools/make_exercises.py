@@ -107,6 +107,7 @@ import exercise_i18n as i18n  # noqa: E402  (the catalogues of the other languag
 SOLUTIONS = ROOT / "solutions"
 EXERCISES = ROOT / "exercises"
 CHECKS_FILE = ROOT / "tools" / "exercise_checks.py"
+GRADER_PACKAGE = ROOT / "grader" / "rikingrade"
 CONFIG_FILE = ROOT / "_config.yml"
 
 BEGIN = re.compile(r"^(?P<indent>[ \t]*)### BEGIN SOLUTION(?: \(task (?P<task>[^)]+)\))?\s*$")
@@ -358,7 +359,31 @@ def generate(check: bool) -> list[str]:
         differ += _stale_notebooks(EXERCISES, set(solutions))
     for lang in i18n.LANGUAGES:
         differ += _generate_language(lang, solutions, shared, check)
+        differ += _check_grader_catalogue(lang, check)
     return differ
+
+
+def _grader_catalogue(lang: str) -> Path:
+    return GRADER_PACKAGE / i18n.GRADER_CATALOGUE.format(lang=lang)
+
+
+def _check_grader_catalogue(lang: str, check: bool) -> list[str]:
+    """The grader's catalogue of ``lang``, if it is not current and complete (an
+    untranslated message is refused unless ``check``)."""
+    path = _grader_catalogue(lang)
+    wanted = [m for ms in i18n.grader_messages(GRADER_PACKAGE).values() for m in ms]
+    cat = i18n.read_catalogue(path, lang)
+    stale = {m.id for m in cat if m.id} != set(wanted)
+    try:
+        i18n.translations(cat, wanted, lang)
+    except i18n.Untranslated as exc:
+        if not check:
+            raise GenerationError(f"{path.relative_to(ROOT)}: {exc}") from None
+        return [f"{path.relative_to(ROOT)} ({exc})"]
+    if stale:
+        return [f"{path.relative_to(ROOT)} (not current with the grader's messages: run "
+                "python3 tools/make_exercises.py --translations, then translate)"]
+    return []
 
 
 def catalogue_sources(solutions: dict, shared: dict[str, str]) -> dict[str, list[str]]:
@@ -431,14 +456,17 @@ def update_translations() -> list[str]:
     solutions = {p.name: nbformat.read(p, as_version=4) for p in sorted(SOLUTIONS.glob("*.ipynb"))}
     for nb in solutions.values():
         sync_shared(nb, shared, "")
-    tmpl = i18n.template(catalogue_sources(solutions, shared))
+    templates = [(i18n.template(catalogue_sources(solutions, shared)),
+                  lambda lang: i18n.catalogue_path(SOLUTIONS, lang)),
+                 (i18n.template(i18n.grader_messages(GRADER_PACKAGE)), _grader_catalogue)]
     written = []
     for lang in i18n.LANGUAGES:
-        path = i18n.catalogue_path(SOLUTIONS, lang)
-        before = path.read_text(encoding="utf-8") if path.exists() else None
-        i18n.write_catalogue(path, i18n.updated(i18n.read_catalogue(path, lang), tmpl))
-        if path.read_text(encoding="utf-8") != before:
-            written.append(str(path.relative_to(ROOT)))
+        for tmpl, where in templates:
+            path = where(lang)
+            before = path.read_text(encoding="utf-8") if path.exists() else None
+            i18n.write_catalogue(path, i18n.updated(i18n.read_catalogue(path, lang), tmpl))
+            if path.read_text(encoding="utf-8") != before:
+                written.append(str(path.relative_to(ROOT)))
     return written
 
 

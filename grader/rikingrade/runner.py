@@ -36,6 +36,7 @@ from .assignment import Assignment
 from .calllimits import CallLimits, backstop, cell_wall
 from .cellplan import calling_cells
 from .feedback import cell_problems, missing_cause
+from .i18n import t, use
 from .notebook import FileRefused, Notebook, NotebookError, Submission
 from .report import (
     CELL_ERRORS,
@@ -162,8 +163,10 @@ class SubmissionRunner:
             result.elapsed = time.monotonic() - t0
             return result
         run = _Run(self, nb)
+        result.language = nb.language
         try:
-            run.execute(result)
+            with use(nb.language):
+                run.execute(result)
         except SandboxUnavailable as exc:
             log.error("%s: sandbox failure: %s", sub.student, exc)
             result.status = GRADER_ERROR
@@ -656,7 +659,7 @@ class _Run:
             test.name,
             float(test.weight),
             0.0,
-            f"not run: {self._spent()}",
+            t("not run: {why}", why=self._spent()),
             timed_out=True,
         )
 
@@ -666,12 +669,12 @@ class _Run:
         a = self.r.assignment
         problems = list(self.nb.warnings)[:10]
         if not self.nb.cells:
-            problems.append("the notebook has no code cells")
+            problems.append(t("the notebook has no code cells"))
         cell_lines = cell_problems(self.cells, self.nb.cells)
         more = len(cell_lines) - MAX_PROBLEMS + sum(self.unlisted.values())
         problems += cell_lines[:MAX_PROBLEMS]
         if more > 0:
-            problems.append(f"... and {more} more problems in code cells (not listed)")
+            problems.append(t("... and {n} more problems in code cells (not listed)", n=more))
         problems += [
             missing_cause(f, self.functions, a.functions, self.nb.cells, self.cells)
             for f in missing
@@ -680,7 +683,8 @@ class _Run:
         if self.exec_error:
             problems.append(self.exec_error)
         if self.budget_spent:
-            problems.append(f"grading stopped: {self._spent()}; the tests not run score 0")
+            problems.append(t("grading stopped: {why}; the tests not run score 0",
+                              why=self._spent()))
         return problems
 
     def _status(self, result: SubmissionResult, missing: list[str]) -> tuple[str, str]:
