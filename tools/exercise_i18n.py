@@ -250,9 +250,14 @@ def translations(cat: Catalog, wanted: list[str], lang: str) -> dict[str, str]:
 
 # ----------------------------------------------------------------------------- checks
 def _code_shape(source: str) -> str:
-    """The syntax tree with comments gone and strings with spaces blanked out."""
+    """The syntax tree with comments gone, and strings with spaces and the messages of
+    ``_t(...)`` blanked out."""
     tree = ast.parse(source)
     for node in ast.walk(tree):
+        if (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+                and node.func.id == MESSAGE_FUNCTION and node.args
+                and isinstance(node.args[0], ast.Constant)):
+            node.args[0].value = "<text>"
         if isinstance(node, ast.Constant) and isinstance(node.value, str) and (
                 " " in node.value or "\n" in node.value):
             node.value = "<text>"

@@ -12,6 +12,11 @@ What this extension adds to every page of either edition:
   edition (``es/<page>.html`` from the English site, ``../<page>.html`` back);
 * ``<link rel="alternate" hreflang=...>`` for both editions, so a search engine offers a
   reader the page in their language.
+
+And in a translated edition, a ``{download}`` of an exercise notebook
+(``exercises/<arm>.ipynb``) offers that edition's notebook, ``exercises/<lang>/<arm>.ipynb``
+(made by tools/make_exercises.py), when there is one: the catalogues keep the English
+target, the reader gets the notebook in their language.
 """
 
 from __future__ import annotations
@@ -19,7 +24,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from sphinx import addnodes
 from sphinx.application import Sphinx
+from sphinx.transforms import SphinxTransform
 
 #: The editions: language code -> (folder below the site root, the language's own name).
 EDITIONS: dict[str, tuple[str, str]] = {"en": ("", "English"), "es": ("es/", "Español")}
@@ -79,7 +86,33 @@ def add_switch(
     context["metatags"] = context.get("metatags", "") + links
 
 
+class ExercisesInLanguage(SphinxTransform):
+    """``{download}`` of ``exercises/<name>.ipynb`` -> ``exercises/<lang>/<name>.ipynb``.
+
+    Runs after Sphinx's translation of the page (priority 20) and before the download
+    files are collected (the ``doctree-read`` event), in an edition other than English.
+    """
+
+    default_priority = 800
+
+    def apply(self, **kwargs: Any) -> None:
+        lang = edition(self.config.language)
+        if lang == "en":
+            return
+        here = Path(self.env.doc2path(self.env.docname)).parent
+        for node in self.document.findall(addnodes.download_reference):
+            target = str(node.get("reftarget", ""))
+            folder, _, name = target.rpartition("/")
+            if not name.endswith(".ipynb") or folder.rsplit("/", 1)[-1] != "exercises":
+                continue
+            translated = f"{folder}/{lang}/{name}"
+            base = Path(self.env.srcdir) if translated.startswith("/") else here
+            if (base / translated.lstrip("/")).is_file():
+                node["reftarget"] = translated
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
+    app.add_transform(ExercisesInLanguage)
     app.connect("config-inited", add_switch_template)
     app.connect("html-page-context", add_switch)
     return {"version": "1.0", "parallel_read_safe": True, "parallel_write_safe": True}

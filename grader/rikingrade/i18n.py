@@ -110,4 +110,15 @@ def label(text: str) -> str:
     """A solution's branch label ("elbow left (q2 < 0), wrist q5 > 0") in the current
     language, part by part (a part with no translation stays as it is)."""
     words = catalogue(language())
-    return ", ".join(words.get(part, part) for part in text.split(", "))
+    return ", ".join(words.get(part, part) for part in label_parts(text))
+
+
+def label_parts(text: str) -> list[str]:
+    """A branch label split at its ", " outside parentheses."""
+    parts, depth, start = [], 0, 0
+    for i, ch in enumerate(text):
+        depth += {"(": 1, ")": -1}.get(ch, 0)
+        if depth == 0 and text.startswith(", ", i):
+            parts.append(text[start:i])
+            start = i + 2
+    return [*parts, text[start:]]
