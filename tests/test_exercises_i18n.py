@@ -89,7 +89,8 @@ def test_an_untranslated_message_is_refused(tree, how):
 
 
 def test_a_message_of_the_checks_untranslated_is_refused(tree):
-    _edit_catalogue(tree, "does not reach the target: your {fk}", lambda m: setattr(m, "string", ""))
+    _edit_catalogue(tree, "does not reach the target: your {fk}",
+                    lambda m: setattr(m, "string", ""))
     with pytest.raises(mx.GenerationError, match="does not reach the target"):
         mx.generate(check=False)
 
@@ -128,7 +129,8 @@ def test_a_translation_that_changes_a_placeholder_is_refused(tree):
 def test_the_catalogues_are_complete_and_current():
     """The committed catalogues: every message translated, none fuzzy, none left over."""
     shared = mx.shared_sources()
-    sols = {p.name: nbformat.read(p, as_version=4) for p in sorted((ROOT / "solutions").glob("*.ipynb"))}
+    sols = {p.name: nbformat.read(p, as_version=4)
+            for p in sorted((ROOT / "solutions").glob("*.ipynb"))}
     for source, path in (
         (mx.catalogue_sources(sols, shared), ROOT / CATALOGUE),
         (ei.grader_messages(ROOT / "grader" / "rikingrade"),

@@ -289,9 +289,10 @@ def check_translation(english: str, translated: str, kind: str) -> None:
 
 
 # ----------------------------------------------------------------------------- translating
-def _literal(text: str, indent: int, width: int = 92) -> str:
-    """``text`` as Python string literal(s), split at spaces to fit in ``width`` columns."""
-    room = max(30, width - indent - 2)
+def _literal(text: str, indent: int, tail: int = 0, width: int = 99) -> str:
+    """``text`` as Python string literal(s), split at spaces to fit in ``width`` columns
+    with ``tail`` more characters after the last one."""
+    room = max(30, width - indent - 2 - tail)
     parts: list[str] = []
     rest = text
     while len(rest) > room:
@@ -313,7 +314,9 @@ def translate_shared(source: str, tr: dict[str, str]) -> str:
     for start, end, text in reversed(message_calls(source)):
         check_translation(text, tr[text], "message")
         indent = start - (out.rfind("\n", 0, start) + 1)
-        out = out[:start] + _literal(tr[text], indent) + out[end:]
+        line_end = out.find("\n", end)
+        tail = (len(out) if line_end < 0 else line_end) - end
+        out = out[:start] + _literal(tr[text], indent, tail) + out[end:]
     return TITLE.sub(lambda m: "#@title " + tr[m.group(1)], out)
 
 

@@ -104,7 +104,8 @@ def cell_problems(reports: dict[int, CellReport], cells: list[tuple[int, str]]) 
         also = ""
         if more:
             listed = ", ".join(str(m) for m in more[:-1])
-            cells_ = t("{cells} and {last}", cells=listed, last=more[-1]) if listed else str(more[-1])
+            cells_ = (t("{cells} and {last}", cells=listed, last=more[-1]) if listed
+                      else str(more[-1]))
             also = (t("; so did code cells {cells}", cells=cells_) if len(more) > 1
                     else t("; so did code cell {cells}", cells=cells_))
         lines[i] += also + t("; later cells still ran)")

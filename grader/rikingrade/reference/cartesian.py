@@ -24,7 +24,6 @@ import numpy as np
 from rikin import Link, UnreachableError
 
 from ..i18n import N_
-
 from ._common import REACH_TOL, ExerciseArm, excess
 
 __all__ = ["ARM", "Cartesian"]

@@ -26,7 +26,6 @@ import numpy as np
 from rikin import Link, UnreachableError
 
 from ..i18n import N_
-
 from ._common import NEAR_SINGULAR, REACH_TOL, SINGULAR_TOL, STRETCH_TOL, ExerciseArm
 
 __all__ = ["ARM", "Scara", "ELBOW_RIGHT", "ELBOW_LEFT"]

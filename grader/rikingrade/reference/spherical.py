@@ -28,7 +28,6 @@ import numpy as np
 from rikin import Link, UnreachableError
 
 from ..i18n import N_
-
 from ._common import NEAR_SINGULAR, REACH_TOL, SINGULAR_TOL, ExerciseArm
 
 __all__ = ["ARM", "Spherical", "FRONT", "BACK"]
