@@ -912,20 +912,6 @@ def ik_test(
     else:
         title = f"IK of the {what}, all solutions ({fname})"
 
-    def heading() -> str:
-        """The title in the feedback's language."""
-        if special == "wrist":
-            return t("IK at and near the wrist singularity, any member of the family "
-                     "({function})", function=fname)
-        if special == "positioning":
-            words = t(" and ").join(t(k) for k in kinds)
-            near = t("them") if len(kinds) > 1 else t("it")
-            return t("IK {kinds}, and near {them} ({function})", kinds=words, them=near,
-                     function=fname)
-        if six:
-            return t("IK of the 6-DOF arm, by decoupling, all solutions ({function})",
-                     function=fname)
-        return t("IK of the positioning arm, all solutions ({function})", function=fname)
 
     def target(q: FloatArray, L: dict[str, float], tool: float | None) -> Call:
         if six:
@@ -969,12 +955,28 @@ def ik_test(
                 f"wrong {case.wrong}; {case.failure}"
             )
         frac = float(np.mean([c.credit for c in cases]))
-        fb = summarize_ik(heading(), cases)
+        fb = summarize_ik(_ik_heading(special, six, fname, kinds), cases)
         fb += _first_failing_hint(reveal, spec, calls, [c.full for c in cases])
         return Score(frac, fb, _detail(spec, calls, outcomes, notes))
 
     tags = ("ik",) + (("singular",) if special else ())
     return HiddenTest(name, weight, title, make_calls, _guarded(check), timeout=TIMEOUT, tags=tags)
+
+
+def _ik_heading(special: str, six: bool, fname: str, kinds: list[str]) -> str:
+    """The title of an IK test (see :func:`ik_test`) in the feedback's language."""
+    if special == "wrist":
+        return t("IK at and near the wrist singularity, any member of the family "
+                 "({function})", function=fname)
+    if special == "positioning":
+        words = t(" and ").join(t(k) for k in kinds)
+        near = t("them") if len(kinds) > 1 else t("it")
+        return t("IK {kinds}, and near {them} ({function})", kinds=words, them=near,
+                 function=fname)
+    if six:
+        return t("IK of the 6-DOF arm, by decoupling, all solutions ({function})",
+                 function=fname)
+    return t("IK of the positioning arm, all solutions ({function})", function=fname)
 
 
 def _near_singular(
