@@ -301,3 +301,32 @@ def test_grader_full_marks_for_the_spanish_solution_feedback_in_its_language(exe
     page = (tmp_path / "out" / "feedback" / "espanol.md").read_text()
     assert "## Pruebas" in page and "Nota:" in page
     assert "## Tests" in (tmp_path / "out" / "feedback" / "english.md").read_text()
+
+
+# ----------------------------------------------------------------------------- the book
+@pytest.mark.parametrize("language", ["es", "en"])
+def test_the_spanish_edition_offers_the_spanish_notebooks(tmp_path, language):
+    """A {download} of exercises/<arm>.ipynb gives exercises/es/<arm>.ipynb in the Spanish
+    edition (book/_ext/rikin_i18n.py), the English notebook in the English one; a real
+    Sphinx build of a small project with the book's extension."""
+    from sphinx.application import Sphinx
+
+    src = tmp_path / "src"
+    (src / "book").mkdir(parents=True)
+    (src / "exercises" / "es").mkdir(parents=True)
+    (src / "exercises" / "scara.ipynb").write_text('{"lang": "en"}')
+    (src / "exercises" / "es" / "scara.ipynb").write_text('{"lang": "es"}')
+    (src / "exercises" / "cartesian.ipynb").write_text('{"lang": "en"}')  # no translation
+    (src / "conf.py").write_text(
+        f"import sys\nsys.path.insert(0, {str(ROOT / 'book' / '_ext')!r})\n"
+        f"extensions = ['rikin_i18n']\nlanguage = {language!r}\n")
+    (src / "index.rst").write_text(".. toctree::\n\n   book/page\n")
+    (src / "book" / "page.rst").write_text(
+        "Page\n====\n\n:download:`scara.ipynb <../exercises/scara.ipynb>` and "
+        ":download:`cartesian.ipynb <../exercises/cartesian.ipynb>`\n")
+    out = tmp_path / "html"
+    app = Sphinx(str(src), str(src), str(out), str(tmp_path / "doctrees"), "html",
+                 status=None, warning=None, freshenv=True)
+    app.build()
+    got = {p.name: json.loads(p.read_text())["lang"] for p in (out / "_downloads").rglob("*.ipynb")}
+    assert got == {"scara.ipynb": language, "cartesian.ipynb": "en"}
