@@ -1,8 +1,10 @@
 """The language of the words rikin prints in its tables: English, or Spanish for the
 Spanish edition of the book.
 
-Only what a table shows is translated: column headers ("branch", "joint", ...) and branch
-names ("front/up/no-flip" -> "delante/arriba/sin voltear"). The data stays as it is: a
+Only what a table or a figure shows is translated: column headers ("branch", "joint", ...),
+branch names ("front/up/no-flip" -> "delante/arriba/sin voltear") and the few phrases of
+the solution figures' titles, buttons and legends (:func:`phrase`); the numbers are
+formatted by the same code in every language. The data stays as it is: a
 solution's ``branch.label`` and ``result.labels`` are English whatever the language, so
 code that selects a branch by name works in every edition. Error messages are English too
 (they are searched for, quoted in forums and matched by tests).
@@ -40,6 +42,9 @@ _SPANISH = {
     "joint": "articulación",
     "type": "tipo",
     "offset": "desfase",
+    # DH conventions
+    "standard": "estándar",
+    "modified": "modificado",
     # branch names: shoulder, elbow, wrist
     "front": "delante",
     "back": "detrás",
@@ -54,6 +59,52 @@ _SPANISH = {
     "no": "no",
 }
 _WORDS = {"en": {}, "es": _SPANISH}
+
+#: Spanish for the phrases figures print (str.format templates; the keys are the English).
+_SPANISH_PHRASES = {
+    "solution {n}": "solución {n}",
+    "{name}: {k} IK solution": "{name}: {k} solución",
+    "{name}: {k} IK solutions": "{name}: {k} soluciones",
+    "joints where #{twins} has them": "mismos puntos articulares que #{twins}",
+    "joints where #{twins} have them": "mismos puntos articulares que #{twins}",
+    "all {k} solutions (legend: click to hide)": "las {k} soluciones (leyenda: clic para ocultar)",
+    "all": "todas",
+    "{name}: the target along a path": "{name}: el objetivo a lo largo de una trayectoria",
+    "step {s}: unreachable: {why}": "paso {s}: inalcanzable: {why}",
+    "step {s}: {n} solution": "paso {s}: {n} solución",
+    "step {s}: {n} solutions": "paso {s}: {n} soluciones",
+    "▶ play": "▶ reproducir",
+    "path": "trayectoria",
+    # drawings of one arm (rikin.plot)
+    "{name} at q = {q}": "{name} en q = {q}",
+    "{name}: DH frames ({convention}) at q = {q}":
+        "{name}: sistemas DH ({convention}) en q = {q}",
+    "{name}: wrist centre p_w = p − l·z (l = {l})":
+        "{name}: centro de la muñeca p_w = p − l·z (l = {l})",
+    "two-link triangle (law of cosines)": "triángulo de dos eslabones (teorema del coseno)",
+    "TCP: {r_in} ≤ r ≤ {r_out}": "TCP: {r_in} ≤ r ≤ {r_out}",
+    "wrist point: {w_in} ≤ r ≤ {w_out}": "centro de la muñeca: {w_in} ≤ r ≤ {w_out}",
+    "{name}: reachable region": "{name}: región alcanzable",
+    "{name}: {n} reachable TCP positions": "{name}: {n} posiciones alcanzables del TCP",
+    "{name}: {n} reachable wrist centre positions":
+        "{name}: {n} posiciones alcanzables del centro de la muñeca",
+    "view from above": "vista desde arriba",
+    "view along {axis}": "vista según {axis}",
+    # the key under the all-solution figures (rikin.plot.MARKER_KEY)
+    ("frame axes: x red, y green, z blue  ·  ○ revolute joint, □ prismatic joint  ·  "
+     "★ TCP with the gripper (fingers open along y, approach along z)  ·  "
+     "red ring: the target"):
+    ("ejes de los sistemas: x rojo, y verde, z azul  ·  ○ articulación de rotación, "
+     "□ articulación prismática  ·  ★ TCP con la pinza (dedos abiertos según y, "
+     "aproximación según z)  ·  anillo rojo: el objetivo"),
+    "approach along z": "aproximación según z",
+    "approach along x": "aproximación según x",
+    ", z blue": ", z azul",
+    "light grey: the other solutions": "gris claro: las demás soluciones",
+    "purple arrow: a joint axis reversed in the twin solution":
+        "flecha morada: un eje articular invertido en la solución gemela",
+}
+_PHRASES: dict[str, dict[str, str]] = {"en": {}, "es": _SPANISH_PHRASES}
 
 _chosen: str | None = None
 
@@ -82,6 +133,12 @@ def language() -> str:
 def word(text: str) -> str:
     """``text`` in the current language (unchanged when it has no translation)."""
     return _WORDS[language()].get(text, text)
+
+
+def phrase(english: str, **values: object) -> str:
+    """The phrase ``english`` (a :meth:`str.format` template) in the current language,
+    filled in with ``values`` (formatted as in English: the numbers are the same)."""
+    return _PHRASES[language()].get(english, english).format(**values)
 
 
 def branch_name(label: str) -> str:

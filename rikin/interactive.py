@@ -45,6 +45,7 @@ import numpy as np
 from ._validate import FloatArray, as_count, as_flag, as_float_array, as_text, as_texts
 from .dh import SerialArm
 from .errors import InputError, RikinError
+from .i18n import branch_name, phrase
 from .ik.result import IKResult
 from .plot import (
     AXIS_COLOURS,
@@ -383,9 +384,10 @@ def _title(text: str, max_lines: int = TITLE_LINES) -> str:
 
 def _key(dims: int) -> str:
     """The marker key, one item a line."""
-    key = MARKER_KEY.replace("★", "◆")
+    key = phrase(MARKER_KEY).replace("★", "◆")
     if dims == 2:
-        key = key.replace("approach along z", "approach along x").replace(", z blue", "")
+        key = key.replace(phrase("approach along z"), phrase("approach along x"))
+        key = key.replace(phrase(", z blue"), "")
     return "<br>".join(line for item in key.split("  ·  ") for line in _lines(item))
 
 
@@ -463,7 +465,8 @@ def _solution_traces(go: Any, arm: SerialArm, Q: FloatArray, labels: Any, fs: fl
     traces: list[Any] = []
     heads = []
     for i in range(len(Q)):
-        head = f"{i + 1}: {labels[i]}" if labels[i] else f"solution {i + 1}"
+        head = f"{i + 1}: {branch_name(labels[i])}" if labels[i] else phrase("solution {n}",
+                                                                             n=i + 1)
         heads.append(f"{head}<br>q = {_q_text(arm, Q[i])}")
         geo = _arm_geometry(arm, Q[i], fs, dims, frames)
         traces += _arm_traces(go, dims, SLOT_COLOURS[i % len(SLOT_COLOURS)], head, f"s{i}", geo,
@@ -484,8 +487,8 @@ def _solution_buttons(k: int, n_target: int, base: str, heads: list[str],
                 "args": [{"visible": _visible(k, n_target, i)},
                          {"title.text": _title(f"{base}<br>{heads[i]}")}]}
                for i in range(k)]
-    every = _title(f"{base}<br>all {k} solutions (legend: click to hide)")
-    buttons.append({"label": "all", "method": "update",
+    every = _title(f"{base}<br>" + phrase("all {k} solutions (legend: click to hide)", k=k))
+    buttons.append({"label": phrase("all"), "method": "update",
                     "args": [{"visible": _visible(k, n_target, None)}, {"title.text": every}]})
     return {"type": "buttons", "direction": "right", "buttons": buttons,
             "active": selected - 1, "showactive": True, "x": 0.0, "y": -0.06,
@@ -548,7 +551,8 @@ def solutions_figure(arm: SerialArm, result: Any, *, frames: bool = True, height
     if target is not None:
         traces.append(_target_trace(go, dims, target[:3, 3]))
         n_target = 1
-    base = f"{arm.name}: {k} IK solution{'s' if k != 1 else ''}" if title is None else title
+    base = (phrase(f"{{name}}: {{k}} IK solution{'s' if k != 1 else ''}", name=arm.name, k=k)
+            if title is None else title)
     for tr, v in zip(traces, _visible(k, n_target, selected - 1), strict=True):
         tr.visible = v
     layout = _layout(go, arm, lim, dims, f"{base}<br>{heads[selected - 1]}", height)
@@ -641,7 +645,7 @@ def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: i
     tpos = np.stack([_pose_position(arm, r, t) for r, t in zip(results, steps, strict=True)])
     lim = _limits(arm, _path_points(arm, results, tpos), dims)
     fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
-    base = f"{arm.name}: the target along a path" if title is None else title
+    base = phrase("{name}: the target along a path", name=arm.name) if title is None else title
 
     def step_data(s: int) -> tuple[list[dict[str, Any]], str]:
         r = results[s]
@@ -653,16 +657,17 @@ def path_figure(arm: SerialArm, targets: Any, *, frames: bool = False, height: i
             data += _arm_geometry(arm, q, fs, dims, frames)
         data.append(_xyz(tpos[s:s + 1], dims))
         if r is None:
-            text = f"step {s + 1}: unreachable: {why[s]}"
+            text = phrase("step {s}: unreachable: {why}", s=s + 1, why=why[s])
         else:
-            text = f"step {s + 1}: {len(r)} solution{'s' if len(r) != 1 else ''}"
+            text = phrase(f"step {{s}}: {{n}} solution{'s' if len(r) != 1 else ''}", s=s + 1,
+                          n=len(r))
         return data, text
 
     first, first_text = step_data(0)
     traces = _branch_traces(go, dims, branch_names, first)
     Scatter = go.Scatter3d if dims == 3 else go.Scatter
     traces.append(_target_trace(go, dims, tpos[0]))
-    traces.append(Scatter(mode="lines", name="path", hoverinfo="skip",
+    traces.append(Scatter(mode="lines", name=phrase("path"), hoverinfo="skip",
                           line={"color": "#d62728", "width": 2, "dash": "dot"},
                           **_xyz(tpos, dims)))
     frames_out = _path_frames(go, Scatter, m, len(branch_names), step_data, base)
@@ -693,8 +698,9 @@ def _branch_traces(go: Any, dims: int, branch_names: list[str],
     (TRACES_PER_ARM geometries per branch in ``first``)."""
     traces: list[Any] = []
     for j, b in enumerate(branch_names):
-        traces += _arm_traces(go, dims, SLOT_COLOURS[j % len(SLOT_COLOURS)], b, f"b{j}",
-                              first[j * TRACES_PER_ARM:(j + 1) * TRACES_PER_ARM], b)
+        name = branch_name(b)
+        traces += _arm_traces(go, dims, SLOT_COLOURS[j % len(SLOT_COLOURS)], name, f"b{j}",
+                              first[j * TRACES_PER_ARM:(j + 1) * TRACES_PER_ARM], name)
     return traces
 
 
@@ -774,7 +780,7 @@ def _play_button() -> dict[str, Any]:
     """The play button, left of :func:`_path_slider`: it runs through the steps."""
     return {"type": "buttons", "showactive": False, "x": 0.0, "y": -0.02, "xanchor": "left",
             "yanchor": "top", "pad": {"t": 40},
-            "buttons": [{"label": "▶ play", "method": "animate",
+            "buttons": [{"label": phrase("▶ play"), "method": "animate",
                          "args": [None, {"frame": {"duration": 120, "redraw": True},
                                          "fromcurrent": True, "transition": {"duration": 0}}]}]}
 

@@ -51,6 +51,7 @@ from ._validate import (
 )
 from .dh import SerialArm, check_arm
 from .errors import InputError, UnreachableError
+from .i18n import branch_name, phrase, word
 from .ik.kernels import elbow_above, reach_excess, two_link
 from .ik.result import IKResult
 
@@ -539,7 +540,8 @@ def plot_arm(arm: SerialArm, q: Any, ax: Axes | None = None, frames: bool = True
     _apply_limits(ax, lim, arm, azim, elev)
     if three_d:
         _few_ticks(ax, 5, labelsize=None)
-    ax.set_title(f"{arm.name} at q = {_q_text(arm, qv)}" if title is None else title, fontsize=10)
+    ax.set_title(phrase("{name} at q = {q}", name=arm.name, q=_q_text(arm, qv))
+                 if title is None else title, fontsize=10)
     return ax
 
 
@@ -872,7 +874,7 @@ def _solution_title(arm: SerialArm, q: FloatArray, i: int, label: str,
                     twins: Sequence[int], wrap: bool = False) -> str:
     """A panel's title: its number and branch, its joints (on two lines with ``wrap``),
     and its twins if any."""
-    head = f"{i + 1}: {label}" if label else f"solution {i + 1}"
+    head = f"{i + 1}: {branch_name(label)}" if label else phrase("solution {n}", n=i + 1)
     joints = _q_text(arm, q)
     if wrap and arm.n > 1:
         parts, half = joints.split(", "), (arm.n + 1) // 2
@@ -880,7 +882,8 @@ def _solution_title(arm: SerialArm, q: FloatArray, i: int, label: str,
     title = f"{head}\n{joints}"
     if twins:
         verb = "has" if len(twins) == 1 else "have"
-        title += "\njoints where #" + ", #".join(map(str, twins)) + f" {verb} them"
+        title += "\n" + phrase(f"joints where #{{twins}} {verb} them",
+                               twins=", #".join(map(str, twins)))
     return title
 
 
@@ -888,7 +891,7 @@ def _lay_out_solutions(fig: Figure, name: str, k: int, note: str | None, rows: i
                        three_d: bool, key: bool, wrap: bool = False) -> None:
     """The suptitle (the arm's name, k solutions, the note), and the panels spaced to
     leave room for it, the 3D axis labels, the titles' extra line (``wrap``) and the key."""
-    sup = f"{name}: {k} IK solution{'s' if k != 1 else ''}"
+    sup = phrase(f"{{name}}: {{k}} IK solution{'s' if k != 1 else ''}", name=name, k=k)
     fig.suptitle(sup if note is None else f"{sup}\n{note}", fontsize=11)
     height = fig.get_size_inches()[1]
     top = 1.0 - (0.45 + (0.2 if note else 0.0)) / height   # room for the suptitle
@@ -903,12 +906,14 @@ def _lay_out_solutions(fig: Figure, name: str, k: int, note: str | None, rows: i
 
 
 def _solutions_key(fig: Figure, three_d: bool, ghosts: bool, twins: bool) -> None:
-    words = MARKER_KEY if three_d else MARKER_KEY.replace("approach along z", "approach along x")
+    words = phrase(MARKER_KEY)
+    if not three_d:
+        words = words.replace(phrase("approach along z"), phrase("approach along x"))
     extra = []
     if ghosts:
-        extra.append("light grey: the other solutions")
+        extra.append(phrase("light grey: the other solutions"))
     if twins:
-        extra.append("purple arrow: a joint axis reversed in the twin solution")
+        extra.append(phrase("purple arrow: a joint axis reversed in the twin solution"))
     if extra:
         words += "  ·  " + "  ·  ".join(extra)
     fig.text(0.5, 0.005, words, ha="center", va="bottom", fontsize=SMALLEST_FONT_PT,
@@ -1020,7 +1025,7 @@ def _triangle_frame(ax: Axes, points: FloatArray, size: float) -> None:
     ax.set_xlabel("u")
     ax.set_ylabel("w")
     ax.legend(loc="best", fontsize=8)
-    ax.set_title("two-link triangle (law of cosines)", fontsize=10)
+    ax.set_title(phrase("two-link triangle (law of cosines)"), fontsize=10)
 
 
 def _draw_reach(ax: Axes, P: FloatArray, size: float) -> None:
@@ -1159,7 +1164,8 @@ def plot_workspace_planar(arm: SerialArm, ax: Axes | None = None, n: int = 256) 
     r_in, r_out = _radii(lengths)
     ax.add_patch(_annulus(centre, r_in, r_out, int(n), facecolor="tab:blue", alpha=0.22,
                           edgecolor="tab:blue", lw=1.0, gid="tcp-region",
-                          label=f"TCP: {r_in:.4g} ≤ r ≤ {r_out:.4g}"))
+                          label=phrase("TCP: {r_in} ≤ r ≤ {r_out}", r_in=f"{r_in:.4g}",
+                                       r_out=f"{r_out:.4g}")))
     if arm.n >= 3:
         w_in, w_out = _radii(lengths[:-1])
         # the face is translucent, the edge and hatch opaque and darker: one alpha for the
@@ -1167,12 +1173,13 @@ def plot_workspace_planar(arm: SerialArm, ax: Axes | None = None, n: int = 256) 
         ax.add_patch(_annulus(centre, w_in, w_out, int(n),
                               facecolor=matplotlib.colors.to_rgba("tab:orange", 0.35),
                               edgecolor="#b35806", lw=1.0, hatch="//", gid="wrist-region",
-                              label=f"wrist point: {w_in:.4g} ≤ r ≤ {w_out:.4g}"))
+                              label=phrase("wrist point: {w_in} ≤ r ≤ {w_out}",
+                                           w_in=f"{w_in:.4g}", w_out=f"{w_out:.4g}")))
     ax.plot(*centre, "k+", ms=10)
     lim = np.stack([centre - r_out * (1 + MARGIN), centre + r_out * (1 + MARGIN)], axis=1)
     _apply_limits(ax, lim, arm)
     ax.legend(loc="upper right", fontsize=8)
-    ax.set_title(f"{arm.name}: reachable region", fontsize=10)
+    ax.set_title(phrase("{name}: reachable region", name=arm.name), fontsize=10)
     return ax
 
 
@@ -1247,7 +1254,8 @@ def plot_workspace_3d(arm: SerialArm, ax: Axes | None = None, n: int = 4000, poi
     if cb.solids is not None:  # (None only before the colorbar is drawn)
         cb.solids.set_alpha(1.0)
     what = "wrist centre" if point == "wrist" else "TCP"
-    ax.set_title(f"{arm.name}: {n} reachable {what} positions", fontsize=10)
+    ax.set_title(phrase(f"{{name}}: {{n}} reachable {what} positions", name=arm.name, n=n),
+                 fontsize=10)
     return ax
 
 
@@ -1313,7 +1321,8 @@ def plot_wrist_centre(arm: SerialArm, q: Any, ax: Axes | None = None,
     length = float(np.linalg.norm(p - w))
     ax = plot_arm(arm, qv, ax=ax, frames=False, label_joints=False,
                   title=title if title is not None else
-                  f"{arm.name}: wrist centre p_w = p − l·z (l = {length:.4g}{_units(arm)})")
+                  phrase("{name}: wrist centre p_w = p − l·z (l = {l})", name=arm.name,
+                         l=f"{length:.4g}{_units(arm)}"))
     three_d = ax.name == "3d"
     dims = 3 if three_d else 2
     z = F[-1, :3, 2]
@@ -1372,7 +1381,8 @@ def plot_dh_frames(arm: SerialArm, q: Any = None, ax: Axes | None = None,
     F = arm._fk(qv, frames=True)
     ax = plot_arm(arm, qv, ax=ax, frames=True, label_joints=False, gripper=False, view=view,
                   frame_scale=frame_scale, title=title if title is not None else
-                  f"{arm.name}: DH frames ({arm.convention}) at q = {_q_text(arm, qv)}")
+                  phrase("{name}: DH frames ({convention}) at q = {q}", name=arm.name,
+                         convention=word(arm.convention), q=_q_text(arm, qv)))
     three_d = ax.name == "3d"
     fs = float(FRAME_FRACTION * np.ptp(ax.get_xlim())) if frame_scale is None else frame_scale
     names = ["0"] + [str(i) for i in range(1, arm.n + 1)] + ["TCP"]
@@ -1512,6 +1522,7 @@ def plot_view(arm: SerialArm, q: Any, view: str = "xz", ax: Axes | None = None,
     ax.set_ylabel(f"{names[v]}{u}")
     ax.grid(True, lw=0.4, alpha=0.5)
     across = "xyz"[3 - h - v]
-    default = "view from above" if view == "xy" else f"view along {across}"
+    default = phrase("view from above") if view == "xy" else phrase("view along {axis}",
+                                                                    axis=across)
     ax.set_title(default if title is None else title, fontsize=10)
     return ax

@@ -163,7 +163,7 @@ def _extension():
 
 def test_extension_is_configured() -> None:
     sphinx = CONFIG["sphinx"]
-    assert sphinx["local_extensions"] == {"rikin_book": "book/_ext"}
+    assert sphinx["local_extensions"] == {"rikin_book": "book/_ext", "rikin_i18n": "book/_ext"}
     assert "mathjax_path" not in sphinx.get("config", {}), "rikin_book sets mathjax_path itself"
     assert CONFIG["launch_buttons"]["thebe"] is False
 

@@ -1,7 +1,10 @@
-"""Tables in the book's two languages (rikin.i18n): headers and branch names translated,
-the data (branch labels, joint values) the same in both."""
+"""Tables and figures in the book's two languages (rikin.i18n): headers, branch names and
+figure titles translated, the data (branch labels, joint values, coordinates) the same in both."""
 
 from __future__ import annotations
+
+import json
+import re
 
 import numpy as np
 import pytest
@@ -81,3 +84,88 @@ def test_the_environment_chooses_the_language(monkeypatch):
 def test_a_language_rikin_does_not_speak_is_refused(bad):
     with pytest.raises(InputError, match="language must be one of en, es"):
         rikin.i18n.set_language(bad)
+
+
+def _figure_texts(fig) -> list[str]:
+    return [fig._suptitle.get_text()] + [ax.get_title() for ax in fig.axes if ax.get_title()]
+
+
+def _numbers(texts) -> list[str]:
+    return [n for t in texts for n in re.findall(r"-?\d+(?:\.\d+)?", t)]
+
+
+def test_solution_figures_speak_spanish_with_the_same_numbers(spanish):
+    """plot_solutions' titles: branch names and words in Spanish, every number as in English."""
+    import matplotlib.pyplot as plt
+
+    from rikin import plot as rplot
+
+    arm, res = robots.aula10_6r(), _result()
+    spanish_texts = _figure_texts(rplot.plot_solutions(arm, res))
+    rikin.i18n.set_language("en")
+    english_texts = _figure_texts(rplot.plot_solutions(arm, res))
+    plt.close("all")
+    assert spanish_texts[0] == "Aula 10 6R: 8 soluciones"
+    assert english_texts[0] == "Aula 10 6R: 8 IK solutions"
+    assert spanish_texts[1].startswith("1: delante/abajo/sin voltear\n")
+    assert "mismos puntos articulares que #" in "".join(spanish_texts)
+    assert not any(w in "".join(spanish_texts) for w in ("front", "IK solution", "joints where"))
+    assert _numbers(spanish_texts) == _numbers(english_texts)
+
+
+def test_interactive_figures_speak_spanish_with_the_same_data(spanish):
+    """The buttons, titles and legend of an interactive figure in Spanish; its data identical."""
+    from rikin import interactive
+
+    arm, res = robots.aula10_6r(), _result()
+    spanish_fig = interactive.solutions_figure(arm, res).figure
+    rikin.i18n.set_language("en")
+    english_fig = interactive.solutions_figure(arm, res).figure
+    buttons = [b["label"] for b in spanish_fig.layout.updatemenus[0].buttons]
+    assert buttons[-1] == "todas" and buttons[:-1] == [str(i) for i in range(1, 9)]
+    title = spanish_fig.layout.title.text.replace("<br>", " ")
+    assert title.startswith("Aula 10 6R: 8 soluciones 1: ") and "delante/abajo/sin voltear" in title
+    names = {t.name for t in spanish_fig.data if t.showlegend is not False}
+    assert "1: delante/abajo/sin voltear" in names and not any("front" in n for n in names)
+    for s, e in zip(spanish_fig.data, english_fig.data, strict=True):
+        for axis in ("x", "y", "z"):
+            assert np.array_equal(np.asarray(s[axis], float), np.asarray(e[axis], float),
+                                  equal_nan=True)
+    assert _numbers([title]) == _numbers([english_fig.layout.title.text])
+
+
+def test_path_figure_speaks_spanish(spanish):
+    from rikin import interactive
+
+    arm = robots.aula10_6r()
+    T = arm.fk(Q_AULA10)
+    steps = np.repeat(T[None], 3, axis=0)
+    steps[:, 0, 3] += np.array([0.0, 1.0, 2.0])
+    fig = interactive.path_figure(arm, steps).figure
+    html = json.dumps(fig.to_plotly_json(), ensure_ascii=False).replace("<br>", " ")
+    assert "el objetivo a lo largo de una trayectoria" in html and "paso 1: 8 soluciones" in html
+    assert "reproducir" in html and "the target along" not in html
+
+
+def test_every_phrase_keeps_its_fields():
+    """A translated phrase fills in the same values as the English (so the same numbers)."""
+    import string
+
+    def fields(text: str) -> list[str]:
+        return sorted(f for _, f, _, _ in string.Formatter().parse(text) if f is not None)
+
+    phrases = rikin.i18n._PHRASES["es"]
+    assert len(phrases) > 20
+    bad = {en: es for en, es in phrases.items() if fields(en) != fields(es)}
+    assert not bad
+
+
+def test_drawings_of_one_arm_speak_spanish(spanish):
+    import matplotlib.pyplot as plt
+
+    from rikin import plot as rplot
+
+    arm = robots.aula10_6r()
+    assert rplot.plot_arm(arm, Q_AULA10).get_title().startswith("Aula 10 6R en q = (99.6°, 9.0°")
+    assert "sistemas DH (estándar) en q" in rplot.plot_dh_frames(arm, Q_AULA10).get_title()
+    plt.close("all")

@@ -98,19 +98,171 @@ def _faithful_parts(text: str) -> Counter:
     return out
 
 
+def _translated(catalogues: dict[str, Path]):
+    """(page, message) for every translated, not fuzzy message of ``catalogues``."""
+    for page, path in catalogues.items():
+        for m in _messages(path):
+            if m.string and not m.fuzzy:
+                yield page, m
+
+
+def unfaithful(catalogues: dict[str, Path]) -> list[str]:
+    """Translations that lose or add a number, formula, code span or reference target."""
+    bad = []
+    for page, m in _translated(catalogues):
+        want, got = _faithful_parts(m.id), _faithful_parts(m.string)
+        if want != got:
+            bad.append(f"{page}: {m.id[:60]!r}\n    missing {dict(want - got)}, "
+                       f"added {dict(got - want)}")
+    return bad
+
+
 @pytest.mark.parametrize("language", LANGUAGES)
 def test_translations_keep_numbers_formulas_and_references(language):
-    bad = []
-    for page, path in _catalogues(language).items():
-        for m in _messages(path):
-            if not m.string or m.fuzzy:
-                continue
-            want, got = _faithful_parts(m.id), _faithful_parts(m.string)
-            if want != got:
-                lost = dict(want - got)
-                added = dict(got - want)
-                bad.append(f"{page}: {m.id[:60]!r}\n    missing {lost}, added {added}")
+    bad = unfaithful(_catalogues(language))
     assert not bad, f"{len(bad)} translations change what they must keep:\n" + "\n".join(bad[:30])
+
+
+#: A markdown link's target: ``[text](target)`` (the text is translated, the target kept).
+_LINK = re.compile(r"\]\(([^()\s]+)(?:\s+\"[^\"]*\")?\)")
+
+
+def lost_links(catalogues: dict[str, Path]) -> list[str]:
+    """Translations whose markdown links do not go where the message's links go."""
+    bad = []
+    for page, m in _translated(catalogues):
+        want, got = Counter(_LINK.findall(m.id)), Counter(_LINK.findall(m.string))
+        if want != got:
+            bad.append(f"{page}: {m.id[:60]!r}: links {dict(want)}, translated {dict(got)}")
+    return bad
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_translations_keep_link_targets(language):
+    bad = lost_links(_catalogues(language))
+    assert not bad, f"{len(bad)} translations change a link's target:\n" + "\n".join(bad[:30])
+
+
+_TERM = re.compile(r"\{term\}`([^`]*)`")
+
+
+def glossary_terms(glossary_md: Path) -> list[str]:
+    """The terms of the ``{glossary}`` in ``glossary_md`` (its unindented lines), in English."""
+    text = glossary_md.read_text(encoding="utf-8")
+    block = re.search(r"^```\{glossary\}\n(.*?)^```", text, re.S | re.M)
+    assert block, f"no {{glossary}} block in {glossary_md}"
+    return [line.strip() for line in block.group(1).splitlines()
+            if line.strip() and not line[0].isspace() and not line.startswith(":")]
+
+
+def missing_terms(catalogues: dict[str, Path], terms: list[str]) -> list[str]:
+    """``{term}`` roles of the translations whose target is not a term of the translated
+    glossary (the ``msgstr`` of each English term of ``terms`` in the glossary catalogue)."""
+    glossary = {m.id: m.string for m in _messages(catalogues["book/glossary"])}
+    entries = {glossary.get(t, "").strip().lower() for t in terms} - {""}
+    bad = []
+    for page, m in _translated(catalogues):
+        for body in _TERM.findall(m.string):
+            target = re.search(r"<([^<>]+)>\s*$", body)
+            name = (target.group(1) if target else body).strip()
+            if name.lower() not in entries:
+                bad.append(f"{page}: {{term}}`{body}`: no glossary entry {name!r}")
+    return bad
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_term_targets_are_entries_of_the_translated_glossary(language):
+    terms = glossary_terms(ROOT / "book" / "glossary.md")
+    assert len(terms) > 20 and "inverse kinematics" in terms
+    bad = missing_terms(_catalogues(language), terms)
+    assert not bad, f"{len(bad)} {{term}} targets are not glossary entries:\n" + "\n".join(
+        bad[:30])
+
+
+#: A line MyST reads as a list item, heading or quote rather than as text.
+_BLOCK_START = re.compile(r"(\d+[.)]|[-*+]|#{1,6})(\s|$)|>")
+
+
+def new_blocks(catalogues: dict[str, Path]) -> list[str]:
+    """Translations that MyST would parse as a list, heading or quote: a heading
+    "1. The target" must be translated "1\\. El objetivo" (a message copied unchanged,
+    such as code, is left alone)."""
+    bad = []
+    for page, m in _translated(catalogues):
+        if m.string != m.id and _BLOCK_START.match(m.string):
+            bad.append(f"{page}: {m.string[:60]!r} (escape the marker, e.g. 1\\. or \\-)")
+    return bad
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_no_translation_becomes_a_list_heading_or_quote(language):
+    bad = new_blocks(_catalogues(language))
+    assert not bad, f"{len(bad)} translations start a list, heading or quote:\n" + "\n".join(
+        bad[:30])
+
+
+# ----------------------------------------------------- each check catches what it is for
+_BROKEN_CASES = {
+    # the broken msgstr of each check: (msgid, msgstr) -> the check that must refuse it
+    "number": ("joint 2 turns by 30 degrees", "la articulación 2 gira 3 grados", unfaithful),
+    "formula": ("with $q_1 = 0$ the arm", "con $q_1 = 1$ el brazo", unfaithful),
+    "reference": ("see {ref}`the wrist <sec-wrist>`", "ver {ref}`la muñeca <sec-muneca>`",
+                  unfaithful),
+    "link": ("read [the notes](https://example.org/a.pdf)",
+             "lee [los apuntes](https://example.org/b.pdf)", lost_links),
+    "term": ("a {term}`spherical wrist`", "una {term}`muñeca redonda`", None),
+    "heading": ("1. The target", "1. El objetivo", new_blocks),
+}
+
+
+def _catalogue_with(tmp_path: Path, msgid: str, msgstr: str) -> dict[str, Path]:
+    """A copy of the Spanish glossary catalogue plus one page catalogue holding one entry."""
+    folder = tmp_path / "LC_MESSAGES" / "book"
+    folder.mkdir(parents=True)
+    glossary = folder / "glossary.po"
+    glossary.write_bytes((LOCALES / "es" / "LC_MESSAGES" / "book" / "glossary.po").read_bytes())
+    page = folder / "page.po"
+
+    def quoted(text: str) -> str:
+        return '"' + text.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+    page.write_text(f'msgid ""\nmsgstr ""\n"Content-Type: text/plain; charset=UTF-8\\n"\n\n'
+                    f"msgid {quoted(msgid)}\nmsgstr {quoted(msgstr)}\n", encoding="utf-8")
+    return {"book/glossary": glossary, "book/page": page}
+
+
+@pytest.mark.parametrize("case", sorted(_BROKEN_CASES))
+def test_each_check_refuses_a_broken_catalogue(tmp_path, case):
+    msgid, msgstr, check = _BROKEN_CASES[case]
+    catalogues = _catalogue_with(tmp_path, msgid, msgstr)
+    if check is None:
+        problems = missing_terms(catalogues, glossary_terms(ROOT / "book" / "glossary.md"))
+    else:
+        problems = check(catalogues)
+    assert len(problems) == 1 and "page" in problems[0], problems
+    # and the same message translated right passes every check
+    good = {"number": "la articulación 2 gira 30 grados", "formula": "con $q_1 = 0$ el brazo",
+            "reference": "ver {ref}`la muñeca <sec-wrist>`",
+            "link": "lee [los apuntes](https://example.org/a.pdf)",
+            "term": "una {term}`muñeca esférica`", "heading": "1\\. El objetivo"}[case]
+    fixed = _catalogue_with(tmp_path / "fixed", msgid, good)
+    terms = glossary_terms(ROOT / "book" / "glossary.md")
+    assert not (unfaithful(fixed) + lost_links(fixed) + missing_terms(fixed, terms)
+                + new_blocks(fixed))
+
+
+def test_an_untranslated_or_fuzzy_message_is_refused(tmp_path, monkeypatch):
+    """The completeness test fails on a catalogue with an empty or a fuzzy entry."""
+    catalogues = _catalogue_with(tmp_path, "joint 2", "")
+    page = catalogues["book/page"]
+    page.write_text(page.read_text(encoding="utf-8") + '\n#, fuzzy\nmsgid "joint 3"\n'
+                    'msgstr "articulación 3"\n', encoding="utf-8")
+    monkeypatch.setattr(sys.modules[__name__], "_catalogues", lambda language: {"book/page": page})
+    with pytest.raises(AssertionError, match=r"1 fuzzy"):
+        test_every_message_is_translated_and_none_is_fuzzy("es")
+    page.write_text(page.read_text(encoding="utf-8").replace("#, fuzzy\n", ""), encoding="utf-8")
+    with pytest.raises(AssertionError, match=r"1 untranslated:\n  book/page: 'joint 2'"):
+        test_every_message_is_translated_and_none_is_fuzzy("es")
 
 
 @pytest.mark.book

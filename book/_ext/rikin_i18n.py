@@ -13,6 +13,18 @@ What this extension adds to every page of either edition:
 * ``<link rel="alternate" hreflang=...>`` for both editions, so a search engine offers a
   reader the page in their language.
 
+And what makes the catalogues hold every text a page shows, not only its markdown: a
+figure's caption and alt text written in a code cell's metadata (``mystnb: figure: caption``,
+``mystnb: image: alt``) or in a ``glue:figure`` directive exist in the page only once its
+notebook ran, and ``tools/dev.py translations`` extracts without running any. In that
+(gettext) build the texts are added to the page as :class:`late_texts` nodes, with exactly
+the messages Sphinx's ``Locale`` transform looks up in the executed Spanish build (a
+caption's paragraph, its lines joined by spaces; an image's alt text); the site's title,
+footer and search box (the config's) go into the first page's catalogue, and a translated
+edition takes them from there. The Spanish build
+marks every text it found no translation for with the class ``untranslated``
+(``translation_progress_classes``), which the tests look for in the built pages.
+
 And in a translated edition, a ``{download}`` of an exercise notebook
 (``exercises/<arm>.ipynb``) offers that edition's notebook, ``exercises/<lang>/<arm>.ipynb``
 (made by tools/make_exercises.py), when there is one: the catalogues keep the English
@@ -24,12 +36,23 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from docutils import nodes
+from myst_nb.ext.glue.directives import PasteFigureDirective
 from sphinx import addnodes
 from sphinx.application import Sphinx
 from sphinx.transforms import SphinxTransform
 
 #: The editions: language code -> (folder below the site root, the language's own name).
 EDITIONS: dict[str, tuple[str, str]] = {"en": ("", "English"), "es": ("es/", "Español")}
+#: The switch's tooltip, in the language of the edition it leads to (who wants that edition
+#: reads that language).
+SWITCH_TITLE = {"en": "Read this page in English", "es": "Lee esta página en español"}
+#: The site's texts that the config gives, not a page (the title, the footer, the search
+#: box): the gettext build puts them in the first page's catalogue, and a translated
+#: edition takes them from its catalogues (:func:`translated_config`).
+SITE_TEXTS = ("html_title", "copyright", "search_bar_text")
+#: The builder that extracts the messages (``tools/dev.py translations``).
+GETTEXT = "gettext"
 #: The template (in ``templates/``) that draws the switch in the article header.
 SWITCH_TEMPLATE = "rikin-language-switch.html"
 TEMPLATES = Path(__file__).resolve().parent / "templates"
@@ -76,7 +99,8 @@ def add_switch(
     here = edition(app.config.language)
     others = [lang for lang in EDITIONS if lang != here]
     context["rikin_editions"] = [
-        {"lang": lang, "name": EDITIONS[lang][1], "url": page_url(pagename, here, lang)}
+        {"lang": lang, "name": EDITIONS[lang][1], "title": SWITCH_TITLE[lang],
+         "url": page_url(pagename, here, lang)}
         for lang in others
     ]
     links = "".join(
@@ -111,8 +135,152 @@ class ExercisesInLanguage(SphinxTransform):
                 node["reftarget"] = translated
 
 
+class late_texts(nodes.Element, addnodes.translatable):
+    """Texts of a figure that a page shows only after its notebook ran, in the gettext build.
+
+    ``self["messages"]`` are the messages, as Sphinx's ``Locale`` transform looks them up in
+    the executed build (:func:`caption_messages`, an alt text as it is). The node exists
+    only in the doctrees of the gettext builder, which renders none.
+    """
+
+    def preserve_original_messages(self) -> None:
+        pass
+
+    def apply_translated_message(self, original_message: str, translated_message: str) -> None:
+        pass
+
+    def extract_original_messages(self) -> list[str]:
+        return list(self["messages"])
+
+
+def caption_messages(text: str) -> list[str]:
+    """The messages of a caption written in markdown: one per paragraph, lines joined by spaces.
+
+    The same as Sphinx extracts from the caption (and legend) paragraphs MyST makes of
+    ``text`` (a paragraph's source with its newlines replaced by spaces).
+    """
+    paragraphs: list[list[str]] = [[]]
+    for line in text.strip().splitlines():
+        if line.strip():
+            paragraphs[-1].append(line.strip())
+        elif paragraphs[-1]:
+            paragraphs.append([])
+    return [" ".join(p) for p in paragraphs if p]
+
+
+def cell_texts(metadata: Any) -> list[str]:
+    """A code cell's figure caption and image alt text (myst-nb cell metadata), as messages."""
+    mystnb = metadata.get("mystnb") if isinstance(metadata, dict) else None
+    if not isinstance(mystnb, dict):
+        return []
+    figure, image = mystnb.get("figure") or {}, mystnb.get("image") or {}
+    texts = caption_messages(str(figure.get("caption") or ""))
+    alt = str(image.get("alt") or "").strip()
+    return texts + ([alt] if alt else [])
+
+
+def _late_node(messages: list[str], source: str, line: int | None) -> late_texts:
+    node = late_texts(messages=messages)
+    node.source, node.line = source, line
+    return node
+
+
+class ExtractCellTexts(SphinxTransform):
+    """In the gettext build, give each code cell's caption and alt text to the catalogue
+    (and the site's texts, :data:`SITE_TEXTS`, to the first page's)."""
+
+    default_priority = 15  # before Locale (20) and the UIDs the gettext builder needs (880)
+
+    def apply(self, **kwargs: Any) -> None:
+        if self.app.builder.name != GETTEXT:
+            return
+        if self.env.docname == self.config.root_doc:
+            texts = [t for t in site_texts(self.config).values() if t]
+            self.document += _late_node(texts, self.document["source"], None)
+        for cell in list(self.document.findall(nodes.container)):
+            if cell.get("nb_element") != "cell_code":
+                continue
+            texts = cell_texts(cell.get("cell_metadata"))
+            if texts:
+                cell += _late_node(texts, self.document["source"], cell.line)
+
+
+class GlueFigure(PasteFigureDirective):
+    """myst-nb's ``glue:figure``; in the gettext build its caption and alt text are extracted
+    even though no notebook ran (the glued output is missing there)."""
+
+    def run(self) -> list[nodes.Node]:
+        result = super().run()
+        env = getattr(self.state.document.settings, "env", None)
+        if env is None or env.app.builder.name != GETTEXT:
+            return result
+        texts = caption_messages("\n".join(self.content))
+        alt = str(self.options.get("alt") or "").strip()
+        source, line = self.state_machine.get_source_and_line(self.lineno)
+        return [*result, _late_node(texts + ([alt] if alt else []), source or "", line)]
+
+
+def site_texts(config: Any) -> dict[str, str]:
+    """The config's :data:`SITE_TEXTS` (the search box's is a theme option)."""
+    options = config.html_theme_options or {}
+    values = {"html_title": config.html_title, "copyright": config.copyright,
+              "search_bar_text": options.get("search_bar_text")}
+    return {name: str(values[name] or "") for name in SITE_TEXTS}
+
+
+def catalogue_strings(folders: list[Path], language: str) -> dict[str, str]:
+    """Every translated, not fuzzy message of ``language`` in the catalogue ``folders``."""
+    from babel.messages.pofile import read_po
+
+    strings: dict[str, str] = {}
+    for folder in folders:
+        for po in sorted((folder / language / "LC_MESSAGES").rglob("*.po")):
+            with po.open("rb") as f:
+                for m in read_po(f):
+                    if isinstance(m.id, str) and m.id and m.string and not m.fuzzy:
+                        strings.setdefault(m.id, str(m.string))
+    return strings
+
+
+def translated_config(app: Sphinx, config: Any) -> None:
+    """A translated edition: the site's title, footer and search box (:data:`SITE_TEXTS`)
+    as its catalogues translate them, and each text of a page it has no translation for
+    marked (class ``untranslated``, which the tests look for)."""
+    language = edition(config.language)
+    if language == "en":
+        return
+    config.translation_progress_classes = "untranslated"
+    strings = catalogue_strings([Path(app.srcdir) / d for d in config.locale_dirs], language)
+    texts = {name: strings.get(text, text) for name, text in site_texts(config).items()}
+    config.html_title, config.copyright = texts["html_title"], texts["copyright"]
+    if texts["search_bar_text"]:
+        config.html_theme_options = {**(config.html_theme_options or {}),
+                                     "search_bar_text": texts["search_bar_text"]}
+
+
+class KeepCellOutputs(SphinxTransform):
+    """What a cell printed is not looked up in the catalogues (it is not in them: it exists
+    only once the notebook ran, in the language rikin prints in, see rikin.i18n); marked
+    so, a Markdown output is neither translated nor reported untranslated."""
+
+    default_priority = 15  # before Locale (20)
+
+    def apply(self, **kwargs: Any) -> None:
+        for output in self.document.findall(nodes.container):
+            if output.get("nb_element") != "cell_code_output":
+                continue
+            for node in output.findall(nodes.TextElement):
+                node["translatable"] = False
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
+    app.setup_extension("myst_nb")  # its glue domain first: GlueFigure replaces a directive
+    app.add_node(late_texts)
+    app.add_transform(ExtractCellTexts)
+    app.add_transform(KeepCellOutputs)
     app.add_transform(ExercisesInLanguage)
+    app.add_directive_to_domain("glue", "figure", GlueFigure, override=True)
     app.connect("config-inited", add_switch_template)
+    app.connect("config-inited", translated_config)
     app.connect("html-page-context", add_switch)
     return {"version": "1.0", "parallel_read_safe": True, "parallel_write_safe": True}

@@ -1,0 +1,254 @@
+"""The book's two editions, English at the site root and Spanish in ``es/``, built together.
+
+* both build strict (``-W -n --keep-going``, every notebook executed, the Spanish one with
+  ``RIKIN_LANG=es``) with no warning;
+* every page shows the same numbers in both: the text of every code cell's output and
+  glued output, and the coordinates of every interactive figure, compared page by page;
+* every page has ``<html lang>`` of its edition, and every text the Spanish edition looked
+  up in the catalogues was found there (Sphinx marks a text it found no translation for
+  with the class ``untranslated``, book/_ext/rikin_i18n.py);
+* in headless Chromium, the language switch of every page goes to the same page of the
+  other edition and back, and the Spanish search finds a Spanish word.
+
+The site comes from the ``editions`` fixture: ``RIKIN_BOOK_HTML`` (a ``_build/html`` that
+``tools/dev.py book`` made, with its ``es/``), else one build of both editions into a
+temporary folder for this module.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from urllib.parse import urlsplit
+
+import pytest
+import test_book_browser as _browser
+from book_build import run_build
+from bs4 import BeautifulSoup
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
+import dev  # noqa: E402
+
+# The browser test's fixtures (Chromium, a local server of ``book_html``) and pages.
+browser_paths, driver, server = _browser.browser_paths, _browser.driver, _browser.server
+PAGES, _open = _browser.PAGES, _browser._open
+
+#: The other editions: language code -> folder of the site.
+EDITIONS = dev.EDITIONS
+#: Every page with a switch (index.html only redirects to the first chapter), and the
+#: book's pages (Sphinx's search and index pages have no cell outputs to compare).
+SWITCH_PAGES = [p for p in PAGES if p != "index.html"]
+BOOK_PAGES = [p for p in PAGES if p.startswith("book/")]
+#: Numbers as a page prints them (a sign, decimals, an exponent).
+_NUMBER = re.compile(r"(?<![\w.])[-−]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+#: An interactive figure's coordinates in its script: "x": [..] (also y, z).
+_COORDINATES = re.compile(r'"([xyz])":\s*\[([^\]]*)\]')
+
+
+@dataclass(frozen=True)
+class Editions:
+    """Both editions built: the site (``html``, Spanish in ``html/es``), and how it went."""
+
+    html: Path
+    returncode: int
+    log: str
+
+
+def _build_editions(out: Path) -> Editions:
+    """Build English into ``out`` and Spanish into ``out/_es``, strict, as ``dev.py book``
+    does, and put the Spanish site into the English one's ``es/``."""
+    exe = Path(sys.executable).parent / ("jupyter-book.exe" if os.name == "nt" else "jupyter-book")
+    env = dict(os.environ, PYTHONHASHSEED="0", JUPYTER_PREFER_ENV_PATH="1")
+    env.setdefault("MPLBACKEND", "Agg")
+    env["PATH"] = str(Path(sys.executable).parent) + os.pathsep + env.get("PATH", "")
+    env.pop("RIKIN_LANG", None)
+    strict = ["-W", "-n", "--keep-going", "--all"]
+    logs = []
+    proc = run_build([exe, "build", ROOT, "--path-output", out, *strict], cwd=out, env=env)
+    logs.append(proc.stdout)
+    for language, folder in EDITIONS.items():
+        if proc.returncode:
+            break
+        config = dev._book_config(False, language)
+        work = out / f"_{language}"
+        work.mkdir()
+        proc = run_build([exe, "build", ROOT, "--config", config, "--path-output", work,
+                          *strict], cwd=work, env=dict(env, RIKIN_LANG=language))
+        logs.append(proc.stdout)
+        if proc.returncode == 0:
+            shutil.copytree(work / "_build" / "html", out / "_build" / "html" / folder)
+    return Editions(out / "_build" / "html", proc.returncode, "\n".join(logs))
+
+
+@pytest.fixture(scope="module")
+def editions(tmp_path_factory: pytest.TempPathFactory) -> Editions:
+    given = os.environ.get("RIKIN_BOOK_HTML")
+    if given:
+        html = Path(given)
+        missing = [str(html / f / "index.html") for f in ("", *EDITIONS.values())
+                   if not (html / f / "index.html").is_file()]
+        if missing:
+            pytest.fail(f"RIKIN_BOOK_HTML={given}: no {missing}: build the book first "
+                        "(python3 tools/dev.py book)")
+        return Editions(html, 0, "")
+    return _build_editions(tmp_path_factory.mktemp("editions"))
+
+
+@pytest.fixture(scope="module")
+def book_html(editions: Editions) -> Path:
+    """The site the browser fixture serves (both editions)."""
+    assert editions.returncode == 0, f"the book's editions did not build:\n{editions.log[-20000:]}"
+    return editions.html
+
+
+def _article(html_file: Path) -> BeautifulSoup:
+    soup = BeautifulSoup(html_file.read_text(encoding="utf-8"), "html.parser")
+    article = soup.select_one("article.bd-article")
+    assert article is not None, f"{html_file}: no article"
+    return article
+
+
+def output_numbers(html_file: Path) -> list[str]:
+    """Every number a page's code cells printed or glued, in order: the visible text of each
+    output (not its scripts), then the coordinates of each interactive figure."""
+    article = _article(html_file)
+    numbers: list[str] = []
+    for output in article.select("div.cell_output, div.output"):
+        for script in output.select("script, style"):
+            script.extract()
+            if script.name == "script":
+                numbers += [f"{axis}:{values}" for axis, values in
+                            _COORDINATES.findall(script.get_text())]
+        numbers += [n.replace("−", "-") for n in _NUMBER.findall(output.get_text(" "))]
+    return numbers
+
+
+# ------------------------------------------------------------------ the built site
+@pytest.mark.book
+@pytest.mark.slow
+def test_both_editions_build_strict_with_no_warning(editions: Editions) -> None:
+    assert editions.returncode == 0, f"build failed:\n{editions.log[-20000:]}"
+    assert "WARNING" not in editions.log and "ERROR" not in editions.log
+    for folder in ("", *EDITIONS.values()):
+        for page in BOOK_PAGES:
+            assert (editions.html / folder / page).is_file(), f"{folder}{page} not built"
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", BOOK_PAGES)
+def test_same_numbers_in_both_editions(page: str, book_html: Path) -> None:
+    english = output_numbers(book_html / page)
+    for folder in EDITIONS.values():
+        other = output_numbers(book_html / folder / page)
+        assert other == english, (
+            f"{folder}{page}: the outputs' numbers differ from the English page's "
+            f"(first difference at {_first_difference(english, other)})")
+
+
+def _first_difference(a: list[str], b: list[str]) -> str:
+    for i, (x, y) in enumerate(zip(a, b, strict=False)):
+        if x != y:
+            return f"number {i}: {x[:40]!r} vs {y[:40]!r}"
+    return f"lengths {len(a)} vs {len(b)}"
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("language", ["en", *EDITIONS])
+def test_pages_say_their_language(language: str, book_html: Path) -> None:
+    folder = EDITIONS.get(language, "")
+    for page in SWITCH_PAGES:
+        head = (book_html / folder / page).read_text(encoding="utf-8")[:2000]
+        assert re.search(rf'<html lang="{language}"', head), f"{folder}{page}: not lang={language}"
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("language", list(EDITIONS))
+def test_every_text_of_a_translated_page_is_translated(language: str, book_html: Path) -> None:
+    """What the translated build looked up and did not find (a new or changed message not
+    yet in the catalogue, or one whose msgid the extraction wrote differently)."""
+    missing = []
+    for page in BOOK_PAGES:
+        article = _article(book_html / EDITIONS[language] / page)
+        for el in article.select(".untranslated"):
+            text = el.get("alt") or el.get_text(" ", strip=True)
+            missing.append(f"{page}: <{el.name}> {text[:80]!r}")
+    assert not missing, (f"{len(missing)} texts not translated (python3 tools/dev.py "
+                         f"translations, then translate them):\n" + "\n".join(missing[:40]))
+
+
+def test_the_number_comparison_sees_a_changed_number(tmp_path: Path) -> None:
+    """output_numbers reads cell outputs and interactive coordinates, not the prose."""
+    def page(prose: str, value: str, x: str) -> Path:
+        path = tmp_path / f"{prose}-{value}-{x}.html"
+        path.write_text(
+            f'<html><body><article class="bd-article"><p>{prose} 7</p>'
+            f'<div class="cell_output"><table><tr><th>rama</th></tr><tr><td>{value}</td></tr>'
+            f'</table></div><figure><div class="output"><div style="height:600px"></div>'
+            f'<script>Plotly.newPlot(el, [{{"x": [{x}], "y": [2]}}])</script></div></figure>'
+            f"</article></body></html>", encoding="utf-8")
+        return path
+
+    english = output_numbers(page("joint", "12.5", "1.0"))
+    assert english == ["12.5", "x:1.0", "y:2"]
+    assert output_numbers(page("articulación", "12.5", "1.0")) == english
+    assert output_numbers(page("joint", "12.6", "1.0")) != english
+    assert output_numbers(page("joint", "12.5", "1.5")) != english
+
+
+# ------------------------------------------------------------------ in the browser
+def _switch(driver: object, language: str) -> str:
+    """Click the page's switch to ``language``; the URL it arrives at."""
+    link = driver.find_element("css selector", f"a.rikin-language-switch[hreflang='{language}']")
+    link.click()
+    deadline = time.monotonic() + 30
+    while driver.execute_script("return document.readyState") != "complete":
+        assert time.monotonic() < deadline, "the other edition's page did not load"
+        time.sleep(0.05)
+    return driver.current_url
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", SWITCH_PAGES)
+def test_the_switch_goes_to_the_same_page_and_back(page: str, book_html: Path, server: str,
+                                                   driver: object) -> None:
+    for language, folder in EDITIONS.items():
+        _open(driver, f"{server}/{page}")
+        there = urlsplit(_switch(driver, language)).path
+        assert there == f"/{folder}{page}", f"{page}: the switch went to {there}"
+        assert driver.execute_script("return document.documentElement.lang") == language
+        back = urlsplit(_switch(driver, "en")).path
+        assert back == f"/{page}", f"{folder}{page}: the switch back went to {back}"
+        assert driver.execute_script("return document.documentElement.lang") == "en"
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize(("word", "page"), [("desacople", "book/decoupling.html"),
+                                            ("muñeca", "book/glossary.html")])
+def test_the_spanish_search_finds_a_spanish_word(word: str, page: str, book_html: Path,
+                                                 server: str, driver: object) -> None:
+    _open(driver, f"{server}/es/search.html?q={word}")
+    deadline = time.monotonic() + 30
+    found: list[str] = []
+    while time.monotonic() < deadline:
+        found = driver.execute_script(
+            "return Array.from(document.querySelectorAll('#search-results a'))"
+            ".map(a => a.getAttribute('href'))")
+        if found:
+            break
+        time.sleep(0.2)
+    assert any(href.split("?")[0].endswith(page.split("/")[-1]) for href in found), (
+        f"searching {word!r} in the Spanish edition found {found}")
+    placeholder = driver.execute_script(
+        "return document.querySelector('input[name=q]').getAttribute('placeholder')")
+    assert placeholder.startswith("Buscar"), placeholder
