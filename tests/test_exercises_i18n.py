@@ -319,7 +319,8 @@ def test_the_spanish_edition_offers_the_spanish_notebooks(tmp_path, language):
     (src / "exercises" / "cartesian.ipynb").write_text('{"lang": "en"}')  # no translation
     (src / "conf.py").write_text(
         f"import sys\nsys.path.insert(0, {str(ROOT / 'book' / '_ext')!r})\n"
-        f"extensions = ['rikin_i18n']\nlanguage = {language!r}\n")
+        f"extensions = ['rikin_i18n']\nlanguage = {language!r}\n"
+        "exclude_patterns = ['exercises']\n")
     (src / "index.rst").write_text(".. toctree::\n\n   book/page\n")
     (src / "book" / "page.rst").write_text(
         "Page\n====\n\n:download:`scara.ipynb <../exercises/scara.ipynb>` and "
