@@ -227,7 +227,8 @@ class _Run:
         return min(time.monotonic() + seconds, self.t_end)
 
     def _spent(self) -> str:
-        return f"the notebook used its whole time budget ({self.r.opt.time_budget:g} s)"
+        return t("the notebook used its whole time budget ({seconds} s)",
+                 seconds=f"{self.r.opt.time_budget:g}")
 
     def _check_budget(self) -> None:
         if time.monotonic() >= self.t_end - 1e-3:
@@ -343,7 +344,8 @@ class _Run:
                 why = self._why_died(child, exc)
                 self.crashed = True
                 self._skip_cell(
-                    child, current, last, "crashed", f"stopped the notebook's process ({why})"
+                    child, current, last, "crashed",
+                    t("stopped the notebook's process ({why})", why=why)
                 )
 
     def _exec_message(self, cells: list[tuple[int, str]]) -> dict:
@@ -382,10 +384,10 @@ class _Run:
             self.r.sandbox.reset()
             if current is not None:
                 self.cells[current] = CellReport(
-                    current, "timeout", message=f"was still running: {self._spent()}"
+                    current, "timeout", message=t("was still running: {why}", why=self._spent())
                 )
             self._check_budget()
-        what = f"did not finish within {opt.cell_timeout:g} s"
+        what = t("did not finish within {seconds} s", seconds=f"{opt.cell_timeout:g}")
         self._skip_cell(child, current, last, "timeout", what)
 
     def _record(self, n: int, msg: dict) -> None:
@@ -425,7 +427,7 @@ class _Run:
         self.r.sandbox.reset()
         cell = self._blame(current, last)
         self.cells[cell] = CellReport(
-            cell, status, message=f"{what}; skipped (later cells still ran)"
+            cell, status, message=t("{what}; skipped (later cells still ran)", what=what)
         )
         self.skip.add(cell)
 
@@ -487,7 +489,8 @@ class _Run:
             self._drop_child()
             call = calls[len(outcomes)].function
             outcomes.append(self._call_timed_out(call, fired, timeout, leash, test))
-            rest = Outcome(timed_out=True, detail="not run: an earlier call of this test timed out")
+            rest = Outcome(timed_out=True,
+                           detail=t("not run: an earlier call of this test timed out"))
             outcomes += [rest] * (len(calls) - len(outcomes))
             return outcomes, True, False
         except (ChildDied, ProtocolError) as exc:
@@ -497,7 +500,7 @@ class _Run:
             outcomes.append(Outcome(crashed=True, detail=why))
             rest = Outcome(
                 crashed=True,
-                detail="not run: the notebook's process died in an earlier call of this test",
+                detail=t("not run: the notebook's process died in an earlier call of this test"),
             )
             outcomes += [rest] * (len(calls) - len(outcomes))
             return outcomes, False, True
@@ -526,13 +529,13 @@ class _Run:
         name = stopped if isinstance(stopped, str) else call
         short = name in leash
         if spent:
-            detail = f"stopped: {self._spent()}"
+            detail = t("stopped: {why}", why=self._spent())
         elif short:
             detail = self.limits.stopped_text(name, timeout, self.r.assignment.functions)
         else:
             inner = [n for n in names if n in self.r.assignment.functions and n != call]
-            detail = f"timed out: no result within {timeout:g} s" + (
-                f" (it was running {inner[-1]})" if inner else ""
+            detail = t("timed out: no result within {seconds} s", seconds=f"{timeout:g}") + (
+                t(" (it was running {function})", function=inner[-1]) if inner else ""
             )
         if not spent:
             self.limits.timed_out(names, test, name if short else "")
@@ -561,7 +564,7 @@ class _Run:
             self._ensure_child()
             if self.child is None:
                 lost = Outcome(
-                    crashed=True, detail=self.exec_error or "the notebook could not be run"
+                    crashed=True, detail=self.exec_error or t("the notebook could not be run")
                 )
                 for i in pending:
                     outcomes[i] = lost
