@@ -220,7 +220,9 @@ def write_catalogue(path: Path, cat: Catalog) -> None:
              no_location=False)
     text = buf.getvalue().decode("utf-8")
     text = re.sub(r'(?m)^"POT-Creation-Date: .*\\n"\n', "", text)
-    text = re.sub(r'(?m)^"PO-Revision-Date: .*\\n"\n', "", text)
+    # no date that changes with every refresh (a merge conflict in every branch)
+    revision = '"PO-Revision-Date: YEAR-MO-DA HO:MI+ZONE\\n"'
+    text = re.sub(r'(?m)^"PO-Revision-Date: .*\\n"$', lambda m: revision, text)
     path.write_text(text, encoding="utf-8")
 
 
