@@ -46,12 +46,9 @@ def test_check_command_exit_codes(tmp_path, monkeypatch):
                             capture_output=True, text=True, cwd=tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr
     # a copy of the tree where an exercise was hand-edited and the shared cells changed
-    for d in ("solutions", "exercises", "tools"):
-        (tmp_path / d).mkdir()
-    for p in (ROOT / "solutions").glob("*.ipynb"):
-        shutil.copy(p, tmp_path / "solutions")
-    for p in (ROOT / "exercises").glob("*.ipynb"):
-        shutil.copy(p, tmp_path / "exercises")
+    (tmp_path / "tools").mkdir()
+    shutil.copytree(ROOT / "solutions", tmp_path / "solutions")  # with the catalogues
+    shutil.copytree(ROOT / "exercises", tmp_path / "exercises")  # with exercises/es/
     shutil.copy(ROOT / "tools" / "exercise_checks.py", tmp_path / "tools")
     monkeypatch.setattr(mx, "ROOT", tmp_path)
     monkeypatch.setattr(mx, "SOLUTIONS", tmp_path / "solutions")
@@ -64,7 +61,9 @@ def test_check_command_exit_codes(tmp_path, monkeypatch):
     checks = tmp_path / "tools" / "exercise_checks.py"
     checks.write_text(checks.read_text().replace("CHECK_TOL = 1e-6", "CHECK_TOL = 1e-5"))
     differ = mx.generate(check=True)
-    assert len(differ) == 8 and all(d.endswith(".ipynb") for d in differ)
+    # the four solutions, their exercises and the Spanish exercises
+    assert len(differ) == 12 and all(d.endswith(".ipynb") for d in differ), differ
+    assert sum(d.startswith("exercises/es/") for d in differ) == 4
     assert mx.main(["--check"]) == 1
     # writing fixes everything, and the shared cell now carries the edit
     assert mx.main([]) == 0
@@ -73,13 +72,20 @@ def test_check_command_exit_codes(tmp_path, monkeypatch):
     assert "CHECK_TOL = 1e-5" in next(c.source for c in nb.cells if "checks" in tags(c))
 
 
+#: The exercises' folders: English, and each translation (tools/exercise_i18n.py).
+FOLDERS = ("exercises", "exercises/es")
+
+
+@pytest.mark.parametrize("folder", FOLDERS)
 @pytest.mark.parametrize("name", ARMS)
-def test_exercise_gives_no_answer_away(name):
+def test_exercise_gives_no_answer_away(name, folder):
     sol = nbformat.read(ROOT / "solutions" / f"{name}.ipynb", as_version=4)
-    ex = nbformat.read(ROOT / "exercises" / f"{name}.ipynb", as_version=4)
+    if folder != "exercises":
+        sol = mx.translated_solution(f"{name}.ipynb", folder.rsplit("/", 1)[1])
+    ex = nbformat.read(ROOT / folder / f"{name}.ipynb", as_version=4)
     text = nbformat.writes(ex)
     assert "BEGIN SOLUTION" not in text and "END SOLUTION" not in text
-    assert "**Solution.**" not in text
+    assert "**Solution.**" not in text and "**Solución.**" not in text
     own_code = [line for c in ex.cells if c.cell_type == "code"
                 and not {"setup", "checks"} & set(tags(c)) for line in c.source.splitlines()]
     assert not any("solution-only" in tags(c) or "nbval-check-output" in tags(c) for c in ex.cells)
@@ -104,9 +110,10 @@ def test_exercise_gives_no_answer_away(name):
     assert not any("figure-source" in tags(c) for c in ex.cells)
 
 
+@pytest.mark.parametrize("folder", FOLDERS)
 @pytest.mark.parametrize("name", ARMS)
-def test_exercise_stubs_fail_as_the_notebook_expects(name):
-    ex = H.load(ROOT / "exercises" / f"{name}.ipynb")
+def test_exercise_stubs_fail_as_the_notebook_expects(name, folder):
+    ex = H.load(ROOT / folder / f"{name}.ipynb")
     _, runs = H.run_notebook(ex)
     tagged = [r for r in runs if "raises-exception" in r.tags]
     assert len(tagged) >= 10
@@ -127,7 +134,7 @@ def test_solutions_are_clean_and_shared_cells_match(name):
     assert "setup" in tags(first_code)
     for tag in ("setup", "checks"):
         assert [c.source for c in nb.cells if tag in tags(c)] == [shared[tag]]
-    for folder in ("solutions", "exercises"):
+    for folder in ("solutions", *FOLDERS):
         for cell in nbformat.read(ROOT / folder / f"{name}.ipynb", as_version=4).cells:
             assert set(cell.metadata) <= {"tags", "jupyter", "cellView"}, (folder, cell.metadata)
     checked = 0

@@ -32,6 +32,7 @@ import numpy as np
 
 import rikin
 
+rikin.i18n.set_language("en")
 np.set_printoptions(precision=4, suppress=True)
 print(f"rikin {rikin.__version__}, numpy {np.__version__}")
 
@@ -46,6 +47,15 @@ class CheckFailed(AssertionError):
     """A visible check found a problem; the message says what, in your terms."""
 
 
+def _t(text, **values):
+    """A message in the notebook's language, with ``values`` put into its {placeholders}.
+
+    tools/make_exercises.py writes the translated text here in the other languages'
+    notebooks (from solutions/locales/), so this cell reads in the notebook's language.
+    """
+    return text.format(**values)
+
+
 def _show_only_the_message(shell, etype, value, tb, tb_offset=None):
     """A failed check, or a task not written yet, shows its message; %tb shows where.
 
@@ -58,8 +68,8 @@ def _show_only_the_message(shell, etype, value, tb, tb_offset=None):
         return
     shell.showtraceback((etype, value, tb), exception_only=True)
     if etype is NotImplementedError:
-        print(f"({value} is not written yet: replace its raise NotImplementedError line with "
-              "your code, run that cell, then this one.)")
+        print(_t("({task} is not written yet: replace its raise NotImplementedError line with "
+                 "your code, run that cell, then this one.)", task=value))
 
 
 try:
@@ -101,9 +111,10 @@ def _as_numbers(value, what):
             raise TypeError(A.dtype)
         return np.asarray(A, dtype=float)
     except (TypeError, ValueError, OverflowError):
-        raise CheckFailed(f"{what} returned {type(value).__name__}, which is not an array of "
-                          "real numbers: return a numpy array (sympy matrices of numbers, "
-                          "lists and tuples are fine too)") from None
+        raise CheckFailed(_t("{what} returned {kind}, which is not an array of real numbers: "
+                             "return a numpy array (sympy matrices of numbers, lists and "
+                             "tuples are fine too)", what=what, kind=type(value).__name__)
+                          ) from None
 
 
 def _fmt(v, digits=4):
@@ -116,37 +127,38 @@ def _as_rows(Q, n, name):
     """The solutions returned by an IK function as an array (k, n), or CheckFailed."""
     A = _as_numbers(Q, name)
     if A.shape == (n,):
-        print(f"(note: {name} returned one solution as shape ({n},); the docstring asks for "
-              f"(k, {n}), here (1, {n}). The grader reads it as one row too.)")
+        print(_t("(note: {name} returned one solution as shape ({n},); the docstring asks for "
+                 "(k, {n}), here (1, {n}). The grader reads it as one row too.)", name=name, n=n))
         A = A[None, :]
     if A.ndim != 2 or A.shape[1] != n:
-        raise CheckFailed(f"{name} returned shape {A.shape}; return shape (k, {n}), one solution "
-                          f"per row (also when there is only one: shape (1, {n}))")
+        raise CheckFailed(_t("{name} returned shape {shape}; return shape (k, {n}), one "
+                             "solution per row (also when there is only one: shape (1, {n}))",
+                             name=name, shape=A.shape, n=n))
     if not np.all(np.isfinite(A)):
-        raise CheckFailed(f"{name} returned NaN or infinity:\n{A}\nnumpy's arccos/sqrt give NaN "
-                          "out of their domain: clip the cosine, or raise ValueError if the "
-                          "target is out of reach")
+        raise CheckFailed(_t("{name} returned NaN or infinity:\n{A}\nnumpy's arccos/sqrt give "
+                             "NaN out of their domain: clip the cosine, or raise ValueError if "
+                             "the target is out of reach", name=name, A=A))
     return A
 
 
 def _arm_from_rows(rows):
     if isinstance(rows, (list, tuple)) and rows and all(isinstance(r, rikin.Link) for r in rows):
-        raise CheckFailed("dh_table returned rikin.Link objects: return plain dicts, e.g. "
-                          "dict(joint='R', d=l1, a=0.0, alpha=np.pi / 2), so the grader "
-                          "can read them")
+        raise CheckFailed(_t("dh_table returned rikin.Link objects: return plain dicts, e.g. "
+                             "dict(joint='R', d=l1, a=0.0, alpha=np.pi / 2), so the grader "
+                             "can read them"))
     if not isinstance(rows, (list, tuple)) or not all(isinstance(r, dict) for r in rows):
-        raise CheckFailed(f"dh_table returned {type(rows).__name__}; return a list of dicts, "
-                          "one per joint, with the keywords of rikin.Link")
+        raise CheckFailed(_t("dh_table returned {kind}; return a list of dicts, one per joint, "
+                             "with the keywords of rikin.Link", kind=type(rows).__name__))
     try:
         return rikin.SerialArm(tuple(rikin.Link(**r) for r in rows))
     except (TypeError, ValueError) as exc:
-        raise CheckFailed(f"these rows do not make a rikin arm: {exc}") from None
+        raise CheckFailed(_t("these rows do not make a rikin arm: {exc}", exc=exc)) from None
 
 
 def _pose_text(T):
     T = np.asarray(T, dtype=float)
-    return (f"origin {_fmt(T[:3, 3])}, x axis {_fmt(T[:3, 0])}, y axis {_fmt(T[:3, 1])}, "
-            f"z axis {_fmt(T[:3, 2])}")
+    return _t("origin {o}, x axis {x}, y axis {y}, z axis {z}", o=_fmt(T[:3, 3]),
+              x=_fmt(T[:3, 0]), y=_fmt(T[:3, 1]), z=_fmt(T[:3, 2]))
 
 
 def _pose_gap(T, T_expected, size):
@@ -159,16 +171,19 @@ def _compare_pose(T, T_expected, what, q, size):
     T = _as_numbers(T, what)
     T_expected = np.asarray(T_expected, dtype=float)
     if T.shape != (4, 4):
-        raise CheckFailed(f"for q = {_fmt(q)} {what} has shape {T.shape}; expected a (4, 4) matrix")
+        raise CheckFailed(_t("for q = {q} {what} has shape {shape}; expected a (4, 4) matrix",
+                             q=_fmt(q), what=what, shape=T.shape))
     if not np.all(np.isfinite(T)):
-        raise CheckFailed(f"for q = {_fmt(q)} {what} contains NaN or infinity:\n{T}")
+        raise CheckFailed(_t("for q = {q} {what} contains NaN or infinity:\n{T}",
+                             q=_fmt(q), what=what, T=T))
     dp, dr = _pose_gap(T, T_expected, size)
     if dp > CHECK_TOL:
-        return (f"for q = {_fmt(q)} {what} puts the TCP at {_fmt(T[:3, 3])}, "
-                f"expected {_fmt(T_expected[:3, 3])}")
+        return _t("for q = {q} {what} puts the TCP at {p}, expected {p_expected}", q=_fmt(q),
+                  what=what, p=_fmt(T[:3, 3]), p_expected=_fmt(T_expected[:3, 3]))
     if dr > CHECK_TOL or np.abs(T[3] - [0, 0, 0, 1]).max() > CHECK_TOL:
-        return (f"for q = {_fmt(q)} {what} has the TCP in the right place but the wrong "
-                f"orientation:\n  yours:    {_pose_text(T)}\n  expected: {_pose_text(T_expected)}")
+        return _t("for q = {q} {what} has the TCP in the right place but the wrong "
+                  "orientation:\n  yours:    {yours}\n  expected: {expected}", q=_fmt(q),
+                  what=what, yours=_pose_text(T), expected=_pose_text(T_expected))
     return ""
 
 
@@ -183,11 +198,11 @@ def _degrees_hint(fk, q, kwargs, revolute):
         try:
             T2 = _as_numbers(_call(fk, q2, kwargs), "fk")
         except Exception:  # noqa: BLE001 - an FK that refuses angles beyond 2*pi
-            return (f"\nHint: your FK fails when joint {i + 1} turns a full 2*pi rad; any "
-                    "angle modulo 2*pi is allowed (q is in radians).")
+            return _t("\nHint: your FK fails when joint {i} turns a full 2*pi rad; any angle "
+                      "modulo 2*pi is allowed (q is in radians).", i=i + 1)
         if T2.shape != (4, 4) or max(_pose_gap(T2, T, size)) > CHECK_TOL:
-            return (f"\nHint: your FK changes when joint {i + 1} turns a full 2*pi rad, so it "
-                    "probably reads the angles as degrees. q is in radians.")
+            return _t("\nHint: your FK changes when joint {i} turns a full 2*pi rad, so it "
+                      "probably reads the angles as degrees. q is in radians.", i=i + 1)
     return ""
 
 
@@ -199,20 +214,20 @@ def check_dh(dh_table, lengths, cases):
     rows = _call(dh_table, None, lengths)
     arm = _arm_from_rows(rows)
     if arm.n != 3:
-        raise CheckFailed(f"dh_table has {arm.n} rows; the positioning arm has 3 joints")
+        raise CheckFailed(_t("dh_table has {n} rows; the positioning arm has 3 joints", n=arm.n))
     for q, T_expected in cases:
-        msg = _compare_pose(arm.fk(q), T_expected, "your table", q, _size(lengths))
+        msg = _compare_pose(arm.fk(q), T_expected, _t("your table"), q, _size(lengths))
         if msg:
-            raise CheckFailed(msg + "\n(frame 3 of your table, built with rikin.SerialArm)")
+            raise CheckFailed(msg + _t("\n(frame 3 of your table, built with rikin.SerialArm)"))
     big = _arm_from_rows(_call(dh_table, None, _scaled_lengths(lengths)))
     prismatic = np.array([link.joint == "P" for link in arm.links])
     for q, T_expected in cases:
         msg = _compare_pose(big.fk(_scaled_q(q, ~prismatic)), _scaled_pose(T_expected),
-                            "your table", _scaled_q(q, ~prismatic), SCALE * _size(lengths))
+                            _t("your table"), _scaled_q(q, ~prismatic), SCALE * _size(lengths))
         if msg:
             raise CheckFailed(_lengths_hint(msg, dh_table, None, lengths))
-    print(f"✓ dh_table: frame 3 is where it should be for {len(cases)} public joint vectors, "
-          f"also with every length x{SCALE}")
+    print(_t("✓ dh_table: frame 3 is where it should be for {n} public joint vectors, also "
+             "with every length x{scale}", n=len(cases), scale=SCALE))
 
 
 def check_fk(fk, lengths, cases, revolute, *, tool=None):
@@ -226,24 +241,24 @@ def check_fk(fk, lengths, cases, revolute, *, tool=None):
     size = _size(lengths)
     for q, T_expected in cases:
         T = _call(fk, q, lengths)
-        msg = _compare_pose(T, T_expected, f"your {name}", q, size)
+        msg = _compare_pose(T, T_expected, _t("your {name}", name=name), q, size)
         if msg:
             T = _as_numbers(T, name)
             T_expected = np.asarray(T_expected, dtype=float)
             flange = T_expected[:3, 3] - (tool or 0.0) * T_expected[:3, 2]
             if tool and np.linalg.norm(T[:3, 3] - flange) / size <= CHECK_TOL:
-                msg += ("\nHint: that is the flange (frame 6, at the wrist centre), not the TCP: "
-                        "the tool is missing")
+                msg += _t("\nHint: that is the flange (frame 6, at the wrist centre), not the "
+                          "TCP: the tool is missing")
             msg += _degrees_hint(fk, q, lengths, revolute)
             raise CheckFailed(msg)
     for q, T_expected in cases:
         q_big = _scaled_q(q, revolute)
         msg = _compare_pose(_call(fk, q_big, _scaled_lengths(lengths)), _scaled_pose(T_expected),
-                            f"your {name}", q_big, SCALE * size)
+                            _t("your {name}", name=name), q_big, SCALE * size)
         if msg:
             raise CheckFailed(_lengths_hint(msg, fk, q_big, lengths))
-    print(f"✓ {name}: right for {len(cases)} public joint vectors, also with every length "
-          f"x{SCALE}")
+    print(_t("✓ {name}: right for {n} public joint vectors, also with every length x{scale}",
+             name=name, n=len(cases), scale=SCALE))
 
 
 def _scaled_lengths(lengths):
@@ -301,19 +316,20 @@ def _ignored_lengths(f, first, lengths):
 
 def _lengths_hint(msg, f, first, lengths):
     """The scaled case failed: say so, and which length ``f`` ignores, if one is."""
-    name = getattr(f, "__name__", "your function")
+    name = getattr(f, "__name__", "f")
     names = ", ".join(lengths)
-    text = (f"with every length multiplied by {SCALE} ({names}), and the prismatic joint "
-            f"values with them, the arm is the same shape {SCALE} times bigger; but {msg}.")
+    text = _t("with every length multiplied by {scale} ({names}), and the prismatic joint "
+              "values with them, the arm is the same shape {scale} times bigger; but {msg}.",
+              scale=SCALE, names=names, msg=msg)
     ignored = _ignored_lengths(f, first, lengths)
     if ignored:
-        which = ", ".join(ignored)
-        return (text + f"\n{name} gives the same answer when {which} changes: does it use its "
-                f"own argument{'s' if len(ignored) > 1 else ''} {which} (not the notebook's L "
-                "or a number typed in)? The grader uses random lengths.")
-    return (text + f"\n{name} does read each of {names} (its answer changes with each), so "
-            "look for a number that should grow with the arm: a tolerance or an offset typed "
-            "as a fixed length.")
+        return text + _t("\n{name} gives the same answer when {which} changes: does it use "
+                         "its own argument(s) {which} (not the notebook's L or a number typed "
+                         "in)? The grader uses random lengths.", name=name,
+                         which=", ".join(ignored))
+    return text + _t("\n{name} does read each of {names} (its answer changes with each), so "
+                     "look for a number that should grow with the arm: a tolerance or an "
+                     "offset typed as a fixed length.", name=name, names=names)
 
 
 def _matches(row, expected, revolute, size):
@@ -358,12 +374,14 @@ def check_ik(ik, fk, lengths, target, expected, revolute):
         _check_ik_once(ik, fk, _scaled_lengths(lengths), target_big, big, revolute)
     except CheckFailed as exc:
         if getattr(exc, "edge", False):  # the cause is known: the edge of the workspace
-            raise CheckFailed(f"with every length multiplied by {SCALE}: {exc}") from None
+            raise CheckFailed(_t("with every length multiplied by {scale}: {exc}",
+                                 scale=SCALE, exc=exc)) from None
         raise CheckFailed(_lengths_hint(str(exc).rstrip("."), ik, target_big, lengths)) from None
     dup = len(Q) - len(_distinct(Q, revolute, _size(lengths)))
-    note = f" ({dup} duplicate row(s) merged)" if dup else ""
-    print(f"✓ {name}: {len(expected)} of {len(expected)} solutions, each reaching the target "
-          f"with your {getattr(fk, '__name__', 'fk')}{note}; also with every length x{SCALE}")
+    note = _t(" ({dup} duplicate row(s) merged)", dup=dup) if dup else ""
+    print(_t("✓ {name}: {n} of {n} solutions, each reaching the target with your {fk}{note}; "
+             "also with every length x{scale}", name=name, n=len(expected),
+             fk=getattr(fk, "__name__", "fk"), note=note, scale=SCALE))
 
 
 def _distinct(Q, revolute, size):
@@ -396,18 +414,18 @@ def _refused(ik, lengths, target, expected, exc):
     """CheckFailed for an IK that raised ValueError on a target it can reach."""
     name = getattr(ik, "__name__", "ik")
     labels = ", ".join(expected)
-    msg = (f"{name} raised {type(exc).__name__}({str(exc)!r}) for a target it can reach "
-           f"({labels})")
+    msg = _t("{name} raised {error} for a target it can reach ({labels})", name=name,
+             error=f"{type(exc).__name__}({str(exc)!r})", labels=labels)
     for moved in _nudged(target, _size(lengths)):
         try:
             _call(ik, moved, lengths)
         except Exception:  # noqa: BLE001 - it refuses this one too
             continue
-        failed = CheckFailed(
-            msg + f".\nIt answers for a target {EDGE:g} x the arm's size away: this one is on "
-            "the edge of the workspace (stretched or folded), where rounding can put a cosine "
-            "a hair past 1 (1.0000000000000002). Treat a cosine within 1e-9 of +-1 as +-1 "
-            "(np.clip) and raise only beyond that, as the statement says.")
+        failed = CheckFailed(msg + _t(
+            ".\nIt answers for a target {edge} x the arm's size away: this one is on the edge "
+            "of the workspace (stretched or folded), where rounding can put a cosine a hair "
+            "past 1 (1.0000000000000002). Treat a cosine within 1e-9 of +-1 as +-1 (np.clip) "
+            "and raise only beyond that, as the statement says.", edge=f"{EDGE:g}"))
         failed.edge = True
         return failed
     return CheckFailed(msg)
@@ -433,15 +451,17 @@ def _check_ik_once(ik, fk, lengths, target, expected, revolute):
              if not any(_matches(r, expected[lab], revolute, size) for lab in labels)]
     missing = [lab for lab in labels if lab not in found]
     if missing:
-        lines = [f"{len(found)} of {len(labels)} solutions found; missing:"]
+        lines = [_t("{found} of {n} solutions found; missing:", found=len(found), n=len(labels))]
         for lab in missing:
-            shown = ", ".join("any" if v is None else _fmt([v])[1:-1] for v in expected[lab])
-            lines.append(f"  - {lab}: expected about ({shown})")
+            shown = ", ".join(_t("any") if v is None else _fmt([v])[1:-1]
+                              for v in expected[lab])
+            lines.append(_t("  - {label}: expected about ({values})", label=lab, values=shown))
         raise CheckFailed("\n".join(lines))
     if extra:
-        raise CheckFailed(f"{name} found all {len(labels)} expected solutions but also "
-                          f"{_fmt(extra[0])}, which reaches the target yet is not allowed here "
-                          "(check the joint limits: prismatic joints only extend, q >= 0)")
+        raise CheckFailed(_t("{name} found all {n} expected solutions but also {row}, which "
+                             "reaches the target yet is not allowed here (check the joint "
+                             "limits: prismatic joints only extend, q >= 0)", name=name,
+                             n=len(labels), row=_fmt(extra[0])))
     return Q
 
 
@@ -450,25 +470,28 @@ def _check_row_reaches(row, fk, lengths, target, revolute, name, fk_name):
     size = _size(lengths)
     hint = ""
     if np.abs(row[revolute]).max(initial=0.0) > TWO_PI + 1e-9:
-        hint = ("\nIts angles look like degrees: return radians (np.radians converts); "
-                "any angle modulo 2*pi is fine.")
+        hint = _t("\nIts angles look like degrees: return radians (np.radians converts); any "
+                  "angle modulo 2*pi is fine.")
     try:  # any angle modulo 2*pi is a right answer: your FK sees it wrapped
         T = _as_numbers(_call(fk, np.where(revolute, rikin.wrap_angle(row), row), lengths),
                         fk_name)
     except CheckFailed:
         raise
     except Exception as exc:  # noqa: BLE001 - the student's FK refused the row
-        raise CheckFailed(f"your {fk_name} raised {type(exc).__name__} on the solution "
-                          f"{_fmt(row)} that {name} returned: {exc}{hint}") from None
+        raise CheckFailed(_t("your {fk} raised {error} on the solution {row} that {name} "
+                             "returned: {exc}{hint}", fk=fk_name, error=type(exc).__name__,
+                             row=_fmt(row), name=name, exc=exc, hint=hint)) from None
     p_target = target if target.shape == (3,) else target[:3, 3]
     if T.shape != (4, 4):
-        raise CheckFailed(f"your {fk_name} returned shape {T.shape}; expected (4, 4)")
+        raise CheckFailed(_t("your {fk} returned shape {shape}; expected (4, 4)", fk=fk_name,
+                             shape=T.shape))
     if np.linalg.norm(T[:3, 3] - p_target) / size > CHECK_TOL:
-        raise CheckFailed(f"solution {_fmt(row)} does not reach the target: your {fk_name} "
-                          f"puts the TCP at {_fmt(T[:3, 3])}, target {_fmt(p_target)}{hint}")
+        raise CheckFailed(_t("solution {row} does not reach the target: your {fk} puts the TCP "
+                             "at {p}, target {target}{hint}", row=_fmt(row), fk=fk_name,
+                             p=_fmt(T[:3, 3]), target=_fmt(p_target), hint=hint))
     if target.shape == (4, 4) and np.abs(T[:3, :3] - target[:3, :3]).max() > CHECK_TOL:
-        raise CheckFailed(f"solution {_fmt(row)} puts the TCP in the right place with the "
-                          f"wrong orientation (checked with your {fk_name})")
+        raise CheckFailed(_t("solution {row} puts the TCP in the right place with the wrong "
+                             "orientation (checked with your {fk})", row=_fmt(row), fk=fk_name))
 
 
 def check_unreachable(ik, lengths, cases):
@@ -482,30 +505,35 @@ def check_unreachable(ik, lengths, cases):
             raise
         except ValueError as exc:
             if str(exc).strip() == "math domain error":
-                raise CheckFailed(f"{why}: {name} raised ValueError('math domain error') from "
-                                  "math.sqrt/acos; check reachability yourself and say why in "
-                                  "the message") from None
+                raise CheckFailed(_t("{why}: {name} raised ValueError('math domain error') "
+                                     "from math.sqrt/acos; check reachability yourself and "
+                                     "say why in the message", why=why, name=name)) from None
             messages.append(f"  {why}: ValueError: {exc}")
             continue
         except Exception as exc:  # noqa: BLE001 - any other error is the wrong kind
-            raise CheckFailed(f"{why}: {name} raised {type(exc).__name__}: {exc}; expected "
-                              "ValueError with a message that says why") from None
-        raise CheckFailed(f"{why}: {name} returned\n{np.asarray(result)}\ninstead of raising "
-                          "ValueError")
-    print(f"✓ {name}: all {len(cases)} unreachable targets raise ValueError:")
+            raise CheckFailed(_t("{why}: {name} raised {error}: {exc}; expected ValueError "
+                                 "with a message that says why", why=why, name=name,
+                                 error=type(exc).__name__, exc=exc)) from None
+        raise CheckFailed(_t("{why}: {name} returned\n{result}\ninstead of raising ValueError",
+                             why=why, name=name, result=np.asarray(result)))
+    print(_t("✓ {name}: all {n} unreachable targets raise ValueError:", name=name,
+             n=len(cases)))
     print("\n".join(messages))
 
 
 def print_dh(rows):
     """Print a DH table given as a list of dicts."""
-    print(f"{'joint':>5} {'type':>4} {'theta':>9} {'d':>9} {'a':>9} {'alpha':>9} {'offset':>9}")
+    head = [_t("joint"), _t("type"), "theta", "d", "a", "alpha", _t("offset")]
+    widths = [max(w, len(h)) for h, w in zip(head, (5, 4, 9, 9, 9, 9, 9), strict=True)]
+    print(" ".join(f"{h:>{w}}" for h, w in zip(head, widths, strict=True)))
     for i, r in enumerate(rows, 1):
         j = r.get("joint", "R")
         theta = f"q{i}" if j == "R" else f"{r.get('theta', 0.0):.4f}"
         d = f"{r.get('d', 0.0):.4f}" if j == "R" else f"q{i}+{r.get('d', 0.0):.4g}"
-        vals = [theta, d, f"{r.get('a', 0.0):.4f}", f"{r.get('alpha', 0.0):.4f}",
+        vals = [str(i), j, theta, d, f"{r.get('a', 0.0):.4f}", f"{r.get('alpha', 0.0):.4f}",
                 f"{r.get('offset', 0.0):.4f}"]
-        print(f"{i:>5} {j:>4} " + " ".join(f"{v.replace('-0.0000', '0.0000'):>9}" for v in vals))
+        print(" ".join(f"{v.replace('-0.0000', '0.0000'):>{w}}"
+                       for v, w in zip(vals, widths, strict=True)))
 
 
 def print_solutions(Q, names):

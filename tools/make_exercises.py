@@ -5,6 +5,8 @@
     python3 tools/make_exercises.py --check          exit 1 and list what is out of date
     python3 tools/make_exercises.py --run-solutions  execute solutions/ first, store their
                                                      checked outputs and the arm drawing
+    python3 tools/make_exercises.py --translations   refresh the translation catalogues
+                                                     (solutions/locales/) from the sources
 
 Exit codes: 0 done (or, with --check, up to date); 1 only with --check: something is out
 of date (listed); 2 an error (a malformed solution notebook, a bad _config.yml, ...).
@@ -37,6 +39,18 @@ What it does to each ``solutions/<arm>.ipynb``:
 ``figure-source`` into the attachments of the markdown cell tagged
 ``arm-figure`` (so the exercise shows the drawing without the DH table that
 made it) and clears every other output.
+
+**Other languages** (``exercises/<lang>/<arm>.ipynb``, now Spanish: ``exercises/es/``): the
+same exercise made from the solution with every text translated from the gettext catalogue
+``solutions/locales/<lang>/LC_MESSAGES/exercises.po`` (see ``tools/exercise_i18n.py``: what
+is a message, what must stay the same). Code, function names, task numbers and test values
+are the English notebook's, so one grader grades either; the notebook's metadata carries
+``language`` and its setup cell sets rikin's language, so the checks and the grader answer
+in it. ``--translations`` refreshes the catalogues from the sources (new text gets an empty
+translation, changed text keeps its old one marked fuzzy). A message with no current
+translation (empty or fuzzy) is refused: the translated notebook is not written (exit 2),
+and ``--check`` lists it as out of date, as it does a catalogue not refreshed since the
+English changed.
 """
 
 from __future__ import annotations
@@ -87,9 +101,13 @@ except ImportError:
 sys.path.insert(0, str(ROOT / "book" / "_ext"))
 import rikin_site  # noqa: E402  (the book's URL and the install cell; standard library only)
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import exercise_i18n as i18n  # noqa: E402  (the catalogues of the other languages)
+
 SOLUTIONS = ROOT / "solutions"
 EXERCISES = ROOT / "exercises"
 CHECKS_FILE = ROOT / "tools" / "exercise_checks.py"
+GRADER_PACKAGE = ROOT / "grader" / "rikingrade"
 CONFIG_FILE = ROOT / "_config.yml"
 
 BEGIN = re.compile(r"^(?P<indent>[ \t]*)### BEGIN SOLUTION(?: \(task (?P<task>[^)]+)\))?\s*$")
@@ -305,28 +323,151 @@ def run_solution(path: Path) -> None:
     path.write_text(dumps(nb), encoding="utf-8")
 
 
+def _write_if_changed(path: Path, text: str, check: bool, differ: list[str]) -> None:
+    """Write ``text`` to ``path`` unless it is there already; note the file if it differs."""
+    if not path.exists() or path.read_text(encoding="utf-8") != text:
+        differ.append(str(path.relative_to(ROOT)))
+        if not check:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(text, encoding="utf-8")
+
+
+def _stale_notebooks(folder: Path, wanted: set[str]) -> list[str]:
+    return [f"{p.relative_to(ROOT)} (no solution notebook of that name)"
+            for p in sorted(folder.glob("*.ipynb")) if p.name not in wanted]
+
+
 def generate(check: bool) -> list[str]:
-    """Sync and generate; return the files that differ (written unless ``check``)."""
+    """Sync and generate; return the files that differ (written unless ``check``).
+
+    Raises :class:`GenerationError` when a language's notebooks cannot be made (a message
+    without a current translation) and ``check`` is false; with ``check`` that is listed.
+    """
     shared = shared_sources()
-    differ = []
+    differ: list[str] = []
+    solutions: dict[str, object] = {}
     for path in sorted(SOLUTIONS.glob("*.ipynb")):
         nb = nbformat.read(path, as_version=4)
         if sync_shared(nb, shared, path.name) or path.read_text(encoding="utf-8") != dumps(nb):
             differ.append(str(path.relative_to(ROOT)))
             if not check:
                 path.write_text(dumps(nb), encoding="utf-8")
-        text = dumps(make_exercise(nb, path.name))
-        target = EXERCISES / path.name
-        if not target.exists() or target.read_text(encoding="utf-8") != text:
-            differ.append(str(target.relative_to(ROOT)))
-            if not check:
-                target.write_text(text, encoding="utf-8")
+        solutions[path.name] = nb
+        _write_if_changed(EXERCISES / path.name, dumps(make_exercise(nb, path.name)), check,
+                          differ)
     if SOLUTIONS.exists():
-        wanted = {p.name for p in SOLUTIONS.glob("*.ipynb")}
-        for stale in sorted(EXERCISES.glob("*.ipynb")):
-            if stale.name not in wanted:
-                differ.append(f"{stale.relative_to(ROOT)} (no solution notebook of that name)")
+        differ += _stale_notebooks(EXERCISES, set(solutions))
+    for lang in i18n.LANGUAGES:
+        differ += _generate_language(lang, solutions, shared, check)
+        differ += _check_grader_catalogue(lang, check)
     return differ
+
+
+def _grader_catalogue(lang: str) -> Path:
+    return GRADER_PACKAGE / i18n.GRADER_CATALOGUE.format(lang=lang)
+
+
+def _check_grader_catalogue(lang: str, check: bool) -> list[str]:
+    """The grader's catalogue of ``lang``, if it is not current and complete (an
+    untranslated message is refused unless ``check``)."""
+    path = _grader_catalogue(lang)
+    wanted = [m for ms in i18n.grader_messages(GRADER_PACKAGE).values() for m in ms]
+    cat = i18n.read_catalogue(path, lang)
+    stale = {m.id for m in cat if m.id} != set(wanted)
+    try:
+        i18n.translations(cat, wanted, lang)
+    except i18n.Untranslated as exc:
+        if not check:
+            raise GenerationError(f"{path.relative_to(ROOT)}: {exc}") from None
+        return [f"{path.relative_to(ROOT)} ({exc})"]
+    if stale:
+        return [f"{path.relative_to(ROOT)} (not current with the grader's messages: run "
+                "python3 tools/make_exercises.py --translations, then translate)"]
+    return []
+
+
+def catalogue_sources(solutions: dict, shared: dict[str, str]) -> dict[str, list[str]]:
+    """Every message to translate, by the file it comes from."""
+    sources = {str(CHECKS_FILE.relative_to(ROOT)): list(i18n.shared_messages(shared))}
+    for name, nb in solutions.items():
+        sources[f"solutions/{name}"] = list(i18n.notebook_messages(nb, SHARED_TAGS))
+    return sources
+
+
+def _localized_shared(shared: dict[str, str], tr: dict[str, str], lang: str) -> dict[str, str]:
+    """The shared cells in ``lang``: messages translated, rikin's language set to it."""
+    out = {tag: i18n.translate_shared(src, tr) for tag, src in shared.items()}
+    if 'set_language("en")' not in out["setup"]:
+        raise GenerationError('the setup section of tools/exercise_checks.py must call '
+                              'rikin.i18n.set_language("en") (the other languages set theirs)')
+    out["setup"] = out["setup"].replace('set_language("en")', f'set_language("{lang}")')
+    return out
+
+
+def _generate_language(lang: str, solutions: dict, shared: dict[str, str],
+                       check: bool) -> list[str]:
+    """Write exercises/<lang>/ from the solutions and the catalogue; return what differs."""
+    path = i18n.catalogue_path(SOLUTIONS, lang)
+    sources = catalogue_sources(solutions, shared)
+    cat = i18n.read_catalogue(path, lang)
+    differ = []
+    wanted = [m for messages in sources.values() for m in messages]
+    have = {m.id for m in cat if m.id}
+    if have != set(wanted) or any(m.fuzzy for m in cat if m.id):
+        differ.append(f"{path.relative_to(ROOT)} (not current with the English: run "
+                      "python3 tools/make_exercises.py --translations, then translate)")
+    try:
+        tr = i18n.translations(cat, wanted, lang)
+        localized = _localized_shared(shared, tr, lang)
+        for name, nb in solutions.items():
+            translated = i18n.translate_notebook(nb, tr, SHARED_TAGS)
+            sync_shared(translated, localized, f"{lang}/{name}")
+            exercise = make_exercise(translated, name)
+            exercise.metadata["language"] = lang
+            _write_if_changed(EXERCISES / lang / name, dumps(exercise), check, differ)
+    except i18n.Untranslated as exc:
+        if not check:
+            raise GenerationError(f"{path.relative_to(ROOT)}: {exc}; exercises/{lang}/ not "
+                                  "written") from None
+        differ.append(f"exercises/{lang}/ ({exc})")
+    except i18n.BadTranslation as exc:
+        raise GenerationError(f"{path.relative_to(ROOT)}: {exc}") from None
+    differ += _stale_notebooks(EXERCISES / lang, set(solutions))
+    return differ
+
+
+def translated_solution(name: str, lang: str):
+    """The solution notebook ``name`` in ``lang`` (not written: the grader's tests grade it)."""
+    shared = shared_sources()
+    nb = nbformat.read(SOLUTIONS / name, as_version=4)
+    cat = i18n.read_catalogue(i18n.catalogue_path(SOLUTIONS, lang), lang)
+    sources = catalogue_sources({name: nb}, shared)
+    tr = i18n.translations(cat, [m for ms in sources.values() for m in ms], lang)
+    localized = _localized_shared(shared, tr, lang)
+    nb = i18n.translate_notebook(nb, tr, SHARED_TAGS)
+    sync_shared(nb, localized, f"{lang}/{name}")
+    nb.metadata["language"] = lang
+    return nb
+
+
+def update_translations() -> list[str]:
+    """Refresh every language's catalogue from the sources; return the files written."""
+    shared = shared_sources()
+    solutions = {p.name: nbformat.read(p, as_version=4) for p in sorted(SOLUTIONS.glob("*.ipynb"))}
+    for nb in solutions.values():
+        sync_shared(nb, shared, "")
+    templates = [(i18n.template(catalogue_sources(solutions, shared)),
+                  lambda lang: i18n.catalogue_path(SOLUTIONS, lang)),
+                 (i18n.template(i18n.grader_messages(GRADER_PACKAGE)), _grader_catalogue)]
+    written = []
+    for lang in i18n.LANGUAGES:
+        for tmpl, where in templates:
+            path = where(lang)
+            before = path.read_text(encoding="utf-8") if path.exists() else None
+            i18n.write_catalogue(path, i18n.updated(i18n.read_catalogue(path, lang), tmpl))
+            if path.read_text(encoding="utf-8") != before:
+                written.append(str(path.relative_to(ROOT)))
+    return written
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -335,11 +476,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--check", action="store_true",
                     help="write nothing; exit 1 listing the files that differ from what "
                          "would be generated (exit 2 is an error, never 'out of date')")
+    ap.add_argument("--translations", action="store_true",
+                    help="refresh the translation catalogues (solutions/locales/) from the "
+                         "sources, then generate")
     ap.add_argument("--run-solutions", action="store_true",
                     help="execute solutions/ first and store their checked outputs and the drawing")
     args = ap.parse_args(argv)
-    if args.run_solutions and args.check:
-        ap.error("--run-solutions writes notebooks; it cannot be combined with --check")
+    if (args.run_solutions or args.translations) and args.check:
+        ap.error("--run-solutions and --translations write files; they cannot be combined "
+                 "with --check")
     try:
         if args.run_solutions:
             shared = shared_sources()
@@ -349,6 +494,9 @@ def main(argv: list[str] | None = None) -> int:
                     path.write_text(dumps(nb), encoding="utf-8")
                 print(f"running {path.relative_to(ROOT)}", flush=True)
                 run_solution(path)
+        if args.translations:
+            for written in update_translations():
+                print(f"wrote {written}")
         differ = generate(args.check)
     except (GenerationError, rikin_site.SiteError) as exc:
         print(f"make_exercises: {exc}", file=sys.stderr)

@@ -25,6 +25,11 @@ first page's catalogue, and a translated edition takes them from there. What cel
 not looked up in the catalogues (rikin prints its words in the page's language, see
 ``rikin/i18n.py``). The Spanish build marks every text it found no translation for with
 the class ``untranslated`` (``translation_progress_classes``), which the tests look for.
+
+And in a translated edition, a ``{download}`` of an exercise notebook
+(``exercises/<arm>.ipynb``) offers that edition's notebook, ``exercises/<lang>/<arm>.ipynb``
+(made by tools/make_exercises.py), when there is one: the catalogues keep the English
+target, the reader gets the notebook in their language.
 """
 
 from __future__ import annotations
@@ -106,6 +111,31 @@ def add_switch(
         for e in context["rikin_editions"]
     )
     context["metatags"] = context.get("metatags", "") + links
+
+
+class ExercisesInLanguage(SphinxTransform):
+    """``{download}`` of ``exercises/<name>.ipynb`` -> ``exercises/<lang>/<name>.ipynb``.
+
+    Runs after Sphinx's translation of the page (priority 20) and before the download
+    files are collected (the ``doctree-read`` event), in an edition other than English.
+    """
+
+    default_priority = 800
+
+    def apply(self, **kwargs: Any) -> None:
+        lang = edition(self.config.language)
+        if lang == "en":
+            return
+        here = Path(self.env.doc2path(self.env.docname)).parent
+        for node in self.document.findall(addnodes.download_reference):
+            target = str(node.get("reftarget", ""))
+            folder, _, name = target.rpartition("/")
+            if not name.endswith(".ipynb") or folder.rsplit("/", 1)[-1] != "exercises":
+                continue
+            translated = f"{folder}/{lang}/{name}"
+            base = Path(self.env.srcdir) if translated.startswith("/") else here
+            if (base / translated.lstrip("/")).is_file():
+                node["reftarget"] = translated
 
 
 class late_texts(nodes.Element, addnodes.translatable):
@@ -256,6 +286,7 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.add_node(late_texts)
     app.add_transform(ExtractCellTexts)
     app.add_transform(KeepCellOutputs)
+    app.add_transform(ExercisesInLanguage)
     app.add_directive_to_domain("glue", "figure", GlueFigure, override=True)
     app.connect("config-inited", add_switch_template)
     app.connect("config-inited", translated_config)

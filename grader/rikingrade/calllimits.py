@@ -28,6 +28,8 @@ import math
 import os
 from dataclasses import dataclass, field
 
+from .i18n import t
+
 #: A function that ran out of time gets this many times its longest successful call.
 FACTOR = 4.0
 #: ... and never less than this fraction of the per-call limit.
@@ -119,29 +121,39 @@ class CallLimits:
             where = self.ran_out.get(name)
             if not where:
                 continue
-            text = (
-                f"{name} did not return within {limit:g} s in {_where(where[0])}; from then on "
-                f"each call of it got a short limit of {self.short(name, limit):.2g} s "
-                f"({FACTOR:g} times its longest call that returned, at least "
-                f"{FLOOR * limit:.2g} s), so that an endless loop costs the full limit once"
-            )
+            text = t(
+                "{name} did not return within {limit} s in {where}; from then on each call of "
+                "it got a short limit of {short} s ({factor} times its longest call that "
+                "returned, at least {floor} s), so that an endless loop costs the full limit "
+                "once", name=name, limit=f"{limit:g}", where=_where(where[0]),
+                short=f"{self.short(name, limit):.2g}", factor=f"{FACTOR:g}",
+                floor=f"{FLOOR * limit:.2g}")
             if len(where) > 1:
                 more = ", ".join(_where(w) for w in where[1:6]) + (
                     ", ..." if len(where) > 6 else ""
                 )
-                text += f"; it ran out of that too in {more}"
+                text += t("; it ran out of that too in {more}", more=more)
             lines.append(text)
         return lines
 
     def stopped_text(self, name: str, limit: float, answers: tuple[str, ...]) -> str:
         """The feedback of a call stopped at the short limit of ``name``."""
-        who = name if name in answers else "a function it calls"
-        first = self.ran_out.get(name, ["an earlier test"])[0]
-        return (
-            f"timed out: stopped at the short limit of {who} ({self.short(name, limit):.2g} s), "
-            f"which did not return within {limit:g} s in {_where(first)}"
-        )
+        who = name if name in answers else t("a function it calls")
+        first = self.ran_out.get(name, [EARLIER])[0]
+        return t("timed out: stopped at the short limit of {who} ({short} s), which did not "
+                 "return within {limit} s in {where}", who=who,
+                 short=f"{self.short(name, limit):.2g}", limit=f"{limit:g}",
+                 where=_where(first))
+
+
+#: Where a function ran out of time when that is not known.
+EARLIER = "an earlier test"
 
 
 def _where(w: str) -> str:
-    return w if w.startswith(("code cell", "an earlier")) else f"test {w}"
+    """A place a function ran out of time ("code cell 7", a test's name, EARLIER) in words."""
+    if w.startswith("code cell "):
+        return t("code cell {number}", number=w[len("code cell "):])
+    if w == EARLIER:
+        return t("an earlier test")
+    return t("test {name}", name=w)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import difflib
 import re
 
+from .i18n import t
 from .report import CellReport
 
 #: Names the exercises' shared setup and checks cells define (never the student's own).
@@ -19,7 +20,7 @@ HELPER_PREFIXES = ("check_", "print_", "show_")
 
 def cell_name(number: int, source: str) -> str:
     """``code cell 7``: counted among code cells from 1, as Jupyter's ``[7]`` after Run All."""
-    return f"code cell {number}"
+    return t("code cell {number}", number=number)
 
 
 def cell_start(source: str) -> str:
@@ -27,7 +28,7 @@ def cell_start(source: str) -> str:
     first = next((ln.strip() for ln in source.splitlines() if ln.strip()), "")
     if len(first) > 60:
         first = first[:57] + "..."
-    return f'it starts "{first}"' if first else "it is empty"
+    return t('it starts "{line}"', line=first) if first else t("it is empty")
 
 
 def student_names(defined: set[str]) -> list[str]:
@@ -57,23 +58,22 @@ def missing_cause(
     n = defining_cell(name, cells)
     if n is not None and n in reports and reports[n].status != "ok":
         c = reports[n]
-        what = {"timeout": "did not finish", "crashed": "stopped the notebook's process"}.get(
-            c.status, f"raised {c.error_type}"
+        what = {"timeout": t("did not finish"),
+                "crashed": t("stopped the notebook's process")}.get(
+            c.status, t("raised {error}{context}", error=c.error_type, context="")
         )
-        return (
-            f"{name} is not defined because {cell_name(n, '')}, which defines it, {what} "
-            f"(see above): the tests that call {name} score 0"
-        )
+        return t("{name} is not defined because {cell}, which defines it, {what} (see above): "
+                 "the tests that call {name} score 0", name=name, cell=cell_name(n, ""),
+                 what=what)
     others = [f for f in student_names(defined) if f not in expected]
     close = difflib.get_close_matches(name, others, n=3, cutoff=0.4)
-    msg = f"function {name} not found: did you rename it?"
+    msg = t("function {name} not found: did you rename it?", name=name)
     if close:
-        return msg + f" (your notebook defines {', '.join(close)})"
+        return msg + t(" (your notebook defines {names})", names=", ".join(close))
     if others:
-        return msg + f" (your notebook defines {', '.join(others[:3])}" + (
-            ", ...)" if len(others) > 3 else ")"
-        )
-    return msg + " (or is the cell that defines it deleted or failing?)"
+        names = ", ".join(others[:3]) + (", ..." if len(others) > 3 else "")
+        return msg + t(" (your notebook defines {names})", names=names)
+    return msg + t(" (or is the cell that defines it deleted or failing?)")
 
 
 def cell_problems(reports: dict[int, CellReport], cells: list[tuple[int, str]]) -> list[str]:
@@ -94,7 +94,8 @@ def cell_problems(reports: dict[int, CellReport], cells: list[tuple[int, str]]) 
             else:
                 seen[key] = len(lines)
                 later[len(lines)] = []
-                lines.append(f"{cell_name(n, '')} raised {what} ({cell_start(sources.get(n, ''))}")
+                lines.append(t("{cell} raised {error} ({start}", cell=cell_name(n, ""), error=what,
+                               start=cell_start(sources.get(n, ""))))
         elif c.status in ("timeout", "crashed"):
             lines.append(f"{cell_name(n, '')} {c.message} ({cell_start(sources.get(n, ''))})")
         for note in c.notes:
@@ -103,7 +104,9 @@ def cell_problems(reports: dict[int, CellReport], cells: list[tuple[int, str]]) 
         also = ""
         if more:
             listed = ", ".join(str(m) for m in more[:-1])
-            cells_ = f"{listed} and {more[-1]}" if listed else str(more[-1])
-            also = f"; so did code cell{'s' if len(more) > 1 else ''} {cells_}"
-        lines[i] += f"{also}; later cells still ran)"
+            cells_ = (t("{cells} and {last}", cells=listed, last=more[-1]) if listed
+                      else str(more[-1]))
+            also = (t("; so did code cells {cells}", cells=cells_) if len(more) > 1
+                    else t("; so did code cell {cells}", cells=cells_))
+        lines[i] += also + t("; later cells still ran)")
     return lines

@@ -19,6 +19,7 @@ import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .i18n import notebook_language
 from .safetext import printable
 from .studentfiles import REFUSED, TOO_LARGE, ReadFailed, StudentFiles, default_files
 
@@ -58,6 +59,8 @@ class Notebook:
     cells: list[tuple[int, str]]
     nbformat: str
     warnings: list[str] = field(default_factory=list)
+    #: the notebook's language ("en", "es"): its feedback is written in it (rikingrade.i18n)
+    language: str = "en"
 
 
 @dataclass
@@ -265,7 +268,8 @@ def parse_notebook(raw: bytes) -> Notebook:
         cells.append((len(cells) + 1, src))
     if dup:
         warnings.append(f"{dup} duplicated cell id(s) (ignored)")
-    return Notebook(cells=cells, nbformat=version, warnings=warnings)
+    lang = notebook_language(data.get("metadata"), [src for _, src in cells])
+    return Notebook(cells=cells, nbformat=version, warnings=warnings, language=lang)
 
 
 def _json(text: str) -> object:

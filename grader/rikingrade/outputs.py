@@ -16,6 +16,7 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+from .i18n import N_, t, use
 from .report import SubmissionResult
 
 
@@ -58,54 +59,72 @@ def feedback_lines(res: SubmissionResult) -> list[tuple[str, str, str, str]]:
 
 
 def _score_line(res: SubmissionResult) -> str:
-    return f"Score: {_fmt(round(res.score, 4))} / {_fmt(res.max_score)}"
+    return t("Score: {score} / {max}", score=_fmt(round(res.score, 4)), max=_fmt(res.max_score))
+
+
+#: The verdicts of a test, as the feedback shows them.
+VERDICTS = {"pass": N_("pass"), "partial": N_("partial"), "fail": N_("fail")}
+
+
+def _verdict(v: str) -> str:
+    return t(VERDICTS[v])
 
 
 def feedback_markdown(res: SubmissionResult, exercise: str, final: str = "", who: str = "") -> str:
     """The student's Markdown feedback: the final score (``final``, when a grading policy
     applies; else the autograder's score) first, the notebook's problems (the real cause,
-    once), then one line per test. Every text is escaped as Markdown (never HTML)."""
-    out = [f"# {exercise}: feedback for {_md(who or res.student)}", ""]
-    out.append(f"**{_md(final or _score_line(res))}**")
-    out.append("")
-    if res.problems:
-        out += ["## Your notebook", ""]
-        out += [f"- {_md(p)}" for p in res.problems]
+    once), then one line per test. Every text is escaped as Markdown (never HTML); the
+    headings are in the notebook's language (``res.language``)."""
+    with use(res.language):
+        out = [t("# {exercise}: feedback for {who}", exercise=exercise,
+                 who=_md(who or res.student)), ""]
+        out.append(f"**{_md(final or _score_line(res))}**")
         out.append("")
-    out.append("## Tests")
-    out.append("")
-    for verdict, name, pts, fb in feedback_lines(res):
-        out.append(f"- [{verdict}] **{name}** ({pts}): {_md(fb)}")
-    out.append("")
+        if res.problems:
+            out += [t("## Your notebook"), ""]
+            out += [f"- {_md(p)}" for p in res.problems]
+            out.append("")
+        out.append(t("## Tests"))
+        out.append("")
+        for verdict, name, pts, fb in feedback_lines(res):
+            out.append(f"- [{_verdict(verdict)}] **{name}** ({pts}): {_md(fb)}")
+        out.append("")
     return "\n".join(out)
 
 
 def feedback_html(res: SubmissionResult, exercise: str, final: str = "", who: str = "") -> str:
     """The student's HTML feedback (see :func:`feedback_markdown`)."""
+    with use(res.language):
+        return _feedback_html(res, exercise, final, who)
+
+
+def _feedback_html(res: SubmissionResult, exercise: str, final: str, who: str) -> str:
     e = html.escape
     who = who or res.student
     colors = {"pass": "#1a7f37", "partial": "#9a6700", "fail": "#cf222e"}
     rows = "\n".join(
-        f'<tr><td style="color:{colors[v]};font-weight:bold">{v}</td><td>{e(n)}</td>'
+        f'<tr><td style="color:{colors[v]};font-weight:bold">{_verdict(v)}</td><td>{e(n)}</td>'
         f"<td>{e(p)}</td><td>{e(_one_line(fb))}</td></tr>"
         for v, n, p, fb in feedback_lines(res)
     )
     probs = ""
     if res.problems:
         items = "\n".join(f"<li>{e(_one_line(p))}</li>" for p in res.problems)
-        probs = f"<h2>Your notebook</h2>\n<ul>\n{items}\n</ul>"
+        probs = f"<h2>{e(t('Your notebook'))}</h2>\n<ul>\n{items}\n</ul>"
+    title = e(t("{exercise}: feedback for {who}", exercise=exercise, who=who))
+    head = [e(t(w)) for w in (N_("result"), N_("test"), N_("points"), N_("feedback"))]
     return f"""<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<title>{e(exercise)}: feedback for {e(who)}</title>
+<html lang="{res.language}"><head><meta charset="utf-8">
+<title>{title}</title>
 <style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}
 table{{border-collapse:collapse}}
 td,th{{border:1px solid #ccc;padding:.3em .6em;text-align:left}}</style>
 </head><body>
-<h1>{e(exercise)}: feedback for {e(who)}</h1>
+<h1>{title}</h1>
 <p><strong>{e(final or _score_line(res))}</strong></p>
 {probs}
-<h2>Tests</h2>
-<table><tr><th>result</th><th>test</th><th>points</th><th>feedback</th></tr>
+<h2>{e(t("Tests"))}</h2>
+<table><tr><th>{head[0]}</th><th>{head[1]}</th><th>{head[2]}</th><th>{head[3]}</th></tr>
 {rows}
 </table>
 </body></html>

@@ -70,6 +70,7 @@ class SubmissionResult:
     elapsed: float = 0.0
     key: str = ""  # grader version + assignment + settings; resume only when equal
     refused: str = ""  # why the grader would not read the file (a link, no right to it)
+    language: str = "en"  # the notebook's: its feedback is written in it (rikingrade.i18n)
 
     @property
     def score(self) -> float:

@@ -36,6 +36,7 @@ from .assignment import Assignment
 from .calllimits import CallLimits, backstop, cell_wall
 from .cellplan import calling_cells
 from .feedback import cell_problems, missing_cause
+from .i18n import t, use
 from .notebook import FileRefused, Notebook, NotebookError, Submission
 from .report import (
     CELL_ERRORS,
@@ -162,8 +163,10 @@ class SubmissionRunner:
             result.elapsed = time.monotonic() - t0
             return result
         run = _Run(self, nb)
+        result.language = nb.language
         try:
-            run.execute(result)
+            with use(nb.language):
+                run.execute(result)
         except SandboxUnavailable as exc:
             log.error("%s: sandbox failure: %s", sub.student, exc)
             result.status = GRADER_ERROR
@@ -224,7 +227,8 @@ class _Run:
         return min(time.monotonic() + seconds, self.t_end)
 
     def _spent(self) -> str:
-        return f"the notebook used its whole time budget ({self.r.opt.time_budget:g} s)"
+        return t("the notebook used its whole time budget ({seconds} s)",
+                 seconds=f"{self.r.opt.time_budget:g}")
 
     def _check_budget(self) -> None:
         if time.monotonic() >= self.t_end - 1e-3:
@@ -340,7 +344,8 @@ class _Run:
                 why = self._why_died(child, exc)
                 self.crashed = True
                 self._skip_cell(
-                    child, current, last, "crashed", f"stopped the notebook's process ({why})"
+                    child, current, last, "crashed",
+                    t("stopped the notebook's process ({why})", why=why)
                 )
 
     def _exec_message(self, cells: list[tuple[int, str]]) -> dict:
@@ -379,10 +384,10 @@ class _Run:
             self.r.sandbox.reset()
             if current is not None:
                 self.cells[current] = CellReport(
-                    current, "timeout", message=f"was still running: {self._spent()}"
+                    current, "timeout", message=t("was still running: {why}", why=self._spent())
                 )
             self._check_budget()
-        what = f"did not finish within {opt.cell_timeout:g} s"
+        what = t("did not finish within {seconds} s", seconds=f"{opt.cell_timeout:g}")
         self._skip_cell(child, current, last, "timeout", what)
 
     def _record(self, n: int, msg: dict) -> None:
@@ -422,7 +427,7 @@ class _Run:
         self.r.sandbox.reset()
         cell = self._blame(current, last)
         self.cells[cell] = CellReport(
-            cell, status, message=f"{what}; skipped (later cells still ran)"
+            cell, status, message=t("{what}; skipped (later cells still ran)", what=what)
         )
         self.skip.add(cell)
 
@@ -484,7 +489,8 @@ class _Run:
             self._drop_child()
             call = calls[len(outcomes)].function
             outcomes.append(self._call_timed_out(call, fired, timeout, leash, test))
-            rest = Outcome(timed_out=True, detail="not run: an earlier call of this test timed out")
+            rest = Outcome(timed_out=True,
+                           detail=t("not run: an earlier call of this test timed out"))
             outcomes += [rest] * (len(calls) - len(outcomes))
             return outcomes, True, False
         except (ChildDied, ProtocolError) as exc:
@@ -494,7 +500,7 @@ class _Run:
             outcomes.append(Outcome(crashed=True, detail=why))
             rest = Outcome(
                 crashed=True,
-                detail="not run: the notebook's process died in an earlier call of this test",
+                detail=t("not run: the notebook's process died in an earlier call of this test"),
             )
             outcomes += [rest] * (len(calls) - len(outcomes))
             return outcomes, False, True
@@ -523,13 +529,13 @@ class _Run:
         name = stopped if isinstance(stopped, str) else call
         short = name in leash
         if spent:
-            detail = f"stopped: {self._spent()}"
+            detail = t("stopped: {why}", why=self._spent())
         elif short:
             detail = self.limits.stopped_text(name, timeout, self.r.assignment.functions)
         else:
             inner = [n for n in names if n in self.r.assignment.functions and n != call]
-            detail = f"timed out: no result within {timeout:g} s" + (
-                f" (it was running {inner[-1]})" if inner else ""
+            detail = t("timed out: no result within {seconds} s", seconds=f"{timeout:g}") + (
+                t(" (it was running {function})", function=inner[-1]) if inner else ""
             )
         if not spent:
             self.limits.timed_out(names, test, name if short else "")
@@ -558,7 +564,7 @@ class _Run:
             self._ensure_child()
             if self.child is None:
                 lost = Outcome(
-                    crashed=True, detail=self.exec_error or "the notebook could not be run"
+                    crashed=True, detail=self.exec_error or t("the notebook could not be run")
                 )
                 for i in pending:
                     outcomes[i] = lost
@@ -656,7 +662,7 @@ class _Run:
             test.name,
             float(test.weight),
             0.0,
-            f"not run: {self._spent()}",
+            t("not run: {why}", why=self._spent()),
             timed_out=True,
         )
 
@@ -666,12 +672,12 @@ class _Run:
         a = self.r.assignment
         problems = list(self.nb.warnings)[:10]
         if not self.nb.cells:
-            problems.append("the notebook has no code cells")
+            problems.append(t("the notebook has no code cells"))
         cell_lines = cell_problems(self.cells, self.nb.cells)
         more = len(cell_lines) - MAX_PROBLEMS + sum(self.unlisted.values())
         problems += cell_lines[:MAX_PROBLEMS]
         if more > 0:
-            problems.append(f"... and {more} more problems in code cells (not listed)")
+            problems.append(t("... and {n} more problems in code cells (not listed)", n=more))
         problems += [
             missing_cause(f, self.functions, a.functions, self.nb.cells, self.cells)
             for f in missing
@@ -680,7 +686,8 @@ class _Run:
         if self.exec_error:
             problems.append(self.exec_error)
         if self.budget_spent:
-            problems.append(f"grading stopped: {self._spent()}; the tests not run score 0")
+            problems.append(t("grading stopped: {why}; the tests not run score 0",
+                              why=self._spent()))
         return problems
 
     def _status(self, result: SubmissionResult, missing: list[str]) -> tuple[str, str]:

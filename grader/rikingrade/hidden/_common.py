@@ -47,6 +47,7 @@ import numpy as np
 
 import rikin
 
+from ..i18n import N_, label, t
 from ..reference._common import (
     NEAR_SINGULAR,
     REACH_TOL,
@@ -195,7 +196,7 @@ def exception_words(out: Outcome) -> str:
     Python's own and rikin's classes by name; a class the notebook defines (its name is
     student-controlled text) as "an exception of your own (a subclass of ValueError)".
     """
-    name = out.error_type or "an exception"
+    name = out.error_type or t("an exception")
     bases = out.error_bases
     known = name in RIKIN_VALUE_ERRORS or name == "CheckFailed"
     cls = getattr(builtins, name, None)
@@ -214,7 +215,7 @@ def exception_words(out: Outcome) -> str:
         "Exception",
     )
     base = base if base.isidentifier() else "Exception"
-    return f"an exception of your own (a subclass of {base})"
+    return t("an exception of your own (a subclass of {base})", base=base)
 
 
 def describe_failure(out: Outcome, reveal: bool, timeout: float, context: str = "") -> str:
@@ -225,24 +226,25 @@ def describe_failure(out: Outcome, reveal: bool, timeout: float, context: str = 
     Python's fixed messages (:func:`safe_message`), or with ``reveal``.
     """
     if out.timed_out:
-        return out.detail or f"timed out (over {timeout:g} s)"
+        return out.detail or t("timed out (over {seconds} s)", seconds=f"{timeout:g}")
     if out.crashed:
-        return f"the notebook's process died ({out.detail or 'no detail'})"
+        return t("the notebook's process died ({detail})", detail=out.detail or t("no detail"))
     if out.unreadable:  # the grader's words (see spec.Outcome)
-        return out.error_message or "returned a value the grader cannot read"
+        return out.error_message or t("returned a value the grader cannot read")
     if out.error_type == "NameError" and not out.error_bases:  # the engine: no such function
-        return "not run: the function is not defined (see the notes on your notebook above)"
+        return t("not run: the function is not defined (see the notes on your notebook above)")
     if out.error_type == "NotImplementedError":
-        return "not implemented yet (raises NotImplementedError)"
+        return t("not implemented yet (raises NotImplementedError)")
     lines = (out.error_message or "").strip().splitlines()
     first = lines[0][:160] if lines else ""
     msg = first if reveal else safe_message(first)
     ctx = f" {context}" if context else ""
-    head = f"raised {exception_words(out) if not reveal else out.error_type}{ctx}"
+    head = t("raised {error}{context}", error=exception_words(out) if not reveal
+             else out.error_type, context=ctx)
     if msg:
         return f"{head}: {msg}"
     if first:
-        return head + " (its message is not shown here, as it could carry the hidden input)"
+        return head + t(" (its message is not shown here, as it could carry the hidden input)")
     return head
 
 
@@ -477,20 +479,23 @@ def student_rows(value: Any, n: int) -> tuple[np.ndarray | None, str, str]:
     """
     arr = as_array(value)
     if arr is None:
-        return None, "returned something that is not an array of numbers", ""
+        return None, t("returned something that is not an array of numbers"), ""
     note = ""
     if arr.ndim == 1 and arr.shape[0] == n:
         arr = arr[None, :]
-        note = f"a single solution came back as shape ({n},); the docstring asks for (k, {n})"
+        note = t("a single solution came back as shape ({n},); the docstring asks for (k, {n})",
+                 n=n)
     if arr.size == 0:
         return np.zeros((0, n)), "", note
     if arr.ndim != 2 or arr.shape[1] != n:
         shape = tuple(int(x) for x in arr.shape)
-        return None, f"returned shape {shape}, expected (k, {n}): one solution per row", note
+        return None, t("returned shape {shape}, expected (k, {n}): one solution per row",
+                       shape=shape, n=n), note
     if arr.shape[0] > MAX_ROWS:
         return (
             None,
-            f"returned more than {MAX_ROWS} rows (this arm has at most 4 solutions per target)",
+            t("returned more than {rows} rows (this arm has at most 4 solutions per target)",
+              rows=MAX_ROWS),
             note,
         )
     return arr, "", note
@@ -513,12 +518,12 @@ def _why_wrong(spec: Spec, r: np.ndarray, reaches: bool, kwargs: dict[str, Any],
     if reaches:
         scale = spec.scale(kwargs)
         neg = [k + 1 for k in range(spec.n) if not rev[k] and r[k] < -JOINT_TOL * scale]
-        return f"a solution that needs q{neg[0]} < 0 (prismatic joints only extend)"
+        return t("a solution that needs q{i} < 0 (prismatic joints only extend)", i=neg[0])
     if np.any(np.abs(r[rev]) > DEGREES_SUSPECT):
         case.degrees = True
         if spec.reaches(radians_of(r, rev), kwargs)[0]:
-            return "a right solution written in degrees"
-    return "a solution that does not reach the target (FK check)"
+            return t("a right solution written in degrees")
+    return t("a solution that does not reach the target (FK check)")
 
 
 def compare_ik(spec: Spec, kwargs: dict[str, Any], value: Any) -> IKCase:
@@ -538,7 +543,7 @@ def compare_ik(spec: Spec, kwargs: dict[str, Any], value: Any) -> IKCase:
         case.failure = why
         return case
     finite = np.all(np.isfinite(rows), axis=1)
-    case.wrong += ["a solution with NaN or infinity"] * int((~finite).sum())
+    case.wrong += [t("a solution with NaN or infinity")] * int((~finite).sum())
     rows = rows[finite]
     # a singular family's free joints are not compared
     compared = np.ones(ref.q.shape, bool)
@@ -568,8 +573,8 @@ def compare_ik(spec: Spec, kwargs: dict[str, Any], value: Any) -> IKCase:
     unlisted = reach & prismatic_ok & ~good
     if unlisted.any():  # pragma: no cover - would mean the reference misses a solution
         case.notes.append(
-            "a returned solution reaches the target but the reference does not list it "
-            "(not penalised; please tell the instructor)"
+            t("a returned solution reaches the target but the reference does not list it "
+              "(not penalised; please tell the instructor)")
         )
     bad = ~(reach & prismatic_ok)
     if bad.any():
@@ -580,7 +585,7 @@ def compare_ik(spec: Spec, kwargs: dict[str, Any], value: Any) -> IKCase:
         for i in np.flatnonzero(bad)[np.sort(first)][:MAX_WRONG_EXPLAINED]:
             case.wrong.append(_why_wrong(spec, rows[i], bool(reach[i]), kwargs, case))
         extra = len(first) - MAX_WRONG_EXPLAINED
-        case.wrong += ["a solution that does not reach the target (FK check)"] * max(0, extra)
+        case.wrong += [t("a solution that does not reach the target (FK check)")] * max(0, extra)
     reps = sorted({int(c) for c in cluster})
     case.expected = len(reps)
     case.matched = len(matched)
@@ -589,31 +594,34 @@ def compare_ik(spec: Spec, kwargs: dict[str, Any], value: Any) -> IKCase:
     return case
 
 
-def summarize_ik(title: str, cases: list[IKCase], what: str = "targets") -> str:
-    """One feedback line for a list of IK cases, in the student's terms."""
+def summarize_ik(title: str, cases: list[IKCase], what: str = N_("targets")) -> str:
+    """One feedback line for a list of IK cases, in the student's terms (``title`` and
+    ``what`` already in the feedback's language)."""
     n = len(cases)
     full = sum(c.full for c in cases)
-    parts = [f"{title}: {full}/{n} {what} fully right"]
+    parts = [t("{title}: {full}/{n} {what} fully right", title=title, full=full, n=n,
+               what=t(what))]
     fails = Counter(c.failure for c in cases if c.failure)
     for reason, k in fails.items():
         parts.append(f"{reason} ({k}x)")
     answered = [c for c in cases if not c.failure]
     if answered and any(not c.full for c in answered):
-        found = Counter(f"{c.matched} of {c.expected}" for c in answered if not c.full)
-        parts.append("solutions found: " + ", ".join(f"{k} ({v}x)" for k, v in found.items()))
-    missing = Counter(m for c in answered for m in c.missing)
+        found = Counter(t("{matched} of {expected}", matched=c.matched, expected=c.expected)
+                        for c in answered if not c.full)
+        parts.append(t("solutions found: ") + ", ".join(f"{k} ({v}x)" for k, v in found.items()))
+    missing = Counter(label(m) for c in answered for m in c.missing)
     if missing:
-        parts.append("missing: " + "; ".join(f"{m} ({k}x)" for m, k in missing.items()))
+        parts.append(t("missing: ") + "; ".join(f"{m} ({k}x)" for m, k in missing.items()))
     wrong = Counter(w for c in answered for w in c.wrong)
     if wrong:
-        parts.append("wrong or extra: " + "; ".join(f"{w} ({k}x)" for w, k in wrong.items()))
+        parts.append(t("wrong or extra: ") + "; ".join(f"{w} ({k}x)" for w, k in wrong.items()))
     if any(c.degrees for c in answered):
-        parts.append("some angles look like degrees: return radians")
+        parts.append(t("some angles look like degrees: return radians"))
     notes = {nt for c in answered for nt in c.notes}
     parts.extend(sorted(notes))
     dup = sum(c.duplicates for c in answered)
     if dup:
-        parts.append(f"{dup} duplicate solution(s) merged (not penalised)")
+        parts.append(t("{dup} duplicate solution(s) merged (not penalised)", dup=dup))
     return sentences(parts)
 
 
@@ -629,7 +637,8 @@ def _first_failing_hint(
         return ""
     for i, ok in enumerate(good):
         if not ok:
-            return f" First failing case: {spec.hidden_text(calls[i].kwargs)}{extra(i)}."
+            return t(" First failing case: {case}.", case=spec.hidden_text(calls[i].kwargs)
+                     + extra(i))
     return ""
 
 
@@ -694,6 +703,12 @@ def fk_test(arm: ExerciseArm, six: bool, weight: float, name: str, n: int = N_FK
     fname = spec.fk_name
     title = f"FK of the {'6-DOF arm' if six else 'positioning arm'} ({fname})"
 
+    def heading() -> str:
+        """The title in the feedback's language."""
+        if six:
+            return t("FK of the 6-DOF arm ({function})", function=fname)
+        return t("FK of the positioning arm ({function})", function=fname)
+
     def make_calls(rng: np.random.Generator) -> list[Call]:
         calls = []
         for _ in range(n):
@@ -707,7 +722,8 @@ def fk_test(arm: ExerciseArm, six: bool, weight: float, name: str, n: int = N_FK
         tally = Tally()
         for c, o in zip(calls, outcomes, strict=True):
             tally.add(_fk_case(spec, c.kwargs, o, reveal))
-        head = f"{title}: {sum(tally.good)}/{len(calls)} random configurations right"
+        head = t("{title}: {good}/{n} random configurations right", title=heading(),
+                 good=sum(tally.good), n=len(calls))
         fb = tally.feedback(head) + _first_failing_hint(reveal, spec, calls, tally.good)
         return Score(tally.fraction, fb, _detail(spec, calls, outcomes, tally.notes))
 
@@ -722,12 +738,12 @@ def _fk_case(spec: Spec, kw: dict[str, Any], out: Outcome, reveal: bool) -> str:
         return describe_failure(out, reveal, TIMEOUT)
     T = as_array(out.value)
     if T is None:
-        return "returned something that is not a matrix of numbers, expected a (4, 4) matrix"
+        return t("returned something that is not a matrix of numbers, expected a (4, 4) matrix")
     if T.shape != (4, 4):
         shape = tuple(int(x) for x in T.shape)
-        return f"returned shape {shape}, expected a (4, 4) matrix"
+        return t("returned shape {shape}, expected a (4, 4) matrix", shape=shape)
     if not np.all(np.isfinite(T)):
-        return "the matrix contains NaN or infinity"
+        return t("the matrix contains NaN or infinity")
     q = np.asarray(kw["q"], dtype=float)
     dp, dr = pose_error(T, spec.call_pose(kw), spec.scale(kw))
     if dp <= POSE_TOL and dr <= POSE_TOL:
@@ -744,22 +760,20 @@ def _diagnose_fk(
     if rev.any():
         T_deg = spec.ref_fk(radians_of(q, rev), kw)
         if max(pose_error(T, T_deg, scale)) <= POSE_TOL:
-            return "it reads the joint angles as degrees: q is in radians"
+            return t("it reads the joint angles as degrees: q is in radians")
     if spec.six:
         L = spec.lengths(kw)
         T_fl = spec.arm.fk_flange_6dof(np.where(rev, wrap(q), q), spec.tool(kw), **L)
         if max(pose_error(T, T_fl, scale)) <= POSE_TOL:
-            return (
-                "it returns the flange frame 6 (at the wrist centre), not the TCP: "
-                "the tool is missing"
-            )
+            return t("it returns the flange frame 6 (at the wrist centre), not the TCP: "
+                     "the tool is missing")
     if not np.allclose(T[3], [0.0, 0.0, 0.0, 1.0], atol=POSE_TOL):
-        return "the last row is not (0, 0, 0, 1)"
+        return t("the last row is not (0, 0, 0, 1)")
     if dp <= POSE_TOL:
-        return "the TCP position is right but the orientation (rotation part) is not"
+        return t("the TCP position is right but the orientation (rotation part) is not")
     if dr <= POSE_TOL:
-        return "the orientation is right but the TCP position is not"
-    return "both the TCP position and the orientation are wrong"
+        return t("the orientation is right but the TCP position is not")
+    return t("both the TCP position and the orientation are wrong")
 
 
 DH_FIELDS = ("joint", "d", "a", "alpha", "offset", "theta", "qlim")
@@ -768,30 +782,33 @@ DH_FIELDS = ("joint", "d", "a", "alpha", "offset", "theta", "qlim")
 def rows_to_arm(arm: ExerciseArm, value: Any) -> tuple[rikin.SerialArm | None, str]:
     """The student's DH rows as a rikin arm, or None and what is wrong with them."""
     if not isinstance(value, list) or not all(isinstance(r, dict) for r in value):
-        return None, "it must return a list of dicts (one per joint, rikin.Link keywords)"
+        return None, t("it must return a list of dicts (one per joint, rikin.Link keywords)")
     if len(value) != 3:
-        return None, f"it has {len(value)} rows; the positioning arm has 3 joints"
+        return None, t("it has {n} rows; the positioning arm has 3 joints", n=len(value))
     links = []
     for i, row in enumerate(value, 1):
         bad = set(row) - set(DH_FIELDS)
         if bad:  # the keys are the student's text: not echoed
-            return None, f"row {i} has keys rikin.Link does not know; use {list(DH_FIELDS[:-1])}"
+            return None, t("row {i} has keys rikin.Link does not know; use {keys}", i=i,
+                           keys=list(DH_FIELDS[:-1]))
         joint = row.get("joint", "R")
         want = arm.joint_types[i - 1]
         if joint != want:
-            kind = {"R": "revolute ('R')", "P": "prismatic ('P')"}[want]
-            says = repr(joint) if joint in ("R", "P") else "something else"
-            return None, f"joint {i} is {kind}, the table says {says}"
+            kind = {"R": t("revolute ('R')"), "P": t("prismatic ('P')")}[want]
+            says = repr(joint) if joint in ("R", "P") else t("something else")
+            return None, t("joint {i} is {kind}, the table says {says}", i=i, kind=kind,
+                           says=says)
         try:
             vals = {k: float(row[k]) for k in DH_FIELDS[1:-1] if k in row}
         except (TypeError, ValueError, OverflowError):
-            return None, f"row {i} has a value that is not a number"
+            return None, t("row {i} has a value that is not a number", i=i)
         if not all(np.isfinite(v) for v in vals.values()):
-            return None, f"row {i} has a value that is NaN or infinity"
+            return None, t("row {i} has a value that is NaN or infinity", i=i)
         for k in ("alpha", "offset", "theta"):
             angle = not (k == "offset" and joint == "P")  # a prismatic offset is a length
             if k in vals and angle and abs(vals[k]) > DEGREES_SUSPECT:
-                return None, f"row {i}: {k} looks like degrees: DH angles are radians"
+                return None, t("row {i}: {key} looks like degrees: DH angles are radians", i=i,
+                               key=k)
         try:
             links.append(
                 rikin.Link(
@@ -804,11 +821,11 @@ def rows_to_arm(arm: ExerciseArm, value: Any) -> tuple[rikin.SerialArm | None, s
                 )
             )
         except ValueError:
-            return None, f"row {i} is not a valid rikin.Link"
+            return None, t("row {i} is not a valid rikin.Link", i=i)
     try:
         return rikin.SerialArm(tuple(links)), ""
     except ValueError:
-        return None, "the rows do not make a valid arm"
+        return None, t("the rows do not make a valid arm")
 
 
 def dh_test(arm: ExerciseArm, weight: float, name: str = "dh_table", n: int = N_DH) -> HiddenTest:
@@ -843,20 +860,16 @@ def dh_test(arm: ExerciseArm, weight: float, name: str = "dh_table", n: int = N_
         if max(dp, dr) <= POSE_TOL:
             return ""
         if dp <= POSE_TOL:
-            return (
-                "the origin of frame 3 is right but its axes are not "
-                "(check alpha and the theta offsets)"
-            )
-        return "frame 3 (the TCP) ends up in the wrong place for some joint values"
+            return t("the origin of frame 3 is right but its axes are not "
+                     "(check alpha and the theta offsets)")
+        return t("frame 3 (the TCP) ends up in the wrong place for some joint values")
 
     def check(calls: list[Call], outcomes: list[Outcome], reveal: bool) -> Score:
         tally = Tally()
         for c, o in zip(calls, outcomes, strict=True):
             tally.add(case(c.kwargs, o, reveal))
-        head = (
-            f"{title}: {sum(tally.good)}/{len(calls)} random sets of link lengths right "
-            "(checked by FK of your rows)"
-        )
+        head = t("{title}: {good}/{n} random sets of link lengths right (checked by FK of "
+                 "your rows)", title=t("DH table (dh_table)"), good=sum(tally.good), n=len(calls))
         fb = tally.feedback(head) + _first_failing_hint(reveal, spec, calls, tally.good)
         return Score(tally.fraction, fb, _detail(spec, calls, outcomes, tally.notes))
 
@@ -887,6 +900,7 @@ def ik_test(
     spec = Spec(arm, six)
     fname = spec.ik_name
     what = "6-DOF arm, by decoupling" if six else "positioning arm"
+    kinds: list[str] = []
     if special == "wrist":
         title = f"IK at and near the wrist singularity, any member of the family ({fname})"
     elif special == "positioning":
@@ -897,6 +911,7 @@ def ik_test(
         title = f"IK {' and '.join(kinds)}, and near {them} ({fname})"
     else:
         title = f"IK of the {what}, all solutions ({fname})"
+
 
     def target(q: FloatArray, L: dict[str, float], tool: float | None) -> Call:
         if six:
@@ -930,7 +945,7 @@ def ik_test(
         for c, o in zip(calls, outcomes, strict=True):
             if not o.ok:
                 case = IKCase(expected=len(spec.ref_ik(c.kwargs)))
-                ctx = "on a reachable target" if raised_value_error(o) else ""
+                ctx = t(" on a reachable target") if raised_value_error(o) else ""
                 case.failure = describe_failure(o, reveal, TIMEOUT, ctx)
             else:
                 case = compare_ik(spec, c.kwargs, o.value)
@@ -940,12 +955,28 @@ def ik_test(
                 f"wrong {case.wrong}; {case.failure}"
             )
         frac = float(np.mean([c.credit for c in cases]))
-        fb = summarize_ik(title, cases)
+        fb = summarize_ik(_ik_heading(special, six, fname, kinds), cases)
         fb += _first_failing_hint(reveal, spec, calls, [c.full for c in cases])
         return Score(frac, fb, _detail(spec, calls, outcomes, notes))
 
     tags = ("ik",) + (("singular",) if special else ())
     return HiddenTest(name, weight, title, make_calls, _guarded(check), timeout=TIMEOUT, tags=tags)
+
+
+def _ik_heading(special: str, six: bool, fname: str, kinds: list[str]) -> str:
+    """The title of an IK test (see :func:`ik_test`) in the feedback's language."""
+    if special == "wrist":
+        return t("IK at and near the wrist singularity, any member of the family "
+                 "({function})", function=fname)
+    if special == "positioning":
+        words = t(" and ").join(t(k) for k in kinds)
+        near = t("them") if len(kinds) > 1 else t("it")
+        return t("IK {kinds}, and near {them} ({function})", kinds=words, them=near,
+                 function=fname)
+    if six:
+        return t("IK of the 6-DOF arm, by decoupling, all solutions ({function})",
+                 function=fname)
+    return t("IK of the positioning arm, all solutions ({function})", function=fname)
 
 
 def _near_singular(
@@ -989,6 +1020,12 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
     fname = spec.ik_name
     title = f"unreachable {'poses' if six else 'targets'} raise ValueError ({fname})"
 
+    def heading() -> str:
+        """The title in the feedback's language."""
+        if six:
+            return t("unreachable poses raise ValueError ({function})", function=fname)
+        return t("unreachable targets raise ValueError ({function})", function=fname)
+
     def make_calls(rng: np.random.Generator) -> list[Call]:
         L = arm.sample_lengths(rng)
         if six:
@@ -1014,25 +1051,27 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
             if o.ok:
                 arr = as_array(o.value)
                 nan = arr is not None and arr.size and not np.all(np.isfinite(arr))
-                r = f"{k}: returned {'NaN ' if nan else ''}values instead of raising ValueError"
+                r = (t("{kind}: returned NaN values instead of raising ValueError", kind=k) if nan
+                     else t("{kind}: returned values instead of raising ValueError", kind=k))
                 credits.append(0.0)
             elif o.unreadable:
-                r = f"{k}: {describe_failure(o, reveal, TIMEOUT)} instead of raising ValueError"
+                r = t("{kind}: {failure} instead of raising ValueError", kind=k,
+                      failure=describe_failure(o, reveal, TIMEOUT))
                 credits.append(0.0)
             elif (
                 o.error_type == "ValueError"
                 and (o.error_message or "").strip() == "math domain error"
             ):
-                r = (
-                    f"{k}: raised ValueError('math domain error') from math.sqrt/acos, which "
-                    "Task 5 says is not enough: check reachability yourself and say why"
-                )
+                r = t("{kind}: raised ValueError('math domain error') from math.sqrt/acos, "
+                      "which Task 5 says is not enough: check reachability yourself and say "
+                      "why", kind=k)
                 credits.append(0.0)
             elif raised_value_error(o):
                 r = ""
                 credits.append(1.0)
             else:
-                r = f"{k}: {describe_failure(o, reveal, TIMEOUT)} instead of ValueError"
+                r = t("{kind}: {failure} instead of ValueError", kind=k,
+                      failure=describe_failure(o, reveal, TIMEOUT))
                 credits.append(0.0)
             notes.append(r or "ok")
             if r:
@@ -1040,7 +1079,8 @@ def unreachable_test(arm: ExerciseArm, six: bool, weight: float, name: str) -> H
         full = sum(cr == 1.0 for cr in credits)
         fb = sentences(
             [
-                f"{title}: {full}/{len(calls)} raised ValueError",
+                t("{title}: {full}/{n} raised ValueError", title=heading(), full=full,
+                  n=len(calls)),
                 "; ".join(r + (f" ({m}x)" if m > 1 else "") for r, m in reasons.items()),
             ]
         )
@@ -1062,19 +1102,19 @@ def _unreachable_kind(spec: Spec, kwargs: dict[str, Any]) -> str:
             p = spec.target_pose(kwargs)[:3, 3]
             try:
                 spec.arm.ik(p, **spec.lengths(kwargs))
-                prefix = "a pose whose TCP is within reach but whose wrist centre is not"
+                prefix = N_("a pose whose TCP is within reach but whose wrist centre is not")
             except rikin.UnreachableError:
-                prefix = "a pose whose wrist centre is out of reach"
-            return prefix
+                prefix = N_("a pose whose wrist centre is out of reach")
+            return t(prefix)
         for key, words in (
-            ("below", "a target below a prismatic joint's zero position"),
-            ("above", "a target above the top of the quill's stroke"),
-            ("beyond", "a target beyond full reach"),
-            ("inside the circle", "a target inside the inner circle"),
-            ("closer than the retracted boom", "a target closer to the shoulder than l2"),
-            ("closer than the retracted radial", "a target closer to the column axis than l2"),
+            ("below", N_("a target below a prismatic joint's zero position")),
+            ("above", N_("a target above the top of the quill's stroke")),
+            ("beyond", N_("a target beyond full reach")),
+            ("inside the circle", N_("a target inside the inner circle")),
+            ("closer than the retracted boom", N_("a target closer to the shoulder than l2")),
+            ("closer than the retracted radial", N_("a target closer to the column axis than l2")),
         ):
             if key in msg:
-                return words
-        return "an unreachable target"
-    return "a target the reference can reach (please tell the instructor)"  # pragma: no cover
+                return t(words)
+        return t("an unreachable target")
+    return t("a target the reference can reach (please tell the instructor)")  # pragma: no cover

@@ -36,6 +36,8 @@ from numpy.typing import NDArray
 import rikin
 from rikin import Link, SerialArm, UnreachableError
 
+from ..i18n import N_
+
 FloatArray = NDArray[np.float64]
 
 #: Relative slack on a reach limit or a prismatic joint's zero (times the arm's
@@ -61,7 +63,7 @@ WRIST_LINKS: tuple[Link, ...] = (
     Link("R"),
 )
 
-WRIST_LABELS = ("wrist q5 > 0", "wrist q5 < 0")
+WRIST_LABELS = (N_("wrist q5 > 0"), N_("wrist q5 < 0"))
 
 
 @dataclass(frozen=True)
@@ -281,8 +283,9 @@ class ExerciseArm:
             for i, q456 in enumerate(wrist):
                 rows.append(np.concatenate([q123, q456]))
                 if singular:
-                    which = "q5 = 0" if abs(q456[1]) < 1 else "q5 = pi"
-                    labels.append(f"{label}, wrist singular ({which})")
+                    which = N_("wrist singular (q5 = 0)") if abs(q456[1]) < 1 else N_(
+                        "wrist singular (q5 = pi)")
+                    labels.append(f"{label}, {which}")
                     free.append(tuple(free123) + (3, 5))
                 else:
                     labels.append(f"{label}, {WRIST_LABELS[i]}")

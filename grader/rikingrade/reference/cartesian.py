@@ -23,6 +23,7 @@ import numpy as np
 
 from rikin import Link, UnreachableError
 
+from ..i18n import N_
 from ._common import REACH_TOL, ExerciseArm, excess
 
 __all__ = ["ARM", "Cartesian"]
@@ -56,7 +57,7 @@ class Cartesian(ExerciseArm):
                     "(prismatic joints only extend, q >= 0)",
                     excess=float(-q[i]),
                 )
-        return [(np.maximum(q, 0.0), "the only solution", ())]
+        return [(np.maximum(q, 0.0), N_("the only solution"), ())]
 
     def sample_lengths(self, rng):
         return {n: float(rng.uniform(1.0, 10.0)) for n in self.lengths}

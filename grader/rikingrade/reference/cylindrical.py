@@ -25,6 +25,7 @@ import numpy as np
 
 from rikin import Link, UnreachableError
 
+from ..i18n import N_
 from ._common import REACH_TOL, ExerciseArm, excess
 
 __all__ = ["ARM", "Cylindrical"]
@@ -57,7 +58,8 @@ class Cylindrical(ExerciseArm):
                 f"arm l2 = {L['l2']:.6g}: joint 3 would have to retract by {-q3:.6g}",
                 excess=-q3,
             )
-        return [(np.array([np.arctan2(y, x), max(q2, 0.0), max(q3, 0.0)]), "the only solution", ())]
+        q = np.array([np.arctan2(y, x), max(q2, 0.0), max(q3, 0.0)])
+        return [(q, N_("the only solution"), ())]
 
     def sample_lengths(self, rng):
         return {"l1": float(rng.uniform(2.0, 10.0)), "l2": float(rng.uniform(1.0, 6.0))}

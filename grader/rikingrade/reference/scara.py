@@ -25,12 +25,13 @@ import numpy as np
 
 from rikin import Link, UnreachableError
 
+from ..i18n import N_
 from ._common import NEAR_SINGULAR, REACH_TOL, SINGULAR_TOL, STRETCH_TOL, ExerciseArm
 
 __all__ = ["ARM", "Scara", "ELBOW_RIGHT", "ELBOW_LEFT"]
 
-ELBOW_RIGHT = "elbow right (q2 > 0)"
-ELBOW_LEFT = "elbow left (q2 < 0)"
+ELBOW_RIGHT = N_("elbow right (q2 > 0)")
+ELBOW_LEFT = N_("elbow left (q2 < 0)")
 
 
 class Scara(ExerciseArm):
@@ -71,9 +72,9 @@ class Scara(ExerciseArm):
         if 1.0 - abs(c2) < STRETCH_TOL:
             q2 = 0.0 if c2 > 0 else np.pi
             if rho < SINGULAR_TOL * self.scale(L):  # folded with l2 == l3: at the base axis
-                return [(np.array([0.0, q2, q3]), "folded onto the base axis (q1 free)", (0,))]
+                return [(np.array([0.0, q2, q3]), N_("folded onto the base axis (q1 free)"), (0,))]
             q1 = np.arctan2(y, x) - (0.0 if c2 > 0 else np.arctan2(0.0, l2 - l3))
-            label = "stretched (q2 = 0)" if c2 > 0 else "folded (q2 = pi)"
+            label = N_("stretched (q2 = 0)") if c2 > 0 else N_("folded (q2 = pi)")
             return [(np.array([q1, q2, q3]), label, ())]
         out = []
         for sign, label in ((1.0, ELBOW_RIGHT), (-1.0, ELBOW_LEFT)):
@@ -101,9 +102,9 @@ class Scara(ExerciseArm):
         q = self.sample_q(rng, L)
         if i % 2:
             q[1] = np.pi
-            return "fully folded (q2 = pi)", q
+            return N_("fully folded (q2 = pi)"), q
         q[1] = 0.0
-        return "at full reach (elbow straight, q2 = 0)", q
+        return N_("at full reach (elbow straight, q2 = 0)"), q
 
     def sample_near_special_q(self, rng, L, i=0):
         """The elbow NEAR_SINGULAR rad from straight (i even) or folded (i odd)."""

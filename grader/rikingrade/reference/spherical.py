@@ -27,12 +27,13 @@ import numpy as np
 
 from rikin import Link, UnreachableError
 
+from ..i18n import N_
 from ._common import NEAR_SINGULAR, REACH_TOL, SINGULAR_TOL, ExerciseArm
 
 __all__ = ["ARM", "Spherical", "FRONT", "BACK"]
 
-FRONT = "front (q1 towards the target, |q2| <= pi/2)"
-BACK = "back (q1 + pi, the boom over the top)"
+FRONT = N_("front (q1 towards the target, |q2| <= pi/2)")
+BACK = N_("back (q1 + pi, the boom over the top)")
 
 
 class Spherical(ExerciseArm):
@@ -66,7 +67,7 @@ class Spherical(ExerciseArm):
             return [
                 (
                     np.array([0.0, np.copysign(np.pi / 2, h), q3]),
-                    "on the vertical line through the shoulder (q1 free)",
+                    N_("on the vertical line through the shoulder (q1 free)"),
                     (0,),
                 )
             ]
@@ -87,7 +88,7 @@ class Spherical(ExerciseArm):
     def sample_special_q(self, rng, L, i=0):
         q = self.sample_q(rng, L)
         q[1] = np.pi / 2 * rng.choice([-1.0, 1.0])
-        return "on the vertical line through the shoulder (q1 free)", q
+        return N_("on the vertical line through the shoulder (q1 free)"), q
 
     def sample_near_special_q(self, rng, L, i=0):
         """The boom tilted so that frame 3's origin is NEAR_SINGULAR times the arm's size
