@@ -210,9 +210,12 @@ class General6RSolver(ChainPolish):
     and Roth): up to 16 solutions."""
 
     target_kind: TargetKind = "pose"
-    wrist_middle: int | None = 4
+    #: no wrist, shoulder or elbow: a solution is named by its root (see ``root_joint``)
+    wrist_middle: int | None = None
     labels_optional = True
     singularities = {"singular": SINGULAR}
+    #: the solutions are numbered by each one's own root (two at one root are two)
+    root_grouped = False
 
     def __init__(self, arm: SerialArm) -> None:
         check_arm(arm)
@@ -226,6 +229,8 @@ class General6RSolver(ChainPolish):
             self.elim = _Elimination(m, start)
             self.M0_inv, self.M6_inv = np.linalg.inv(m.M[0]), np.linalg.inv(m.M[6])
             if _works(self):
+                #: the joint (0-based, the arm's) whose half-angle tangent the eigenvalues are
+                self.root_joint = int(5 - self.elim.joint[2] if reverse else self.elim.joint[2])
                 return
         raise InputError(f"{arm.name}: {_DEGENERATE}")
 
@@ -301,11 +306,9 @@ class General6RSolver(ChainPolish):
             th = th[..., ::-1]
         q = th - self.offsets
         q[~valid] = np.nan
-        front = up = None
-        if labels:
-            up = np.sin(np.where(valid, th[..., 2], 0.0)) >= 0
-        return RawSolutions(q=q, valid=valid, slots=self.slots, elbow_up=up,
-                            shoulder_front=front, singular={"singular": sing & valid})
+        _ = labels  # named by their roots when the result is built (rikin.ik.api)
+        return RawSolutions(q=q, valid=valid, slots=self.slots,
+                            singular={"singular": sing & valid})
 
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         """Why one flange pose has no solution (every root of the eigenvalue problem is
