@@ -992,7 +992,7 @@ def _api_cases() -> list[Case]:
         C("IKResult[index]", "index", lambda v: res6[v], 0, fn=rikin.IKResult.__getitem__,
           param="key", numeric=False, accept=_index(len(res6))),
         C("Branch[index]", "index", lambda v: res6.branches[0][v], 0, fn=rikin.Branch.__getitem__,
-          param="key", numeric=False, accept=_index(3, False)),
+          param="key", numeric=False, accept=_index(4, False)),
         C("BatchIKResult[index]", "index", lambda v: a6.ik_batch(T6[None])[v], None,
           fn=rikin.BatchIKResult.__getitem__, param="key", numeric=False, accept=lambda v: False),
         C("NumericalIKResult[index]", "index", lambda v: num6[v], None,

@@ -170,15 +170,15 @@ def test_a_numerical_result_holds_one_solution_and_says_so():
 
 def test_a_branch_indexes_as_the_tuple_it_is():
     br = RES.branches[0]
-    assert (br[0], br[1], br[2]) == (br.shoulder, br.elbow, br.wrist) == tuple(br)
-    assert br[-1] == br.wrist and br[:2] == (br.shoulder, br.elbow)
+    assert (br[0], br[1], br[2], br[3]) == (br.shoulder, br.elbow, br.wrist, br.root) == tuple(br)
+    assert br[-1] == br.root is None and br[:2] == (br.shoulder, br.elbow)
     assert br[np.int64(1)] == br.elbow
-    shoulder, elbow, wrist = br
-    assert br._asdict() == {"shoulder": shoulder, "elbow": elbow, "wrist": wrist}
+    shoulder, elbow, wrist, root = br
+    assert br._asdict() == {"shoulder": shoulder, "elbow": elbow, "wrist": wrist, "root": root}
     assert pickle.loads(pickle.dumps(br)) == br and copy.deepcopy(br) == br
     assert br.label == f"{shoulder}/{elbow}/{wrist}"
-    with pytest.raises(OutOfRangeError, match="Branch index 3 is out of range by 1.*0 to 2"):
-        br[3]
+    with pytest.raises(OutOfRangeError, match="Branch index 4 is out of range by 1.*0 to 3"):
+        br[4]
     with pytest.raises(InputError, match="elbow is an attribute, read it as branch.elbow"):
         br["elbow"]
     for key in (None, 1.0, [0], (0,), True):

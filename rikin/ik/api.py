@@ -41,7 +41,7 @@ from .base import RawSolutions, Solver
 from .families6r import solver_for
 from .fkcheck import FKCheck
 from .kernels import pose_defects
-from .result import BatchIKResult, Branch, IKResult
+from .result import BatchIKResult, Branch, IKResult, root_names
 
 __all__ = ["solve", "solve_batch", "ClosedForm"]
 
@@ -406,7 +406,6 @@ def _finish(
     slots = np.flatnonzero(raw.valid[0])
     q = _wrap(raw.q[0, slots], rev)
     masks = {name: m[0, slots] for name, m in raw.singular.items()}
-    mid = solver.wrist_middle
     keep = np.ones(len(slots), dtype=bool)
     for name, m in masks.items():
         spec = solver.singularities[name]
@@ -424,22 +423,7 @@ def _finish(
     active = [name for name, m in masks.items() if m.any()]
     specs = [solver.singularities[name] for name in active]
 
-    branches = []
-    for i, (row, s) in enumerate(zip(q, slots, strict=True)):
-        elbow = raw.slots[s].elbow
-        if raw.elbow_up is not None:
-            elbow = "up" if raw.elbow_up[0, s] else "down"
-        wrist = None
-        if mid is not None:
-            if "wrist" in masks and masks["wrist"][i]:
-                wrist = "singular"
-            else:
-                wrist = "no-flip" if np.sin(row[mid]) >= 0 else "flip"
-        shoulder = raw.slots[s].shoulder
-        if raw.shoulder_front is not None:
-            shoulder = "front" if raw.shoulder_front[0, s] else "back"
-        branches.append(Branch(shoulder, elbow, wrist))
-
+    q, branches = _branches(solver, raw, q, slots, masks.get("wrist"))
     T_check = T_world
     err = _fk_error(arm, q, T_check, kind)
     if np.any(err > FK_CHECK_TOL):  # a bug in rikin: never hand back a wrong answer
@@ -464,6 +448,38 @@ def _finish(
         rotation_distance=rot_dist,
         reach_distance=reach_dist,
     )
+
+
+def _branches(solver: Solver, raw: RawSolutions, q: FloatArray, slots: np.ndarray,
+              wrist_singular: np.ndarray | None) -> tuple[FloatArray, list[Branch]]:
+    """The branch of each solution ``q[i]`` (of slot ``slots[i]``): the slot's, with the
+    elbow and shoulder the solver computed, the wrist flip from the middle wrist joint
+    (or the slot's, for a solver with ``wrist_from_slot``),
+    and, for a solver that numbers its solutions by a polynomial's roots (``root_joint``:
+    the joint, ``root_grouped``: whether solutions share roots), the root; then ``q`` and
+    the branches, in root order for such a solver."""
+    mid = solver.wrist_middle
+    from_slot = getattr(solver, "wrist_from_slot", False)
+    branches = []
+    for i, (row, s) in enumerate(zip(q, slots, strict=True)):
+        elbow = raw.slots[s].elbow
+        if raw.elbow_up is not None:
+            elbow = "up" if raw.elbow_up[0, s] else "down"
+        wrist = raw.slots[s].wrist if from_slot else None
+        if wrist_singular is not None and wrist_singular[i] and (from_slot or mid is not None):
+            wrist = "singular"
+        elif mid is not None:
+            wrist = "no-flip" if np.sin(row[mid]) >= 0 else "flip"
+        shoulder = raw.slots[s].shoulder
+        if raw.shoulder_front is not None:
+            shoulder = "front" if raw.shoulder_front[0, s] else "back"
+        branches.append(Branch(shoulder, elbow, wrist))
+    j = getattr(solver, "root_joint", None)
+    if j is None:
+        return q, branches
+    key = np.roll(_wrap_angle(q), -j, axis=1)
+    names, order = root_names(key, bool(getattr(solver, "root_grouped", False)))
+    return q[order], [branches[i]._replace(root=names[i]) for i in order]
 
 
 def solve_batch(

@@ -55,7 +55,11 @@ class Solver(Protocol):
     solves instead of rounded ones that miss its reach (see :mod:`rikin.ik.reach`), and
     ``labels_optional = True``: its ``solve`` then takes ``labels=False`` and skips
     ``elbow_up`` and ``shoulder_front``, which the batch path does not report; and
-    ``slots``, the ``RawSolutions.slots`` its ``solve`` always returns.
+    ``slots``, the ``RawSolutions.slots`` its ``solve`` always returns. Its labels
+    (:class:`~rikin.ik.result.Branch`) may come from ``wrist_from_slot = True`` (the
+    slot's wrist, not the middle wrist joint's sign) and ``root_joint`` (0-based, with
+    ``root_grouped``): its solutions named and ordered by the roots of a polynomial in
+    that joint, where no shoulder, elbow or wrist tells them apart.
     """
 
     target_kind: TargetKind

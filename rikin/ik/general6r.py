@@ -36,7 +36,7 @@ from ..dh import check_arm
 from ..errors import InputError
 from ..tolerances import SAME_SOLUTION_TOL
 from .base import RawSolutions, Singularity, TargetKind
-from .kernels import wrap_in_place
+from .kernels import cross3, wrap_in_place
 from .parallel3 import reversed_model
 from .pieper import (
     ACCEPT_TOL,
@@ -82,7 +82,7 @@ def _fourteen(T: FloatArray) -> FloatArray:
     ax, p = T[..., :3, 2], T[..., :3, 3]
     pp = (p * p).sum(-1, keepdims=True)
     pl = (p * ax).sum(-1, keepdims=True)
-    return np.concatenate([ax, p, pp, pl, np.cross(p, ax), pp * ax - 2 * pl * p], axis=-1)
+    return np.concatenate([ax, p, pp, pl, cross3(p, ax), pp * ax - 2 * pl * p], axis=-1)
 
 
 def _fit(F: FloatArray, axes: int) -> FloatArray:
@@ -120,9 +120,18 @@ class _Elimination:
             self.P_const = self._left(
                 [self.M[0]] + [self.M[1 + (start + i - 1) % 6] for i in range(1, 6)]
             )
+        #: ``M'2^-1 Rz(-t2) M'1^-1 Rz(-t1)`` on the grid ``(3, 3, 4, 4)`` where the target
+        #: is neither factor (the right sides are this times ``W'``), else None
+        self.C_right = None
+        if start <= 3:
+            t1, t2 = np.meshgrid(_GRID, _GRID, indexing="ij")
+            inv1, inv2 = np.linalg.inv(self.M[start + 1]), np.linalg.inv(self.M[start + 2])
+            self.C_right = inv2 @ _rz4(-t2) @ inv1 @ _rz4(-t1)
 
     def factors(self, W: FloatArray) -> tuple[list[FloatArray], FloatArray]:
         """The loop's factors ``M'1..M'5`` (index 1-5; constant or per pose) and ``W'``."""
+        if not self.start:  # W' = W, and W^-1 is not among the factors
+            return [self.M[0]] + [self.M[i] for i in range(1, 6)], W
         ms = [self.M[0]] + [self.M[i] for i in range(1, 6)] + [np.linalg.inv(W)]
         Mp = [ms[0]] + [ms[(self.start + i - 1) % 6 + 1] for i in range(1, 6)]
         last = ms[self.start if self.start else 6]
@@ -146,11 +155,13 @@ class _Elimination:
         Mp, Wp = self.factors(W)
         P = self.P_const if self.P_const is not None else self._left(Mp)
         P = np.broadcast_to(P, (N, 3, 3, 3, 14))
-        g = _GRID
-        t1, t2 = np.meshgrid(g, g, indexing="ij")
-        lead = [m[:, None, None] if m.ndim == 3 else m for m in Mp]
         Wl = Wp[:, None, None] if Wp.ndim == 3 else Wp
-        R = np.linalg.inv(lead[2]) @ _rz4(-t2) @ np.linalg.inv(lead[1]) @ _rz4(-t1) @ Wl
+        if self.C_right is not None:
+            R = self.C_right @ Wl
+        else:
+            t1, t2 = np.meshgrid(_GRID, _GRID, indexing="ij")
+            lead = [m[:, None, None] if m.ndim == 3 else m for m in Mp]
+            R = np.linalg.inv(lead[2]) @ _rz4(-t2) @ np.linalg.inv(lead[1]) @ _rz4(-t1) @ Wl
         Q = _fit(np.broadcast_to(_fourteen(R), (N, 3, 3, 14)), 2)
         Q0 = Q[:, 0, 0]
         Q8 = Q.reshape(N, 9, 14)[:, 1:].transpose(0, 2, 1)
@@ -210,9 +221,12 @@ class General6RSolver(ChainPolish):
     and Roth): up to 16 solutions."""
 
     target_kind: TargetKind = "pose"
-    wrist_middle: int | None = 4
+    #: no wrist, shoulder or elbow: a solution is named by its root (see ``root_joint``)
+    wrist_middle: int | None = None
     labels_optional = True
     singularities = {"singular": SINGULAR}
+    #: the solutions are numbered by each one's own root (two at one root are two)
+    root_grouped = False
 
     def __init__(self, arm: SerialArm) -> None:
         check_arm(arm)
@@ -226,6 +240,8 @@ class General6RSolver(ChainPolish):
             self.elim = _Elimination(m, start)
             self.M0_inv, self.M6_inv = np.linalg.inv(m.M[0]), np.linalg.inv(m.M[6])
             if _works(self):
+                #: the joint (0-based, the arm's) whose half-angle tangent the eigenvalues are
+                self.root_joint = int(5 - self.elim.joint[2] if reverse else self.elim.joint[2])
                 return
         raise InputError(f"{arm.name}: {_DEGENERATE}")
 
@@ -284,7 +300,7 @@ class General6RSolver(ChainPolish):
         if valid.any():
             F, z, o = self._fk_frames(th[valid])
             p = F[:, None, :3, 3]
-            J = np.concatenate([np.cross(z, p - o), z], axis=-1)
+            J = np.concatenate([cross3(z, p - o), z], axis=-1)
             sv = np.linalg.svd(J, compute_uv=False)
             sing[valid] = sv[:, -1] <= 1e-7 * sv[:, 0]
         return th, valid, sing
@@ -301,11 +317,9 @@ class General6RSolver(ChainPolish):
             th = th[..., ::-1]
         q = th - self.offsets
         q[~valid] = np.nan
-        front = up = None
-        if labels:
-            up = np.sin(np.where(valid, th[..., 2], 0.0)) >= 0
-        return RawSolutions(q=q, valid=valid, slots=self.slots, elbow_up=up,
-                            shoulder_front=front, singular={"singular": sing & valid})
+        _ = labels  # named by their roots when the result is built (rikin.ik.api)
+        return RawSolutions(q=q, valid=valid, slots=self.slots,
+                            singular={"singular": sing & valid})
 
     def explain(self, arm: SerialArm, T_0_n: FloatArray) -> tuple[str, float]:
         """Why one flange pose has no solution (every root of the eigenvalue problem is

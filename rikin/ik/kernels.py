@@ -453,3 +453,15 @@ def ferrari(
         for i, j in ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)):
             sure &= np.abs(z[:, i] - z[:, j]) > SEPARATE_ROOTS * (1 + np.abs(z[:, i]))
     return z, sure
+
+
+def cross3(a: FloatArray, b: FloatArray) -> FloatArray:
+    """``np.cross(a, b)`` of 3-vectors in the last axis (broadcast), with the same products
+    in the same order (so the same bits), in fewer numpy calls: it is in every polish."""
+    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
+    a0, a1, a2 = a[..., 0], a[..., 1], a[..., 2]
+    b0, b1, b2 = b[..., 0], b[..., 1], b[..., 2]
+    np.subtract(a1 * b2, a2 * b1, out=out[..., 0])
+    np.subtract(a2 * b0, a0 * b2, out=out[..., 1])
+    np.subtract(a0 * b1, a1 * b0, out=out[..., 2])
+    return out

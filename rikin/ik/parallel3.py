@@ -157,7 +157,11 @@ class ParallelAxesSolver(ChainPolish):
         self.model = reversed_model(model) if self.reverse else model
         M = self.model.M
         self.plans = tuple(_column_plan(M[i + 1]) for i in range(6))
-        self.wrist_middle: int | None = 1 if self.reverse else 4
+        #: the wrist label is the slot's: joint 5's root ``phi + d`` (no-flip) or ``phi - d``
+        #: (flip), ``d`` in [0, pi], as the kernel names it (the sign of sin q5 on a UR's
+        #: table; with a turned joint 5 or twisted axes that sign does not tell them apart)
+        self.wrist_middle: int | None = None
+        self.wrist_from_slot = True
         self.M0_inv, self.M6_inv = np.linalg.inv(M[0]), np.linalg.inv(M[6])
         self.M1_inv, self.M4_inv, self.M5_inv = (np.linalg.inv(M[i]) for i in (1, 4, 5))
         self.u = M[1, :3, 2]
@@ -185,6 +189,11 @@ class ParallelAxesSolver(ChainPolish):
             Branch(sh, el, wr) for sh in ("front", "back") for wr in ("no-flip", "flip")
             for el in ("up", "down")
         )
+        if not self.rank1:  # joints 1 and 5 from a quartic: its roots, not a shoulder and
+            # a wrist, tell the four pairs apart; joints 2-4 still have an up and down elbow
+            self.root_joint: int | None = 5 if self.reverse else 0
+            self.root_grouped = True
+            self.slots = tuple(Branch(None, b.elbow, None) for b in self.slots)
 
     def check(self, arm: SerialArm) -> None:  # noqa: D102 - the Solver protocol
         _ = arm
@@ -368,6 +377,8 @@ class ParallelAxesSolver(ChainPolish):
         front = up = None
         if labels:
             front, up = self._labels(np.where(valid[..., None], th, 0.0))
+            if not self.rank1:
+                front = None  # named by the quartic's roots (see __init__)
         if self.reverse:
             th = th[..., ::-1]
         q = th - self.offsets

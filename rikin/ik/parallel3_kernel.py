@@ -223,8 +223,7 @@ class ParallelKernel:
         self.up = (float(up[0]), float(up[1]))
         self.offsets = tuple(float(o) for o in sv.offsets)
         self.M = [_affine(M[k]) for k in range(7)]  # the batch's FK check
-        self.wrist_offset = self.offsets[1] if sv.reverse else self.offsets[4]
-        #: ``labels[front][elbow up][sin(q of the wrist's middle joint) >= 0]``
+        #: ``labels[front][elbow up][joint 5 the root phi5 + d5 (no-flip), not phi5 - d5]``
         self.labels = [
             [[Branch("front" if f else "back", "up" if u_ else "down",
                      "no-flip" if w else "flip") for w in (False, True)]
@@ -321,7 +320,9 @@ class ParallelKernel:
         b0x, b0y, bcx, bcy, bsx, bsy = self.b
         (p0x, p0y, p0z), (pcx, pcy, pcz), (psx, psy, psz) = self.vp
         (d0x, d0y, d0z), (dcx, dcy, dcz), (dsx, dsy, dsz) = self.vd
-        for th5 in (self.phi5 + d5, self.phi5 - d5):
+        if abs(sin(d5)) < LABEL:
+            return False  # joint 5's two roots (the wrist's two branches) nearly one
+        for no_flip, th5 in ((True, self.phi5 + d5), (False, self.phi5 - d5)):
             c5, s5 = cos(th5), sin(th5)
             bx, by = b0x + c5 * bcx + s5 * bsx, b0y + c5 * bcy + s5 * bsy
             dot, cross = ax * bx + ay * by, ax * by - ay * bx
@@ -338,14 +339,16 @@ class ParallelKernel:
             z = d0z + c5 * dcz + s5 * dsz
             x, y = c6 * x + s6 * y, c6 * y - s6 * x
             phi_v = atan2(g10 * x + g11 * y + g12 * z, g00 * x + g01 * y + g02 * z)
-            if not self._planar(th1, th5, th6, Px, Py, phi_v, front, q_out, branches):
+            if not self._planar(th1, th5, th6, Px, Py, phi_v, (front, no_flip), q_out,
+                                branches):
                 return False
         return True
 
     def _planar(self, th1: float, th5: float, th6: float, Px: float, Py: float, phi_v: float,
-                front: bool, q_out: list[float], branches: list[Branch]) -> bool:
+                sides: tuple[bool, bool], q_out: list[float], branches: list[Branch]) -> bool:
         """Joints 2-4 (two elbows) putting axis 4 at ``(Px, Py)`` with ``V``'s x axis at
-        ``phi_v``, and the solutions appended; False: to the general path."""
+        ``phi_v``, and the solutions appended, labelled with ``sides`` (front, no-flip: which
+        root of joints 1 and 5 they are); False: to the general path."""
         P2 = Px * Px + Py * Py
         ratio = (P2 - self.aabb) / 2.0 / self.rho_ab
         if abs(ratio) > 1.0 + OUT:
@@ -353,17 +356,13 @@ class ParallelKernel:
         if abs(ratio) > 1.0 - EDGE:
             return False  # the elbow near stretched or folded
         dpsi = acos(ratio)
+        front, no_flip = sides
         a0, a1 = self.a
         b0, b1 = self.bp
         ux, uy = self.up
         L = self.L
         s2, sig, g4, gamma2 = self.s2, self.sig, self.g4, self.gamma2
         o1, o2, o3, o4, o5, o6 = self.offsets
-        wrist_offset = o2 if self.reverse else o5
-        sw = sin(th5 - wrist_offset)
-        if abs(sw) < LABEL:
-            return False
-        flip = sw >= 0.0
         up_tol = LABEL * L * hypot(ux, uy)
         for psi in (self.phi_ab + dpsi, self.phi_ab - dpsi):
             cp, sp = cos(psi), sin(psi)
@@ -385,7 +384,7 @@ class ParallelKernel:
             else:
                 q_out += (rem(th1 - o1, tau), rem(th2 - o2, tau), rem(th3 - o3, tau),
                           rem(th4 - o4, tau), rem(th5 - o5, tau), rem(th6 - o6, tau))
-            branches.append(self.labels[front][hu > 0.0][flip])
+            branches.append(self.labels[front][hu > 0.0][no_flip])
         return True
 
 

@@ -13,41 +13,91 @@ from .._validate import FloatArray, check_index
 from ..errors import InputError, NotIndexedError
 from ..i18n import branch_name, word
 
-__all__ = ["Branch", "IKResult", "BatchIKResult"]
+__all__ = ["Branch", "IKResult", "BatchIKResult", "LABEL_WORDS"]
+
+
+#: Every word a branch label is made of (what :mod:`rikin.i18n` translates), by field; a
+#: root's numbers stay as they are. See :class:`Branch` for what each means.
+LABEL_WORDS = {
+    "shoulder": ("front", "back"),
+    "elbow": ("up", "down", "left", "right", "towards", "away"),
+    "wrist": ("no-flip", "flip", "singular"),
+    "root": ("root", "of"),
+    "none": ("unique",),
+}
 
 
 class Branch(NamedTuple):
     """Which branch of the IK a solution lies on.
 
-    Each field is ``None`` when the arm has no such choice.
+    Each field is ``None`` when the arm has no such choice; the label joins the others
+    with "/", root first (``"root 2 of 4/up"``), and is "unique" when every field is None.
+    Within one result no two solutions have the same label.
 
     shoulder : "front" or "back"
         Front: joint 1 turns the arm towards the target (the wrist centre is
         on the arm's forward side); back: joint 1 turned by pi, the arm
         reaching over its own axis.
-    elbow : "up" or "down"
+    elbow : "up" or "down" (a SCARA: "left" or "right"; a spherical arm's boom:
+        "towards" or "away" from the target)
         Up: the elbow lies above the straight line from the shoulder to the
         wrist centre (for planar arms: on the +y side when reaching along +x).
     wrist : "no-flip", "flip" or "singular"
         No-flip when the middle wrist joint's variable has sin >= 0.
+    root : "root k of n", or None
+        For arms with no shoulder, elbow or wrist to tell their solutions apart: the
+        solutions are the real roots of one polynomial in one joint ``q_j`` (a general
+        6R: degree 16, from the eigenvalue problem; three parallel axes with an offset
+        wrist: a quartic in joint 1, or 6, each root with two elbows); n counts the real
+        roots that give a solution, numbered 1 to n by increasing ``q_j`` in
+        (-pi, pi] as the DH table counts it (``-q_j`` for a reversed joint); a general
+        6R's two solutions at one root (rare) by the joints after it. ``IKResult`` lists
+        them in that order.
     """
 
     shoulder: str | None = None
     elbow: str | None = None
     wrist: str | None = None
+    root: str | None = None
 
     @property
     def label(self) -> str:
-        """The branch as text, e.g. ``"front/up/no-flip"``."""
-        parts = [p for p in self if p is not None]
+        """The branch as text, e.g. ``"front/up/no-flip"`` or ``"root 3 of 8"``."""
+        parts = [p for p in (self.root, self.shoulder, self.elbow, self.wrist) if p is not None]
         return "/".join(parts) if parts else "unique"
 
     def __getitem__(self, key: Any) -> Any:
         """``branch[0]`` is ``branch.shoulder`` (a tuple's indexing); a bad index is an
         InputError naming the fields (an :class:`~rikin.errors.OutOfRangeError` beyond them)."""
-        check_index(key, (3,), "Branch", ("field",), attributes=self._fields, arrays=False,
+        check_index(key, (4,), "Branch", ("field",), attributes=self._fields, arrays=False,
                     var="branch")
         return tuple.__getitem__(self, key)
+
+
+#: rad: two solutions whose polynomial joint is this close share its root
+ROOT_TOL = 1e-6
+
+
+def root_names(key: FloatArray, grouped: bool) -> tuple[list[str], list[int]]:
+    """``"root k of n"`` for each row of ``key (m, p)``, and the rows in root order.
+
+    ``key`` holds joint values, ``key[:, 0]`` the polynomial's joint (wrapped to
+    (-pi, pi]), the others only to order solutions that share it. ``grouped``: rows whose
+    first value is within ``ROOT_TOL`` share one root (a quartic root and its two elbows);
+    else each row is its own root, ordered by all its values.
+    """
+    if grouped:
+        order = np.argsort(key[:, 0], kind="stable").tolist()
+    else:
+        order = np.lexsort(key.T[::-1]).tolist()
+    number = [0] * len(key)
+    k, last = 0, 0.0
+    for i in order:
+        if not grouped or k == 0 or abs(key[i, 0] - last) > ROOT_TOL:
+            k += 1
+            last = float(key[i, 0])
+        number[i] = k
+    return [f"root {r} of {k}" for r in number], order
 
 
 @dataclass(frozen=True)
