@@ -54,6 +54,13 @@ _SPANISH = {
     "flip": "volteada",
     "left": "izquierda",
     "right": "derecha",
+    "towards": "hacia",
+    "away": "opuesta",
+    "singular": "singular",
+    "unique": "única",
+    # a solution named by its root ("root 2 of 4"): the numbers stay
+    "root": "raíz",
+    "of": "de",
     # cells
     "yes": "sí",
     "no": "no",
@@ -142,5 +149,6 @@ def phrase(english: str, **values: object) -> str:
 
 
 def branch_name(label: str) -> str:
-    """A branch label such as ``"front/up/no-flip"`` in the current language, part by part."""
-    return "/".join(word(part) for part in label.split("/"))
+    """A branch label such as ``"front/up/no-flip"`` or ``"root 2 of 4/up"`` in the current
+    language, word by word (the words of :data:`rikin.ik.result.LABEL_WORDS`; numbers stay)."""
+    return "/".join(" ".join(word(w) for w in part.split(" ")) for part in label.split("/"))

@@ -45,6 +45,18 @@ def test_spanish_tables_translate_headers_and_branch_names(spanish):
     assert header[:2] == ["articulación", "tipo"] and header[-1] == "desfase"
 
 
+def test_every_branch_label_word_has_its_spanish(spanish):
+    """Every word a label can hold (LABEL_WORDS) reads in Spanish, also inside a root's
+    name ("root 2 of 4"), whose numbers stay."""
+    from rikin.ik.result import LABEL_WORDS
+
+    words = [w for field in LABEL_WORDS.values() for w in field]
+    missing = [w for w in words if rikin.i18n.branch_name(w) == w and w != "singular"]
+    assert not missing, f"no Spanish for branch words {missing}"
+    assert rikin.i18n.branch_name("root 2 of 4/up") == "raíz 2 de 4/arriba"
+    assert rikin.i18n.branch_name("front/down/no-flip") == "delante/abajo/sin voltear"
+
+
 def test_the_data_stays_english_in_spanish(spanish):
     """Code that picks a branch by its label works in both editions."""
     res = _result()
