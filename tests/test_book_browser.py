@@ -51,8 +51,10 @@ import yaml
 from book_build import Site
 
 ROOT = Path(__file__).resolve().parents[1]
-PAGE_TIMEOUT_S = 60.0
-MATHJAX_TIMEOUT_S = 60.0
+#: Hang guards, not speed checks: a heavy page (the C4 chapter's interactive figures) took
+#: over 60 s to load with both CPUs busy (load 20), and the suite must pass there.
+PAGE_TIMEOUT_S = 300.0
+MATHJAX_TIMEOUT_S = 180.0
 
 BROWSERS = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 DRIVERS = ("chromedriver", "chromium-driver")
