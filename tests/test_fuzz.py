@@ -1301,6 +1301,13 @@ NOT_FUZZED = {
     "rikin.ik.parallel3_kernel.single_kernel": "builds the one-pose kernel, as ParallelKernel",
     "rikin.ik.parallel3_kernel.solve_batch": "the batch kernel on validated poses, as "
     "ParallelKernel (fuzzed through SerialArm.ik_batch of a UR arm typed as a table)",
+    "rikin.ik.pieper.Pieper6RSolver.batch_kernel": "solver protocol: builds the array kernel "
+    "ik_batch uses, as single_kernel (fuzzed through SerialArm.ik_batch of typed arms)",
+    "rikin.ik.pieper_batch.PieperBatchKernel": "the array kernel ik_batch builds from a "
+    "solver it made (fuzzed through SerialArm.ik_batch of a Puma typed as a table)",
+    "rikin.ik.pieper_batch.PieperBatchKernel.solve": "the array kernel on validated poses, "
+    "as PieperBatchKernel",
+    "rikin.ik.pieper_batch.batch_kernel": "builds the array kernel, as PieperBatchKernel",
     "rikin.dh.link_transform": "documented kernel on validated input, FK's and the IK "
     "solvers' inner loop; users call SerialArm.fk (fuzzed)",
 }

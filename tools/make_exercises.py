@@ -388,7 +388,8 @@ def _check_grader_catalogue(lang: str, check: bool) -> list[str]:
 
 def catalogue_sources(solutions: dict, shared: dict[str, str]) -> dict[str, list[str]]:
     """Every message to translate, by the file it comes from."""
-    sources = {str(CHECKS_FILE.relative_to(ROOT)): list(i18n.shared_messages(shared))}
+    sources = {str(CHECKS_FILE.relative_to(CHECKS_FILE.parents[1])):
+               list(i18n.shared_messages(shared))}
     for name, nb in solutions.items():
         sources[f"solutions/{name}"] = list(i18n.notebook_messages(nb, SHARED_TAGS))
     return sources
