@@ -50,6 +50,7 @@ from .pieper_kernel import (
     WRAP_EDGE,
     KernelSource,
     PieperKernel,
+    _wrist_rest,
 )
 from .result import Branch
 
@@ -421,16 +422,8 @@ def _wrist_general(k: PieperKernel, rw: list[FloatArray]) -> Wrist:
         bad |= ok & ~(norm2(ax, ay) >= NEAR)
         th4 = phi_w - np.arctan2(ay, ax)
         c4, s4 = np.cos(th4), np.sin(th4)
-        rest = []
-        for x, y, z in ((w00, w10, w20), (w01, w11, w21)):
-            x1 = c4 * x + s4 * y
-            y1 = c4 * y - s4 * x
-            y2 = c1b * y1 + s1b * z
-            z2 = c1b * z - s1b * y1
-            x3 = c5 * x1 + s * y2
-            y3 = c5 * y2 - s * x1
-            rest.append((x3, c2b * y3 + s2b * z2))
-        (r00, r10), (r01, r11) = rest
+        (r00, r10), (r01, r11) = _wrist_rest(((w00, w10, w20), (w01, w11, w21)), (c4, s4),
+                                            (c1b, s1b), (c5, s), (c2b, s2b))
         y6, x6 = r10 - r01, r00 + r11
         h6 = norm2(y6, x6)
         values = (th4, np.arctan2(s, c5), np.arctan2(y6, x6), c4, s4, c5, s, x6 / h6, y6 / h6)

@@ -37,8 +37,9 @@ solver's with margins of several orders of magnitude.
 from __future__ import annotations
 
 from cmath import sqrt as csqrt
+from collections.abc import Sequence
 from math import acos, atan2, cos, hypot, pi, remainder, sin, sqrt
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -577,19 +578,48 @@ class PieperKernel:
                 return None
             th4 = phi_w - atan2(ay, ax)
             c4, s4 = cos(th4), sin(th4)
-            # th6 from rest = Rx(-b2) Rz(-th5) Rx(-b1) Rz(-th4) R_w, columns 0 and 1
-            rest = []
-            for x, y, z in ((w00, w10, w20), (w01, w11, w21)):
-                x1 = c4 * x + s4 * y
-                y1 = c4 * y - s4 * x
-                y2 = c1b * y1 + s1b * z
-                z2 = c1b * z - s1b * y1
-                x3 = c5 * x1 + s * y2
-                y3 = c5 * y2 - s * x1
-                rest.append((x3, c2b * y3 + s2b * z2))
-            (r00, r10), (r01, r11) = rest
+            (r00, r10), (r01, r11) = _wrist_rest(((w00, w10, w20), (w01, w11, w21)), (c4, s4),
+                                                (c1b, s1b), (c5, s), (c2b, s2b))
             out.append((th4, atan2(s, c5), atan2(r10 - r01, r00 + r11)))
         return out
+
+
+def _wrist_rest(columns: Sequence[tuple[Any, Any, Any]], turn4: tuple[Any, Any],
+                twist1: tuple[Any, Any], turn5: tuple[Any, Any],
+                twist2: tuple[Any, Any]) -> list[tuple[Any, Any]]:
+    """Rows 0 and 1 of columns 0 and 1 of ``Rx(-b2) Rz(-th5) Rx(-b1) Rz(-th4) R_w``: what is
+    left of the wrist's rotation once joints 4 and 5 are undone, from which joint 6 is read.
+
+    Plain arithmetic, so one code serves the one-pose kernel (floats) and the batch kernel
+    (arrays of poses alike).
+
+    Parameters
+    ----------
+    columns : two tuples (x, y, z)
+        Columns 0 and 1 of the wrist rotation ``R_w`` (floats, or arrays of shape (n,)).
+    turn4, twist1, turn5, twist2 : tuple (cos, sin)
+        Joint 4's angle, the twist between axes 4 and 5, joint 5's angle, the twist
+        between axes 5 and 6.
+
+    Returns
+    -------
+    list of two tuples (r0j, r1j)
+        Rows 0 and 1 of columns 0 and 1 of the rest rotation.
+    """
+    c4, s4 = turn4
+    c1b, s1b = twist1
+    c5, s5 = turn5
+    c2b, s2b = twist2
+    rest: list[tuple[Any, Any]] = []
+    for x, y, z in columns:
+        x1 = c4 * x + s4 * y
+        y1 = c4 * y - s4 * x
+        y2 = c1b * y1 + s1b * z
+        z2 = c1b * z - s1b * y1
+        x3 = c5 * x1 + s5 * y2
+        y3 = c5 * y2 - s5 * x1
+        rest.append((x3, c2b * y3 + s2b * z2))
+    return rest
 
 
 def _apart(angles: list[float]) -> bool:
