@@ -8,7 +8,6 @@ raises), and the solutions carry only the outputs nbval checks.
 from __future__ import annotations
 
 import importlib.util
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -16,6 +15,7 @@ from pathlib import Path
 import _hidden_harness as H
 import nbformat
 import pytest
+from exercise_tree import copy_exercise_tree
 
 ROOT = Path(__file__).resolve().parent.parent
 ARMS = ("cartesian", "cylindrical", "spherical", "scara")
@@ -46,15 +46,7 @@ def test_check_command_exit_codes(tmp_path, monkeypatch):
                             capture_output=True, text=True, cwd=tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr
     # a copy of the tree where an exercise was hand-edited and the shared cells changed
-    (tmp_path / "tools").mkdir()
-    shutil.copytree(ROOT / "solutions", tmp_path / "solutions")  # with the catalogues
-    shutil.copytree(ROOT / "exercises", tmp_path / "exercises")  # with exercises/es/
-    shutil.copy(ROOT / "tools" / "exercise_checks.py", tmp_path / "tools")
-    monkeypatch.setattr(mx, "ROOT", tmp_path)
-    monkeypatch.setattr(mx, "SOLUTIONS", tmp_path / "solutions")
-    monkeypatch.setattr(mx, "EXERCISES", tmp_path / "exercises")
-    monkeypatch.setattr(mx, "CHECKS_FILE", tmp_path / "tools" / "exercise_checks.py")
-    assert mx.generate(check=True) == []
+    copy_exercise_tree(mx, tmp_path, monkeypatch)
     ex = tmp_path / "exercises" / "scara.ipynb"
     ex.write_text(ex.read_text().replace("task 3: ik_scara", "task 3: done"))
     assert mx.generate(check=True) == ["exercises/scara.ipynb"]

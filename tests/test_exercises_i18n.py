@@ -19,6 +19,7 @@ import _hidden_harness as H
 import nbformat
 import numpy as np
 import pytest
+from exercise_tree import copy_exercise_tree
 from grader_fixtures.helpers import FAST, require_bwrap
 from rikingrade import grade, i18n
 from rikingrade.assignment import load_assignment
@@ -50,16 +51,7 @@ def tags(cell) -> list[str]:
 @pytest.fixture
 def tree(tmp_path, monkeypatch):
     """A copy of solutions/, exercises/ (both languages) and the checks, for the generator."""
-    shutil.copytree(ROOT / "solutions", tmp_path / "solutions")
-    shutil.copytree(ROOT / "exercises", tmp_path / "exercises")
-    (tmp_path / "tools").mkdir()
-    shutil.copy(ROOT / "tools" / "exercise_checks.py", tmp_path / "tools")
-    monkeypatch.setattr(mx, "ROOT", tmp_path)
-    monkeypatch.setattr(mx, "SOLUTIONS", tmp_path / "solutions")
-    monkeypatch.setattr(mx, "EXERCISES", tmp_path / "exercises")
-    monkeypatch.setattr(mx, "CHECKS_FILE", tmp_path / "tools" / "exercise_checks.py")
-    assert mx.generate(check=True) == []
-    return tmp_path
+    return copy_exercise_tree(mx, tmp_path, monkeypatch)
 
 
 def _edit_catalogue(root: Path, msgid_part: str, change) -> None:
