@@ -312,8 +312,10 @@ def cmd_translations() -> int:
     Sphinx's gettext builder extracts every paragraph, heading, caption and admonition of
     the book (notebooks are not executed for this) into ``_build/gettext/*.pot``; sphinx-intl
     merges them into each language's ``.po`` files: new text gets an empty translation,
-    changed text keeps the old one marked ``fuzzy`` until a translator checks it. The book
-    build and the tests refuse a catalogue with an empty or fuzzy entry.
+    changed text keeps the old one marked ``fuzzy`` until a translator checks it. The texts
+    the code cells print (rikin.booktext templates) are merged the same way into
+    ``cells.po`` by tools/cell_messages.py. The tests refuse a catalogue with an empty or
+    fuzzy entry.
     """
     ensure_venv("all")
     text = (ROOT / "_config.yml").read_text()
@@ -328,6 +330,8 @@ def cmd_translations() -> int:
     for language in EDITIONS:
         check([BIN / "sphinx-intl", "update", "-p", pot, "-d", ROOT / "book" / "locales",
                "-l", language, "-w", "0"], child_env())
+    # the texts the cells print (✓ lines, table headers): book/locales/<lang>/.../cells.po
+    check([PY, ROOT / "tools" / "cell_messages.py"], child_env())
     return 0
 
 
