@@ -166,6 +166,75 @@ def test_every_text_of_a_translated_page_is_translated(language: str, book_html:
                          f"translations, then translate them):\n" + "\n".join(missing[:40]))
 
 
+#: Words a cell text may share with the English one: units, functions and the names the
+#: Spanish edition keeps (roll, pitch, yaw; TCP).
+SAME_IN_BOTH = {"rad", "mm", "cos", "sin", "tan", "atan", "arccos", "arcsin", "arctan",
+                "roll", "pitch", "yaw", "TCP", "DH"}
+_CODE_LIKE = re.compile(r"`[^`]*`|\S*[_\d(){}\[\]]\S*")
+
+
+def _has_words(text: str) -> bool:
+    """Whether ``text`` has a word to translate (not only numbers, symbols, code, units)."""
+    bare = _CODE_LIKE.sub(" ", text)
+    return any(w not in SAME_IN_BOTH for w in re.findall(r"[A-Za-z]{2,}", bare))
+
+
+def cell_texts(html_file: Path) -> list[str]:
+    """The texts a page's code cells printed: every ✓ line and every table header cell."""
+    article = _article(html_file)
+    texts = []
+    for output in article.select("div.cell_output, div.output"):
+        texts += [" ".join(th.get_text(" ").split()) for th in output.select("th")]
+        for el in output.select("p, pre, li"):
+            texts += [" ".join(line.split()) for line in el.get_text().split("\n")
+                      if line.strip().startswith("✓")]
+    return texts
+
+
+def english_cell_texts(english_html: Path, other_html: Path) -> list[str]:
+    """The ✓ lines and headers of the English page with words in them that the other
+    edition's page shows unchanged."""
+    other = set(cell_texts(other_html))
+    return [t for t in dict.fromkeys(cell_texts(english_html)) if t in other and _has_words(t)]
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", BOOK_PAGES)
+def test_no_check_line_or_table_header_is_english(page: str, book_html: Path) -> None:
+    """The ✓ lines and table headers the cells print read in the edition's language
+    (rikin.booktext and book/locales/<lang>/LC_MESSAGES/cells.po; rikin.i18n)."""
+    english = book_html / page
+    assert english.is_file()
+    for folder in EDITIONS.values():
+        left = english_cell_texts(english, book_html / folder / page)
+        assert not left, (f"{folder}/{page}: {len(left)} cell texts still English:\n"
+                          + "\n".join(repr(t[:100]) for t in left[:30]))
+
+
+def test_the_cell_text_comparison_sees_english(tmp_path: Path) -> None:
+    """cell_texts reads ✓ lines and headers of cell outputs (not the prose); a text with
+    only numbers, symbols, code or units may stay as it is."""
+    def page(name: str, check: str, header: str) -> Path:
+        path = tmp_path / f"{name}.html"
+        path.write_text(
+            f'<html><body><article class="bd-article"><p>✓ prose is not a cell</p>'
+            f'<div class="cell_output"><p>{check}</p><table><tr><th>{header}</th>'
+            f"<th>q1 (°)</th><th>θ1 (rad)</th><th>arm_slot</th></tr></table></div>"
+            f"</article></body></html>", encoding="utf-8")
+        return path
+
+    english = page("en", "✓ both reach the target (gap 1e-12)", "joint")
+    assert cell_texts(english) == ["joint", "q1 (°)", "θ1 (rad)", "arm_slot",
+                                   "✓ both reach the target (gap 1e-12)"]
+    spanish = page("es", "✓ las dos alcanzan el objetivo (diferencia 1e-12)", "articulación")
+    assert english_cell_texts(english, spanish) == []
+    assert english_cell_texts(english, page("half", "✓ both reach the target (gap 1e-12)",
+                                            "articulación")) == [
+        "✓ both reach the target (gap 1e-12)"]
+    assert english_cell_texts(english, page("head", "✓ las dos", "joint")) == ["joint"]
+
+
 def _site_texts(page_html: str) -> list[str]:
     """The texts a page has from the config: the book's title, the search box, the
     buttons that fold a cell, the footer."""

@@ -6,6 +6,12 @@ numbers, formulas and cross-references.
 ``python3 tools/dev.py translations`` refreshes the catalogues after the English text
 changed: new messages come in empty and changed ones fuzzy, and these tests then fail until
 a translator has dealt with each.
+
+One more catalogue per language, ``cells.po``, holds the texts the pages' code cells print
+(the ✓ lines, table headers and figure words; rikin.booktext): the same checks, plus that it
+holds exactly the templates the pages have today and that each translation keeps the
+template's placeholders and numbers in their order (the editions' numbers are compared in
+order, tests/test_book_editions.py).
 """
 
 from __future__ import annotations
@@ -23,6 +29,10 @@ from babel.messages.pofile import read_po
 ROOT = Path(__file__).resolve().parents[1]
 LOCALES = ROOT / "book" / "locales"
 LANGUAGES = ("es",)
+#: The catalogue of the texts the code cells print (not a page's).
+CELLS = "cells"
+sys.path.insert(0, str(ROOT / "tools"))
+import cell_messages  # noqa: E402
 
 
 def _catalogues(language: str) -> dict[str, Path]:
@@ -43,7 +53,68 @@ def _messages(path: Path) -> list:
 
 @pytest.mark.parametrize("language", LANGUAGES)
 def test_every_page_has_a_catalogue(language):
-    assert sorted(_catalogues(language)) == _pages()
+    assert sorted(set(_catalogues(language)) - {CELLS}) == _pages()
+    assert CELLS in _catalogues(language), "no catalogue of the cells' texts"
+
+
+# ----------------------------------------------------- the texts the code cells print
+def stale_cell_messages(catalogue: Path, book: Path) -> list[str]:
+    """Templates of the pages of ``book`` missing from ``catalogue``, and entries of the
+    catalogue no page has any more (tools/cell_messages.py, rikin.booktext)."""
+    source = {m for found in cell_messages.book_messages(book).values() for m in found}
+    held = {m.id for m in _messages(catalogue)}
+    return ([f"new in the pages, not in the catalogue: {m[:70]!r}" for m in sorted(source - held)]
+            + [f"in the catalogue, gone from the pages: {m[:70]!r}" for m in sorted(held - source)])
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_the_cells_catalogue_holds_exactly_the_templates_of_the_pages(language):
+    stale = stale_cell_messages(_catalogues(language)[CELLS], ROOT / "book")
+    assert not stale, (f"{len(stale)} entries of {CELLS}.po are stale: run python3 tools/dev.py "
+                       "translations, then translate what it marks\n" + "\n".join(stale[:40]))
+
+
+def test_a_changed_template_makes_the_cells_catalogue_stale(tmp_path):
+    """Change one ✓ template of a copy of decoupling.md: the catalogue is stale (the new
+    template is missing, the old one is left over); the page as it is is not."""
+    page = (ROOT / "book" / "decoupling.md").read_text(encoding="utf-8")
+    old = "the transpose is the inverse (to {inv:.0e}), and the lesson's "
+    assert page.count(old) == 1
+    catalogue = _catalogues("es")[CELLS]
+    for name, text in (("same", page), ("changed", page.replace(old, old.replace("to", "up to")))):
+        (tmp_path / name / "book").mkdir(parents=True)
+        (tmp_path / name / "book" / "decoupling.md").write_text(text, encoding="utf-8")
+    same = {m for m in stale_cell_messages(catalogue, tmp_path / "same" / "book")
+            if m.startswith("new")}
+    changed = stale_cell_messages(catalogue, tmp_path / "changed" / "book")
+    assert not same
+    assert any(m.startswith("new") and "up to {inv:.0e}" in m for m in changed)
+    assert any(m.startswith("in the catalogue") and "(to {inv:.0e})" in m for m in changed)
+
+
+#: What a cell text's translation keeps in order: ``{placeholders}`` (with their format) and
+#: the numbers written in the template.
+_TOKEN = re.compile(r"\{[^{}]*\}|(?<![\w.])-?\d+(?:\.\d+)?(?![\w])")
+
+
+def reordered(catalogue: Path) -> list[str]:
+    """Translations whose placeholders and numbers are not the template's, in its order."""
+    bad = []
+    for m in _messages(catalogue):
+        if m.string and _TOKEN.findall(m.id) != _TOKEN.findall(m.string):
+            bad.append(f"{m.id[:60]!r}: {_TOKEN.findall(m.id)} -> {_TOKEN.findall(m.string)}")
+    return bad
+
+
+@pytest.mark.parametrize("language", LANGUAGES)
+def test_cell_translations_keep_placeholders_and_numbers_in_order(language, tmp_path):
+    bad = reordered(_catalogues(language)[CELLS])
+    assert not bad, "translations that drop, change or move a value:\n" + "\n".join(bad[:30])
+    # the check sees a moved value and a changed format
+    for msgstr in ("{b} y {a:.1e}", "{a:.2e} y {b}"):
+        broken = tmp_path / f"{len(msgstr)}.po"
+        broken.write_text(f'msgid "{{a:.1e}} and {{b}}"\nmsgstr "{msgstr}"\n', encoding="utf-8")
+        assert len(reordered(broken)) == 1
 
 
 @pytest.mark.parametrize("language", LANGUAGES)
@@ -287,6 +358,8 @@ def test_catalogues_hold_exactly_the_messages_of_the_sources(tmp_path, language)
     pot = tmp_path / "_build" / "gettext"
     stale = []
     for page, path in _catalogues(language).items():
+        if page == CELLS:
+            continue  # not a page: test_the_cells_catalogue_holds_exactly_the_templates_...
         source = {m.id for m in _messages(pot / f"{page}.pot")}
         catalogue = {m.id for m in _messages(path)}
         stale += [f"{page}: new in the source, not in the catalogue: {i[:70]!r}"
