@@ -42,7 +42,6 @@ from .pieper import (
     ACCEPT_TOL,
     ChainModel,
     ChainPolish,
-    _column_plan,
     _rz4,
     _unit_model,
     chain_model,
@@ -236,7 +235,6 @@ class General6RSolver(ChainPolish):
         for start, reverse in _FORMULATIONS:
             m = _shifted(reversed_model(model) if reverse else model)
             self.reverse, self.model = reverse, m
-            self.plans = tuple(_column_plan(m.M[i + 1]) for i in range(6))
             self.elim = _Elimination(m, start)
             self.M0_inv, self.M6_inv = np.linalg.inv(m.M[0]), np.linalg.inv(m.M[6])
             if _works(self):

@@ -43,7 +43,6 @@ from .pieper import (
     GEOMETRY_TOL,
     ChainModel,
     ChainPolish,
-    _column_plan,
     _rz4,
     _solve_sinusoid,
     _trig2_roots,
@@ -156,7 +155,6 @@ class ParallelAxesSolver(ChainPolish):
         self.offsets = model.offsets
         self.model = reversed_model(model) if self.reverse else model
         M = self.model.M
-        self.plans = tuple(_column_plan(M[i + 1]) for i in range(6))
         #: the wrist label is the slot's: joint 5's root ``phi + d`` (no-flip) or ``phi - d``
         #: (flip), ``d`` in [0, pi], as the kernel names it (the sign of sin q5 on a UR's
         #: table; with a turned joint 5 or twisted axes that sign does not tell them apart)

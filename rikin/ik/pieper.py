@@ -76,10 +76,6 @@ ACCEPT_TOL = max(REACH_TOL, 1e-10)
 #: Joint values closer than this (rad) are one root of the closed form.
 SAME_ROOT_TOL = 1e-7
 
-#: Ferrari's formulas take a batch of at least this many quartics (for fewer, numpy's
-#: cost per call makes one call of the eigenvalue solver cheaper).
-FERRARI_MIN = 32
-
 #: Two position branches nearer than this (rad, each joint) are compared for
 #: coinciding (see ``Pieper6RSolver._merge_coinciding``); branches farther apart
 #: are always distinct solutions.
@@ -472,98 +468,43 @@ def general_solver(arm: SerialArm) -> Pieper6RSolver:
 
 
 # ------------------------------------------------------------------ batched FK
-#: One joint's constant factor ``M_i`` as sparse column sums: for each of its four
-#: columns (x, y, z axes, origin), the ``(k, coefficient)`` of the frame's columns
-#: x, y, z it adds up (DH factors are mostly zeros and ones).
-ColumnPlan = tuple[tuple[tuple[int, float], ...], ...]
-
-
-def _column_plan(M_i: FloatArray) -> ColumnPlan:
-    return tuple(
-        tuple((k, float(M_i[k, j])) for k in range(3) if M_i[k, j] != 0.0) for j in range(4)
-    )
-
-
-def _column_sum(terms: tuple[tuple[int, float], ...], cols: list[FloatArray],
-                start: FloatArray | None = None) -> FloatArray:
-    """``start + sum(coef * cols[k])`` over ``terms``, with no product by +-1."""
-    out = start
-    for k, a in terms:
-        v = cols[k]
-        if out is None:
-            out = v if a == 1.0 else -v if a == -1.0 else a * v
-        else:
-            out = out + v if a == 1.0 else out - v if a == -1.0 else out + a * v
-    assert out is not None
-    return out
-
-
 def _chain_fk(
-    M: FloatArray, plans: tuple[ColumnPlan, ...], th: FloatArray, frames: bool = False
+    M: FloatArray, th: FloatArray, frames: bool = False
 ) -> tuple[FloatArray, FloatArray | None, FloatArray | None]:
     """``M0 Rz(th1) M1 ... Rz(th6) M6`` for joints ``th (..., 6)``: the flange poses
     ``(..., 4, 4)`` and, with ``frames``, the joint axes and origins ``(..., 6, 3)``.
 
-    Column by column over all rows at once (each column a ``(3, n)`` array): the
-    rotation about z mixes two columns, and ``M_i``'s zeros and ones cost nothing: about
-    a fifth of the flops of 4x4 matrix products, and the same results to rounding (1e-16).
+    Column by column, every row in one array per step (the frame's four columns as
+    ``(4, 3, n)``): the rotation about z mixes columns x and y, and ``M_i`` adds them up
+    with its entries as coefficients. Only elementwise products and sums, in the same
+    order for every row: a row's result does not depend on how many other rows there are
+    or where it stands among them (a matrix product by BLAS rounds differently by the
+    size and the place of its block), so a pose is solved alike alone and in a batch.
     """
     shape = th.shape[:-1]
     rows = th.reshape(-1, 6)
     n = rows.shape[0]
-    if n <= FEW_ROWS:
-        return _chain_fk_few(M, rows, frames, shape)
     c, s = np.cos(rows.T), np.sin(rows.T)
-    cols = [np.broadcast_to(M[0, :3, j : j + 1], (3, n)) for j in range(4)]
-    axes = np.empty((6, 3, n)) if frames else None
-    origins = np.empty((6, 3, n)) if frames else None
+    cols = np.empty((4, 3, n))
+    cols[...] = M[0, :3, :].T[:, :, None]
+    seen = np.empty((6, 2, 3, n)) if frames else None
     for i in range(6):
-        if axes is not None and origins is not None:
-            axes[i], origins[i] = cols[2], cols[3]
+        if seen is not None:
+            seen[i] = cols[2:]
         x, y = cols[0], cols[1]
-        turned = [c[i] * x + s[i] * y, c[i] * y - s[i] * x, cols[2]]
-        plan = plans[i]
-        cols = [_column_sum(plan[j], turned) for j in range(3)] + [
-            _column_sum(plan[3], turned, cols[3]) if plan[3] else cols[3]
-        ]
+        K = M[i + 1, :3, :, None, None]  # K[k, j]: how much of turned column k column j takes
+        new = K[0] * (c[i] * x + s[i] * y) + K[1] * (c[i] * y - s[i] * x) + K[2] * cols[2]
+        new[3] += cols[3]
+        cols = new
     T: FloatArray = np.empty((n, 4, 4))
-    for j in range(4):
-        T[:, :3, j] = cols[j].T
+    T[:, :3, :] = cols.transpose(2, 1, 0)
     T[:, 3, :3] = 0.0
     T[:, 3, 3] = 1.0
     T = T.reshape(shape + (4, 4))
-    if axes is None or origins is None:
+    if seen is None:
         return T, None, None
-    return (T, axes.transpose(2, 0, 1).reshape(shape + (6, 3)),
-            origins.transpose(2, 0, 1).reshape(shape + (6, 3)))
-
-
-#: Up to this many rows, :func:`_chain_fk` multiplies 4x4 matrices (12 products in all,
-#: whatever the rows): fewer numpy calls than the column sums, which win on long batches.
-FEW_ROWS = 32
-
-
-def _chain_fk_few(M: FloatArray, rows: FloatArray, frames: bool, shape: tuple[int, ...]
-                  ) -> tuple[FloatArray, FloatArray | None, FloatArray | None]:
-    """:func:`_chain_fk` of a few rows ``(n, 6)`` by 4x4 products: ``Rz(th_i) M_i`` for all
-    joints at once, then their running product from ``M0``."""
-    n = rows.shape[0]
-    c, s = np.cos(rows), np.sin(rows)
-    RM = np.zeros((n, 6, 4, 4))
-    RM[..., 0, 0], RM[..., 0, 1], RM[..., 1, 0], RM[..., 1, 1] = c, -s, s, c
-    RM[..., 2, 2] = RM[..., 3, 3] = 1.0
-    RM = RM @ M[1:]
-    A = np.broadcast_to(M[0], (n, 4, 4))
-    before = np.empty((n, 6, 4, 4)) if frames else None
-    for i in range(6):
-        if before is not None:
-            before[:, i] = A
-        A = A @ RM[:, i]
-    T = A.reshape(shape + (4, 4))
-    if before is None:
-        return T, None, None
-    return (T, before[:, :, :3, 2].reshape(shape + (6, 3)),
-            before[:, :, :3, 3].reshape(shape + (6, 3)))
+    frames_ = seen.transpose(1, 3, 0, 2)  # (2, n, 6, 3)
+    return T, frames_[0].reshape(shape + (6, 3)), frames_[1].reshape(shape + (6, 3))
 
 
 # ------------------------------------------------------------------ batched helpers
@@ -637,8 +578,10 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
     j = np.arange(5)
     ang = 2 * np.pi * j / 5
     a0 = F.mean(axis=1)
-    a = [2 / 5 * F @ np.cos(k * ang) for k in (1, 2)]
-    b = [2 / 5 * F @ np.sin(k * ang) for k in (1, 2)]
+    # sums of products written out (F @ cos would be BLAS's, whose rounding depends on how
+    # many rows F has: a root at a fold, known to ~sqrt(eps), would move with the batch)
+    a = [2 / 5 * (F * np.cos(k * ang)).sum(-1) for k in (1, 2)]
+    b = [2 / 5 * (F * np.sin(k * ang)).sum(-1) for k in (1, 2)]
     # z = exp(i theta): z^2 F = c2 z^4 + c1 z^3 + c0 z^2 + conj(c1) z + conj(c2)
     c2 = (a[1] - 1j * b[1]) / 2
     c1 = (a[0] - 1j * b[0]) / 2
@@ -651,13 +594,11 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
     if quartic.any():
         lead = c2[quartic]
         # monic: z^4 + A z^3 + B z^2 + C z + D; Ferrari's formulas, and the companion
-        # matrix's eigenvalues where they are not confirmed (a multiple root or worse)
+        # matrix's eigenvalues where they are not confirmed (a multiple root or worse):
+        # which of the two a pose takes is decided by that pose alone, not by the batch
         A, B = c1[quartic] / lead, a0[quartic] / lead
         C, D = np.conj(c1[quartic]) / lead, np.conj(lead) / lead
-        if len(A) >= FERRARI_MIN:
-            z, sure = _ferrari(A, B, C, D)
-        else:  # a few poses: one eigenvalue call costs less than Ferrari's forty
-            z, sure = np.zeros((len(A), 4), dtype=complex), np.zeros(len(A), dtype=bool)
+        z, sure = _ferrari(A, B, C, D)
         if not sure.all():
             unsure = ~sure
             M = np.zeros((int(unsure.sum()), 4, 4), dtype=complex)
@@ -691,13 +632,13 @@ def _trig2_roots(F: FloatArray) -> tuple[FloatArray, np.ndarray]:
 
 class ChainPolish:
     """Gauss-Newton polish of joint values on the whole pose, for solvers of an arm given as
-    a :class:`ChainModel` (``self.model``) with its column plans (``self.plans``)."""
+    a :class:`ChainModel` (``self.model``)."""
 
     model: ChainModel
-    plans: tuple[ColumnPlan, ...]
+
     def _fk_frames(self, th: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Flange pose, joint axes and origins for thetas ``(..., 6)``."""
-        T, axes, origins = _chain_fk(self.model.M, self.plans, th, frames=True)
+        T, axes, origins = _chain_fk(self.model.M, th, frames=True)
         assert axes is not None and origins is not None
         return T, axes, origins
 
@@ -844,7 +785,6 @@ class Pieper6RSolver(ChainPolish):
         self.sigma = float(np.sign(sb1))
         self.kappa = 1.0 if math.cos(wg.b1 + wg.b2) > 0 else -1.0
         self.M0_inv = np.linalg.inv(model.M[0])
-        self.plans = tuple(_column_plan(model.M[i + 1]) for i in range(6))
         self.meet_geometry = _meet_geometry(model, wg) if self.case == "meet" else None
         self.slots = tuple(Branch(None, None, w) for _ in range(POSITION_SLOTS)
                            for w in ("no-flip", "flip"))
