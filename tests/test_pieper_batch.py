@@ -117,8 +117,9 @@ def same_q_bound(arm, q):
     """How closely a pose fixes its joints ``q (k, 6)``: 1e-9 rad, or where larger the
     rounding of the pose over the Jacobian's smallest relative singular value ``r`` (a
     simple root), or its square root over ``r`` (two roots about to meet, a fold: there
-    the general solver's answer depends to ~1e-5 rad on which other poses it solves in
-    the same call); no bound at an exactly singular pose, whose free joints FK checks."""
+    the plain-float kernel of ``arm.ik`` and the general solver of the batch may round a
+    root ~1e-5 rad apart); no bound at an exactly singular pose, whose free joints FK
+    checks."""
     sv = np.linalg.svd(arm.jacobian(q), compute_uv=False)
     ratio = float((sv[..., -1] / sv[..., 0]).min())
     return np.inf if ratio == 0.0 else max(SAME_Q, 1e-14 / ratio, np.sqrt(1e-16 / ratio))
@@ -149,7 +150,7 @@ def assert_batch_equals_ik(arm, Ts):
     holds every solution of ``arm.ik`` among its slots. Where the array kernel took the
     pose: to ``SAME_Q``, and neither flags it singular. Where both took the general
     solver: to what the pose fixes (``same_q_bound``), and the flags are that solver's
-    (which at a fold depend on the other poses of its call: the xfail test below)."""
+    (``arm.ik`` may have taken such a pose by its plain-float kernel, which flags none)."""
     batch = arm.ik_batch(Ts, workers=2)
     twin = dh_twin(arm)
     kernel = families6r.solver_for(twin).batch_kernel(twin)
@@ -162,7 +163,7 @@ def assert_batch_equals_ik(arm, Ts):
         assert np.abs(F[:, :3, 3] - T[:3, 3]).max(initial=0.0) <= 1e-9 * arm.scale
         assert np.abs(F[:, :3, :3] - T[:3, :3]).max(initial=0.0) <= 1e-9
         res = arm.ik(T)
-        if not suspect[n]:  # (the general solver's flag at a fold: see the xfail below)
+        if not suspect[n]:
             assert not batch.singular[n] and not res.singular, n
         bound = same_q_bound(arm, res.q) if suspect[n] else SAME_Q
         if res.singular:
@@ -199,9 +200,9 @@ def test_batch_equals_ik_pose_by_pose_random_and_near_singular(make):
 
 
 def test_batch_of_many_poses_in_chunks_and_threads_equals_one_chunk():
-    """Chunks split across threads fill the same rows as one chunk on one thread (to
-    rounding: the general solver takes a chunk's suspect poses together, and its root
-    finder depends on how many there are)."""
+    """Chunks split across threads fill the same rows as one chunk on one thread, to the
+    bit: the general solver takes a chunk's suspect poses together, and a pose's answer
+    does not depend on the others (tests/test_alone_or_in_a_batch.py)."""
     arm = with_base_tool(irb140)
     rng = np.random.default_rng(43)
     Ts = arm.fk(rng.uniform(-pi, pi, (2500, 6)))
@@ -210,26 +211,7 @@ def test_batch_of_many_poses_in_chunks_and_threads_equals_one_chunk():
     assert np.array_equal(one.valid, many.valid)
     assert np.array_equal(one.singular, many.singular)
     assert np.array_equal(np.isnan(one.q), np.isnan(many.q))
-    assert np.nanmax(np.abs(one.q - many.q)) <= 1e-12
-
-
-@pytest.mark.xfail(strict=True, reason="rikin.ik.pieper's general solver answers a pose "
-                   "near a fold differently (8.6e-6 rad here; a wrist fold's flag on or off) "
-                   "by which other poses it solves in the same call; ik_batch hands it the "
-                   "declined poses of a chunk together, arm.ik one pose: the same on main")
-def test_general_solver_answers_a_pose_alone_as_in_a_group():
-    arm = with_base_tool(skew_quartic)
-    rng = np.random.default_rng(42)
-    q = np.concatenate([rng.uniform(-pi, pi, (40, 6)), near_singular_q(arm, rng, 4)])
-    T0 = arm._world_to_base(arm.fk(q))
-    solver = families6r.solver_for(arm)
-    group = solver.solve(arm, T0[40:], None, labels=False)
-    for k in range(len(q) - 40):
-        alone = solver.solve(arm, T0[[40 + k]], None, labels=False)
-        assert np.array_equal(alone.valid[0], group.valid[k])
-        ok = alone.valid[0]
-        gap = np.abs(rikin.wrap_angle(alone.q[0][ok] - group.q[k][ok]))
-        assert gap.max(initial=0.0) <= SAME_Q, k
+    assert np.array_equal(one.q, many.q, equal_nan=True)
 
 
 @st.composite
