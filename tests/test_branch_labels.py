@@ -21,6 +21,7 @@ from test_families import FAMILIES, random_q, target, typed
 from test_ik6r_families import parallel_arm, random_6r, ur5e
 
 from rikin import SerialArm, robots
+from rikin.errors import InputError
 from rikin.ik.api import _solver
 from rikin.ik.result import LABEL_WORDS
 
@@ -105,3 +106,27 @@ def test_a_general_6r_names_each_solution_by_its_root():
     n = len(res)
     assert n >= 4
     assert list(res.labels) == [f"root {k} of {n}" for k in range(1, n + 1)]
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_batch_labels_are_those_of_one_pose_at_a_time(seed):
+    """``ik_batch(...).labels(i)`` of a general 6R names pose i's solutions as ``arm.ik``
+    does, each solution by the same label, standard and modified DH, with joints reversed
+    at random. Fails before: a general 6R's batch slots were all "unique"."""
+    rng = np.random.default_rng([29, 2, seed])
+    arms_ = [random_6r(rng, "standard"), random_6r(rng, "modified")]
+    for arm in arms_ + [reversed_at_random(a, rng) for a in arms_]:
+        Ts = arm.fk(rng.uniform(-pi, pi, (6, 6)))
+        batch = arm.ik_batch(Ts, workers=1)
+        for i, T in enumerate(Ts):
+            labels = batch.labels(i)
+            assert len(set(labels)) == len(labels), (arm.name, labels)
+            one = arm.ik(T)
+            assert sorted(labels) == sorted(one.labels), (arm.name, labels, one.labels)
+            got = dict(zip(labels, batch.q[i][batch.valid[i]], strict=True))
+            for label, q in zip(one.labels, one.q, strict=True):
+                gap = np.abs(np.remainder(got[label] - q + pi, 2 * pi) - pi).max()
+                assert gap <= 1e-9, (arm.name, label, gap)
+    assert batch.labels(-1) == batch.labels(len(Ts) - 1)
+    with pytest.raises(InputError, match="pose"):
+        batch.labels(len(Ts))

@@ -522,7 +522,8 @@ def solve_batch(
     """
     if isinstance(arm, SerialArm) and arm.reversed_joints:
         res = solve_batch(arm._dh, T, chunk_size=chunk_size, workers=workers)
-        return replace(res, q=_wrap(res.q * arm.directions, arm.revolute))
+        roots = None if res.roots is None else (res.roots[0], tuple(arm.directions))
+        return replace(res, q=_wrap(res.q * arm.directions, arm.revolute), roots=roots)
     solver = _solver(arm)
     chunk_size = _count(chunk_size, "chunk_size")
     if workers is not None:
@@ -624,7 +625,16 @@ class _Batch:
             branches=self.slots,
             rotation_distance=self.rotation_distance,
             reach_distance=self.reach_distance,
+            roots=self._roots(),
         )
+
+    def _roots(self) -> tuple[int, tuple[float, ...]] | None:
+        """:attr:`BatchIKResult.roots` of this arm's solver: for one that names each
+        solution by its own root alone (not a root shared by slots with fixed elbows)."""
+        j = getattr(self.solver, "root_joint", None)
+        if j is None or getattr(self.solver, "root_grouped", False):
+            return None
+        return int(j), (1.0,) * self.arm.n
 
 
 #: Below this many poses per chunk, splitting a batch across threads costs more than it saves.

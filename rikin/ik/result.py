@@ -12,6 +12,7 @@ import numpy as np
 from .._validate import FloatArray, check_index
 from ..errors import InputError, NotIndexedError
 from ..i18n import branch_name, word
+from ..transforms import _wrap_angle
 
 __all__ = ["Branch", "IKResult", "BatchIKResult", "LABEL_WORDS"]
 
@@ -285,6 +286,17 @@ class BatchIKResult:
         pose was from reachable, when it was solved for the nearest reachable
         pose (a 5-DOF arm's rounded pose, or a 6R pose rounded just beyond its
         reach); 0 for the others.
+    roots : tuple or None
+        For a family whose solutions are named by the roots of a polynomial alone (a
+        general 6R), ``(j, directions)``: the polynomial's joint (0-based) and the
+        joints' directions (+-1, to count them as the DH table does); else None. Used
+        by :meth:`labels`.
+
+    Notes
+    -----
+    A slot's ``branches[j]`` names what every pose's slot ``j`` holds. Where a family
+    names its solutions by roots, which root a slot holds, and how many there are,
+    depend on the pose: :meth:`labels` gives pose ``i``'s labels.
     """
 
     q: FloatArray
@@ -293,6 +305,23 @@ class BatchIKResult:
     branches: tuple[Branch, ...]
     rotation_distance: Any = None
     reach_distance: Any = None
+    roots: tuple[int, tuple[float, ...]] | None = None
+
+    def labels(self, i: Any) -> tuple[str, ...]:
+        """The branch labels of pose ``i``'s solutions ``q[i][valid[i]]``, in that order:
+        for a general 6R as ``arm.ik`` gives them (``"root k of n"``, k by increasing value
+        of the polynomial's joint, distinct), else each slot's branch. ``i`` is a whole
+        number, negative from the end."""
+        i = check_index(i, self.valid.shape[:1], "BatchIKResult.labels", ("pose",),
+                        arrays=False, var="labels")
+        slots = np.flatnonzero(self.valid[i])
+        named = [self.branches[s] for s in slots]
+        if self.roots is not None and slots.size:
+            j, directions = self.roots
+            q_dh = self.q[i, slots] * np.asarray(directions)
+            names, _ = root_names(np.roll(_wrap_angle(q_dh), -j, axis=1), False)
+            named = [b._replace(root=r) for b, r in zip(named, names, strict=True)]
+        return tuple(b.label for b in named)
 
     @property
     def counts(self) -> Any:
