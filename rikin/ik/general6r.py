@@ -87,9 +87,9 @@ def _fourteen(T: FloatArray) -> FloatArray:
 def _fit(F: FloatArray, axes: int) -> FloatArray:
     """Coefficients over ``(1, cos, sin)`` per joint of values ``F`` sampled on the grid in
     the last ``axes`` axes before the quantities' axis: ``(..., 3, ..., 3, 14)``."""
-    for k in range(axes):
-        F = np.moveaxis(np.tensordot(_BASIS_INV, np.moveaxis(F, -2 - k, 0), axes=(1, 0)), 0,
-                        -2 - k)
+    for k in range(axes):  # a (3, 3) @ (3, 14) product per pose and grid point: the same
+        # BLAS call for each, whatever the batch (a tensordot's one product would round by it)
+        F = np.moveaxis(_BASIS_INV @ np.moveaxis(F, -2 - k, -2), -2, -2 - k)
     return F
 
 
@@ -204,6 +204,22 @@ def _eig_quadratic(S: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     return th, imag, v
 
 
+def _last_joint(Mp: list[FloatArray], Wp: FloatArray, cos: tuple[FloatArray, ...],
+                sin: tuple[FloatArray, ...]) -> FloatArray:
+    """The loop's joint 6 ``(N, 16)`` from its joints 1-5 (their cosines and sines, each
+    ``(N, 16)``): ``Rz(th6)``'s first column is ``R^T w``, ``R`` the rotation of ``Rz(th1) M'1
+    ... Rz(th5) M'5`` and ``w`` the first column of ``W'``'s, taken back through the factors
+    one at a time (a 3-vector per slot, elementwise: no 4x4 products)."""
+    Wl = Wp[:, None] if Wp.ndim == 3 else Wp
+    v = np.broadcast_to(Wl[..., :3, 0], cos[0].shape + (3,))
+    for k in range(5):
+        c, s = cos[k], sin[k]
+        x = np.stack([c * v[..., 0] + s * v[..., 1], c * v[..., 1] - s * v[..., 0], v[..., 2]], -1)
+        R = Mp[k + 1][..., :3, :3]
+        v = (x[..., :, None] * (R[:, None] if R.ndim == 3 else R)).sum(-2)  # R^T x
+    return np.arctan2(v[..., 1], v[..., 0])
+
+
 def _half_angle(lo: FloatArray, hi: FloatArray) -> FloatArray:
     """``th`` with ``(lo, hi)`` proportional to ``(1, tan(th / 2))`` in every entry (the
     best such fit, finite at th = pi): arrays ``(..., k)`` complex -> ``(...)``."""
@@ -268,16 +284,14 @@ class General6RSolver(ChainPolish):
         # joints 1, 2 from the 14 equations: Q8 m12 = P(th3, th4, th5) - Q0
         b3, b4, b5 = (np.stack([np.ones_like(t), np.cos(t), np.sin(t)], -1)
                       for t in (th3, th4, th5))
-        lhs = np.einsum("nabcq,nsa,nsb,nsc->nsq", P, b3, b4, b5) - Q0[:, None]
-        m12 = np.einsum("nkq,nsq->nsk", Q8_pinv, lhs)  # (1,c2,s2,c1,..)[1:]
+        m345 = (b3[..., :, None, None] * b4[..., None, :, None] * b5[..., None, None, :])
+        # per pose one (16, 27) @ (27, 14) and one (16, 14) @ (14, 8) product
+        lhs = m345.reshape(N, SLOTS, 27) @ P.reshape(-1, 27, 14) - Q0[:, None]
+        m12 = lhs @ np.swapaxes(Q8_pinv, -1, -2)  # (1,c2,s2,c1,..)[1:]
         th1 = np.arctan2(m12[..., 5], m12[..., 2])
         th2 = np.arctan2(m12[..., 1], m12[..., 0])
-        lead = [m[:, None] if m.ndim == 3 else m for m in Mp]
-        F = (_rz4(th1) @ lead[1] @ _rz4(th2) @ lead[2] @ _rz4(th3) @ lead[3] @ _rz4(th4)
-             @ lead[4] @ _rz4(th5) @ lead[5])
-        Wl = Wp[:, None] if Wp.ndim == 3 else Wp
-        R6 = np.swapaxes(F[..., :3, :3], -1, -2) @ Wl[..., :3, :3]
-        th6 = np.arctan2(R6[..., 1, 0], R6[..., 0, 0])
+        th6 = _last_joint(Mp, Wp, (np.cos(th1), np.cos(th2), b3[..., 1], b4[..., 1], b5[..., 1]),
+                          (np.sin(th1), np.sin(th2), b3[..., 2], b4[..., 2], b5[..., 2]))
         loop = np.stack([th1, th2, th3, th4, th5, th6], axis=-1)
         th = np.empty_like(loop)
         th[..., self.elim.joint] = loop

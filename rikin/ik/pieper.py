@@ -468,43 +468,50 @@ def general_solver(arm: SerialArm) -> Pieper6RSolver:
 
 
 # ------------------------------------------------------------------ batched FK
+def _affine_mul(L: FloatArray, R: FloatArray) -> FloatArray:
+    """``L @ R`` of affine transforms kept as their top three rows ``(..., 3, 4)``, by
+    elementwise products and sums in a fixed order."""
+    C = L[..., :, 0, None] * R[..., None, 0, :]
+    C += L[..., :, 1, None] * R[..., None, 1, :]
+    C += L[..., :, 2, None] * R[..., None, 2, :]
+    C[..., 3] += L[..., 3]
+    return C
+
+
 def _chain_fk(
     M: FloatArray, th: FloatArray, frames: bool = False
 ) -> tuple[FloatArray, FloatArray | None, FloatArray | None]:
     """``M0 Rz(th1) M1 ... Rz(th6) M6`` for joints ``th (..., 6)``: the flange poses
     ``(..., 4, 4)`` and, with ``frames``, the joint axes and origins ``(..., 6, 3)``.
 
-    Column by column, every row in one array per step (the frame's four columns as
-    ``(4, 3, n)``): the rotation about z mixes columns x and y, and ``M_i`` adds them up
-    with its entries as coefficients. Only elementwise products and sums, in the same
-    order for every row: a row's result does not depend on how many other rows there are
-    or where it stands among them (a matrix product by BLAS rounds differently by the
-    size and the place of its block), so a pose is solved alike alone and in a batch.
+    The seven factors ``M0, Rz(th1) M1, ..., Rz(th6) M6`` of every row at once, then all
+    their running products in three steps (each product with the one 1, 2, then 4 places
+    before it: a prefix scan), by elementwise products and sums only, in the same order for
+    every row: a row's result does not depend on how many rows there are or where it
+    stands among them (a matrix product by BLAS rounds by the size and place of its block),
+    so a pose is solved alike alone and in a batch. Some forty numpy calls whatever the
+    number of rows.
     """
     shape = th.shape[:-1]
     rows = th.reshape(-1, 6)
     n = rows.shape[0]
-    c, s = np.cos(rows.T), np.sin(rows.T)
-    cols = np.empty((4, 3, n))
-    cols[...] = M[0, :3, :].T[:, :, None]
-    seen = np.empty((6, 2, 3, n)) if frames else None
-    for i in range(6):
-        if seen is not None:
-            seen[i] = cols[2:]
-        x, y = cols[0], cols[1]
-        K = M[i + 1, :3, :, None, None]  # K[k, j]: how much of turned column k column j takes
-        new = K[0] * (c[i] * x + s[i] * y) + K[1] * (c[i] * y - s[i] * x) + K[2] * cols[2]
-        new[3] += cols[3]
-        cols = new
+    c, s = np.cos(rows)[..., None], np.sin(rows)[..., None]
+    P = np.empty((n, 7, 3, 4))
+    P[:, 0] = M[0, :3]
+    Mi = M[1:, :3]  # (6, 3, 4): Rz(th) M_i turns M_i's rows 0 and 1
+    P[:, 1:, 0] = c * Mi[:, 0] - s * Mi[:, 1]
+    P[:, 1:, 1] = s * Mi[:, 0] + c * Mi[:, 1]
+    P[:, 1:, 2] = Mi[:, 2]
+    for shift in (1, 2, 4):
+        P[:, shift:] = _affine_mul(P[:, :-shift], P[:, shift:])
     T: FloatArray = np.empty((n, 4, 4))
-    T[:, :3, :] = cols.transpose(2, 1, 0)
+    T[:, :3] = P[:, 6]
     T[:, 3, :3] = 0.0
     T[:, 3, 3] = 1.0
     T = T.reshape(shape + (4, 4))
-    if seen is None:
+    if not frames:
         return T, None, None
-    frames_ = seen.transpose(1, 3, 0, 2)  # (2, n, 6, 3)
-    return T, frames_[0].reshape(shape + (6, 3)), frames_[1].reshape(shape + (6, 3))
+    return T, P[:, :6, :, 2].reshape(shape + (6, 3)), P[:, :6, :, 3].reshape(shape + (6, 3))
 
 
 # ------------------------------------------------------------------ batched helpers
