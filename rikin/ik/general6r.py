@@ -182,7 +182,10 @@ def _eig_quadratic(S: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     from real ``(N, 24)``, and the eigenvectors' monomials ``(N, 24, 4, 3)`` (``x4^i x5^j``)."""
     N = S.shape[0]
     S0, S1, S2 = S[:, 0], S[:, 1], S[:, 2]
-    c0, c2 = np.linalg.cond(S0), np.linalg.cond(S2)
+    with np.errstate(all="ignore"):  # both ends' condition numbers in one SVD call, 0 / 0
+        sv = np.linalg.svd(S[:, ::2], compute_uv=False)  # taken as inf (as np.linalg.cond)
+        cond = np.nan_to_num(sv[..., 0] / sv[..., -1], nan=np.inf)
+    c0, c2 = cond[:, 0], cond[:, 1]
     flip = ~(c2 <= c0)  # the better conditioned end is inverted: x, or y = 1 / x
     A, B = np.where(flip[:, None, None], S2, S0), np.where(flip[:, None, None], S0, S2)
     C = np.zeros((N, 24, 24))
@@ -202,22 +205,6 @@ def _eig_quadratic(S: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     pick = (np.abs(top) ** 2).sum(1, keepdims=True) >= (np.abs(bottom) ** 2).sum(1, keepdims=True)
     v = np.where(pick, top, bottom).transpose(0, 2, 1).reshape(N, 24, 4, 3)
     return th, imag, v
-
-
-def _last_joint(Mp: list[FloatArray], Wp: FloatArray, cos: tuple[FloatArray, ...],
-                sin: tuple[FloatArray, ...]) -> FloatArray:
-    """The loop's joint 6 ``(N, 16)`` from its joints 1-5 (their cosines and sines, each
-    ``(N, 16)``): ``Rz(th6)``'s first column is ``R^T w``, ``R`` the rotation of ``Rz(th1) M'1
-    ... Rz(th5) M'5`` and ``w`` the first column of ``W'``'s, taken back through the factors
-    one at a time (a 3-vector per slot, elementwise: no 4x4 products)."""
-    Wl = Wp[:, None] if Wp.ndim == 3 else Wp
-    v = np.broadcast_to(Wl[..., :3, 0], cos[0].shape + (3,))
-    for k in range(5):
-        c, s = cos[k], sin[k]
-        x = np.stack([c * v[..., 0] + s * v[..., 1], c * v[..., 1] - s * v[..., 0], v[..., 2]], -1)
-        R = Mp[k + 1][..., :3, :3]
-        v = (x[..., :, None] * (R[:, None] if R.ndim == 3 else R)).sum(-2)  # R^T x
-    return np.arctan2(v[..., 1], v[..., 0])
 
 
 def _half_angle(lo: FloatArray, hi: FloatArray) -> FloatArray:
@@ -290,8 +277,12 @@ class General6RSolver(ChainPolish):
         m12 = lhs @ np.swapaxes(Q8_pinv, -1, -2)  # (1,c2,s2,c1,..)[1:]
         th1 = np.arctan2(m12[..., 5], m12[..., 2])
         th2 = np.arctan2(m12[..., 1], m12[..., 0])
-        th6 = _last_joint(Mp, Wp, (np.cos(th1), np.cos(th2), b3[..., 1], b4[..., 1], b5[..., 1]),
-                          (np.sin(th1), np.sin(th2), b3[..., 2], b4[..., 2], b5[..., 2]))
+        lead = [m[:, None] if m.ndim == 3 else m for m in Mp]
+        F = (_rz4(th1) @ lead[1] @ _rz4(th2) @ lead[2] @ _rz4(th3) @ lead[3] @ _rz4(th4)
+             @ lead[4] @ _rz4(th5) @ lead[5])
+        Wl = Wp[:, None] if Wp.ndim == 3 else Wp
+        R6 = np.swapaxes(F[..., :3, :3], -1, -2) @ Wl[..., :3, :3]
+        th6 = np.arctan2(R6[..., 1, 0], R6[..., 0, 0])
         loop = np.stack([th1, th2, th3, th4, th5, th6], axis=-1)
         th = np.empty_like(loop)
         th[..., self.elim.joint] = loop
@@ -355,12 +346,16 @@ _DEGENERATE = (
 )
 
 
+#: ``_LATER[a, b]``: slot b comes after slot a
+_LATER = np.triu(np.ones((SLOTS, SLOTS), dtype=bool), 1)
+
+
 def _distinct(th: FloatArray, valid: np.ndarray, res: FloatArray) -> None:
     """Keep one of each group of valid slots ``(N, k)`` that are the same solution: the
     first slot of the group, holding the group's best polished joints (in place)."""
     gap = np.abs(wrap_in_place(th[:, :, None] - th[:, None, :])).max(-1)  # (N, k, k)
     same = valid[:, :, None] & valid[:, None, :] & (gap <= 1e3 * SAME_SOLUTION_TOL)
-    rows, i, j = np.nonzero(np.triu(same, 1))
+    rows, i, j = np.nonzero(same & _LATER[: th.shape[1], : th.shape[1]])
     for r, a, b in zip(rows.tolist(), i.tolist(), j.tolist(), strict=True):
         if not valid[r, b] or not valid[r, a]:
             continue  # already merged into an earlier slot

@@ -468,50 +468,38 @@ def general_solver(arm: SerialArm) -> Pieper6RSolver:
 
 
 # ------------------------------------------------------------------ batched FK
-def _affine_mul(L: FloatArray, R: FloatArray) -> FloatArray:
-    """``L @ R`` of affine transforms kept as their top three rows ``(..., 3, 4)``, by
-    elementwise products and sums in a fixed order."""
-    C = L[..., :, 0, None] * R[..., None, 0, :]
-    C += L[..., :, 1, None] * R[..., None, 1, :]
-    C += L[..., :, 2, None] * R[..., None, 2, :]
-    C[..., 3] += L[..., 3]
-    return C
-
-
 def _chain_fk(
     M: FloatArray, th: FloatArray, frames: bool = False
 ) -> tuple[FloatArray, FloatArray | None, FloatArray | None]:
     """``M0 Rz(th1) M1 ... Rz(th6) M6`` for joints ``th (..., 6)``: the flange poses
     ``(..., 4, 4)`` and, with ``frames``, the joint axes and origins ``(..., 6, 3)``.
 
-    The seven factors ``M0, Rz(th1) M1, ..., Rz(th6) M6`` of every row at once, then all
-    their running products in three steps (each product with the one 1, 2, then 4 places
-    before it: a prefix scan), by elementwise products and sums only, in the same order for
-    every row: a row's result does not depend on how many rows there are or where it
-    stands among them (a matrix product by BLAS rounds by the size and place of its block),
-    so a pose is solved alike alone and in a batch. Some forty numpy calls whatever the
-    number of rows.
+    ``Rz(th_i) M_i`` for all joints at once, then their running product from ``M0``:
+    stacked 4x4 products, which numpy hands to BLAS one 4x4 product at a time, the same
+    call for every row. So a row's result does not depend on how many other rows there are
+    or where it stands among them, and a pose is solved alike alone and in a batch (one
+    product of a ``(n, 4)`` by a ``(4, 4)`` matrix would be rounded by BLAS's blocking of
+    the n rows; an algorithm chosen by the number of rows, by that choice).
     """
     shape = th.shape[:-1]
     rows = th.reshape(-1, 6)
     n = rows.shape[0]
-    c, s = np.cos(rows)[..., None], np.sin(rows)[..., None]
-    P = np.empty((n, 7, 3, 4))
-    P[:, 0] = M[0, :3]
-    Mi = M[1:, :3]  # (6, 3, 4): Rz(th) M_i turns M_i's rows 0 and 1
-    P[:, 1:, 0] = c * Mi[:, 0] - s * Mi[:, 1]
-    P[:, 1:, 1] = s * Mi[:, 0] + c * Mi[:, 1]
-    P[:, 1:, 2] = Mi[:, 2]
-    for shift in (1, 2, 4):
-        P[:, shift:] = _affine_mul(P[:, :-shift], P[:, shift:])
-    T: FloatArray = np.empty((n, 4, 4))
-    T[:, :3] = P[:, 6]
-    T[:, 3, :3] = 0.0
-    T[:, 3, 3] = 1.0
-    T = T.reshape(shape + (4, 4))
-    if not frames:
+    c, s = np.cos(rows), np.sin(rows)
+    RM = np.zeros((n, 6, 4, 4))
+    RM[..., 0, 0], RM[..., 0, 1], RM[..., 1, 0], RM[..., 1, 1] = c, -s, s, c
+    RM[..., 2, 2] = RM[..., 3, 3] = 1.0
+    RM = RM @ M[1:]
+    A = np.broadcast_to(M[0], (n, 4, 4))
+    before = np.empty((n, 6, 4, 4)) if frames else None
+    for i in range(6):
+        if before is not None:
+            before[:, i] = A
+        A = A @ RM[:, i]
+    T = A.reshape(shape + (4, 4))
+    if before is None:
         return T, None, None
-    return T, P[:, :6, :, 2].reshape(shape + (6, 3)), P[:, :6, :, 3].reshape(shape + (6, 3))
+    return (T, before[:, :, :3, 2].reshape(shape + (6, 3)),
+            before[:, :, :3, 3].reshape(shape + (6, 3)))
 
 
 # ------------------------------------------------------------------ batched helpers
