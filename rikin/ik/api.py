@@ -85,9 +85,15 @@ def _solver(arm: Any) -> Solver:
     raises if none does)."""
     if not isinstance(arm, SerialArm):
         raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
-    if arm.solver is None:
-        return solver_for(arm)
-    return arm.solver
+    if arm.solver is not None:
+        return arm.solver
+    # kept on the (immutable) arm: the registry's lookup hashes the whole table, which
+    # cost a general 6R's arm.ik a twentieth of its time
+    solver = arm.__dict__.get("_family_solver")
+    if solver is None:
+        solver = solver_for(arm)
+        object.__setattr__(arm, "_family_solver", solver)
+    return solver
 
 
 def _target_pose(arm: SerialArm, target: Any, kind: str) -> tuple[FloatArray, float]:
@@ -254,8 +260,10 @@ def _check_distances(arm: SerialArm, P: FloatArray, name: str, first: int = 0) -
     in messages), the base or the tool lie so far off that double precision cannot resolve
     the arm there (see ``MAX_DISTANCE_RATIO``)."""
     size = arm.scale
-    check_distances(arm.base[None, :3, 3], size, "the arm's base")
-    check_distances(arm.tool[None, :3, 3], size, "the tool's offset", "the flange")
+    if not arm.__dict__.get("_frames_checked", False):  # once per (immutable) arm
+        check_distances(arm.base[None, :3, 3], size, "the arm's base")
+        check_distances(arm.tool[None, :3, 3], size, "the tool's offset", "the flange")
+        object.__setattr__(arm, "_frames_checked", True)
     if len(P) == 1 and not first:
         check_distances(P, size, name)
         return
