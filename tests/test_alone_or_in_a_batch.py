@@ -12,11 +12,20 @@ from the Jacobian's determinant, not from a solver).
 """
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from singular_poses import singular_q, wrist_centre
 from test_ik6r_families import parallel_arm, random_6r, ur5e
 from test_pieper import spherical_wrist_arms
-from test_pieper_batch import near_singular_q, skew_quartic, with_base_tool
+from test_pieper_batch import (
+    irb2400,
+    kr5,
+    near_singular_q,
+    puma_standard,
+    skew_quartic,
+    with_base_tool,
+)
 
 import rikin
 from rikin.ik import families6r
@@ -131,3 +140,25 @@ def test_ur5e_random_and_singular_poses():
     q = np.concatenate([rng.uniform(-pi, pi, (10, 6)), near_fold_q(ur5e(), rng, 10),
                         [[0.3, -1.0, 1.2, 0.4, 0.0, 0.5], [0.3, -1.0, 0.0, 0.4, 1.1, 0.5]]])
     assert_alone_as_in_a_batch(ur5e(), q, rng)
+
+
+@pytest.mark.parametrize("make", [kr5, puma_standard, irb2400])
+def test_a_pose_rounded_beyond_the_reach_is_moved_alike_alone_and_in_a_batch(make):
+    """The nearest reachable pose (``_onto_reach``: a stretched arm's pose rounded 1e-12..1e-9
+    of the arm's size beyond its reach) is the same alone and among 19 others, to the bit.
+    Fails before: 1e-16 apart (products of ``(N, 3)`` by ``(3, 3)`` matrices by BLAS), which
+    the fold of the stretched elbow then magnifies."""
+    arm = with_base_tool(make)
+    rng = np.random.default_rng(3)
+    q = np.array([singular_q(arm, "stretched", rng) for _ in range(20)])
+    T = arm.fk(q)
+    out = wrist_centre(arm, q) - arm.joint_axes(q)[0][:, 1]
+    out /= np.linalg.norm(out, axis=-1, keepdims=True)
+    T[:, :3, 3] += out * 10.0 ** rng.uniform(-12, -9, (20, 1)) * arm.scale
+    solver = families6r.solver_for(arm)
+    T_near, dist, close = solver.nearest_reachable(arm, T)
+    assert close.all() and (dist > 0).any()
+    for k in range(len(T)):
+        alone = solver.nearest_reachable(arm, T[[k]])
+        assert np.array_equal(alone[0][0], T_near[k]), k
+        assert alone[1][0] == dist[k] and alone[2][0] == close[k], k

@@ -1410,12 +1410,12 @@ class Pieper6RSolver(ChainPolish):
         last_J: list[FloatArray] = []
 
         def gap(pw: FloatArray, active: np.ndarray | None) -> tuple[FloatArray, ...]:
-            p = (np.append(pw * self.unit, np.ones((len(pw), 1)), axis=1) @ self.M0_inv.T)[:, :3]
+            p = (self.M0_inv[:3, :3] @ (pw * self.unit)[..., None])[..., 0] + self.M0_inv[:3, 3]
             far = np.abs(p).max(axis=-1)
             dist, nearest = self._reach_nearest(p, near * np.maximum(1.0, far / L))
             out = dist > 1e-13 * np.maximum(L, far)  # else reachable to rounding: no direction
             u = (p - nearest) / np.where(out, dist, 1.0)[:, None]
-            J = (u @ M0[:3, :3].T)[:, None, :]
+            J = np.swapaxes(M0[:3, :3] @ u[..., None], -1, -2)  # a product per pose
             if active is None:  # the poses that miss the set; the others stay as given
                 active = out[:, None]
             else:  # on the set now: the last direction, to keep the step made along it

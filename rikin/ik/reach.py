@@ -87,7 +87,7 @@ def nearest_reachable(
     tool, base = arm.tool, arm.base
     c = tool[:3, :3].T @ (centre - tool[:3, 3])  # wrist centre in the TCP frame
     B, b = base[:3, :3], base[:3, 3]
-    pw = (T_world[:, :3, 3] + T_world[:, :3, :3] @ c - b) @ B  # base frame
+    pw = _rows_times(T_world[:, :3, 3] + T_world[:, :3, :3] @ c - b, B)  # base frame
     r, _, active = gap(pw, None)
     distance = np.linalg.norm(r, axis=-1)
     close = distance <= ROUNDED_POSE_TOL * rounding_size(arm, pw)
@@ -96,6 +96,13 @@ def nearest_reachable(
     if move.size:
         out[move] = _onto_set(gap, T_world[move], c, B, b)
     return out, distance, close
+
+
+def _rows_times(x: FloatArray, B: FloatArray) -> FloatArray:
+    """Each row of ``x (N, k)`` times ``B`` (one ``(k, m)`` matrix, or one per row ``(N, k,
+    m)``): ``(N, m)``, a product per row (BLAS would round one ``(N, k) @ (k, m)`` product by
+    its blocking of the N rows, so a pose would not be moved alike alone and in a batch)."""
+    return (x[:, None, :] @ B)[:, 0]
 
 
 def _onto_set(gap: Any, T_world: FloatArray, c: FloatArray, B: FloatArray, b: FloatArray
@@ -108,24 +115,24 @@ def _onto_set(gap: Any, T_world: FloatArray, c: FloatArray, B: FloatArray, b: Fl
     active = None
     for _ in range(4):
         v = R @ c
-        pw = (p0 + x[:, :3] + v - b) @ B  # base frame
+        pw = _rows_times(p0 + x[:, :3] + v - b, B)  # base frame
         r, J, active = gap(pw, active)
         G = J @ B.T  # gradient with respect to the world wrist centre, (N, k, 3)
         # d p_w = dp + dw x v, and g . (dw x v) = dw . (v x g): the w columns are v x g
         A = np.concatenate([G, np.cross(v[:, None, :], G)], axis=-1)  # (N, k, 6)
         M = (A * half) @ np.swapaxes(A, -1, -2)
         M += (~active)[..., None] * np.eye(M.shape[-1])  # a row that does not apply: lambda 0
-        rhs = np.einsum("nkj,nj->nk", A, x) - r
+        rhs = (A @ x[..., None])[..., 0] - r
         lam = np.linalg.solve(M, rhs[..., None])[..., 0]
-        x_new = np.einsum("nkj,nk->nj", A, lam) * half
+        x_new = _rows_times(lam, A) * half
         R = _turn(R, x_new[:, 3:] - x[:, 3:])
         x = x_new
     # last, the TCP alone moves by what is left along each direction: exact for the gaps'
     # orthonormal directions, and it ends the steps that alternate between two faces of
     # the set where they meet in an edge (the Puma 560's reach near its folded elbow)
-    pw = (p0 + x[:, :3] + R @ c - b) @ B
+    pw = _rows_times(p0 + x[:, :3] + R @ c - b, B)
     r, J, active = gap(pw, active)
-    x[:, :3] -= np.einsum("nk,nkj->nj", r, J @ B.T)
+    x[:, :3] -= _rows_times(r, J @ B.T)
     out = T_world.copy()
     out[:, :3, :3] = R
     out[:, :3, 3] = p0 + x[:, :3]
