@@ -70,6 +70,10 @@ _BASIS_INV = np.linalg.inv(np.stack([np.ones(3), np.cos(_GRID), np.sin(_GRID)], 
 #: ``(1, cos, sin)`` times ``1 + x^2`` as coefficients of ``(1, x, x^2)``.
 _HALF = np.array([[1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [0.0, 2.0, 0.0]])
 
+#: ``_HALF`` for joints 3, 4 and 5 at once: ``(k, i, j), (a, b, c)`` entries
+#: ``_HALF[a, k] _HALF[b, i] _HALF[c, j]``
+_HALF3 = np.einsum("ak,bi,cj->kijabc", _HALF, _HALF, _HALF).reshape(27, 27)
+
 SINGULAR = Singularity(
     "the arm is at a singular configuration (its Jacobian loses rank): solutions meet", ()
 )
@@ -168,9 +172,10 @@ class _Elimination:
         null = U[:, :, 8:]  # (N, 14, 6)
         inv = np.where(sv > 1e-12 * sv[:, :1], 1.0 / np.where(sv > 0, sv, 1.0), 0.0)
         Q8_pinv = np.swapaxes(Vt, -1, -2) @ (inv[..., None] * np.swapaxes(U[:, :, :8], -1, -2))
-        E = np.einsum("nqe,nabcq->naebc", null, P)  # (N, 3, 6, 3, 3): th3 basis
-        E[:, 0, :, 0, 0] -= np.einsum("nqe,nq->ne", null, Q0)
-        D = np.einsum("naebc,ak,bi,cj->nkeij", E, _HALF, _HALF, _HALF)  # (N, 3, 6, 3, 3)
+        # per pose: (27, 14) @ (14, 6), then the half-angle basis change (27, 27) @ (27, 6)
+        E = P.reshape(N, 27, 14) @ null  # rows (a, b, c): (1, cos, sin) of joints 3, 4, 5
+        E[:, 0] -= (Q0[:, None] @ null)[:, 0]
+        D = (_HALF3 @ E).reshape(N, 3, 3, 3, 6).transpose(0, 1, 4, 2, 3)  # (N, 3, 6, 3, 3)
         S = np.zeros((N, 3, 12, 12))
         S[:, :, :6, :9] = D.reshape(N, 3, 6, 9)
         S[:, :, 6:, 3:] = D.reshape(N, 3, 6, 9)

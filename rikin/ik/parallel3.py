@@ -229,7 +229,7 @@ class ParallelAxesSolver(ChainPolish):
             yp, ym, ok5, _ = _solve_sinusoid(np.full_like(val, kc), np.full_like(val, ks), val)
             if self.tilt_row:  # (A) is cos(th5 - phi) = n . z6: the angle from both parts
                 n = _rz4(t1)[..., :3, :3] @ self.u  # (N, 2, 3)
-                a = np.einsum("nji,nmj->nmi", W[:, :3, :3], n)  # R_W^T n
+                a = n @ W[:, :3, :3]  # R_W^T n, a product per pose
                 half = np.arctan2(np.hypot(a[..., 0], a[..., 1]), a[..., 2])
                 phi = math.atan2(ks, kc)
                 yp, ym, ok5 = phi + half, phi - half, np.ones_like(ok5)
@@ -239,10 +239,10 @@ class ParallelAxesSolver(ChainPolish):
             return th1, th5, ok, free
         ang = 2 * np.pi * np.arange(5) / 5
         trig = np.stack([np.ones(5), np.cos(ang), np.sin(ang)])  # (3, 5)
-        cs = np.einsum("ij,njk->nik", self.K_inv, S @ trig)  # (N, 2, 5): cos, sin of th5
+        cs = self.K_inv @ (S @ trig)  # (N, 2, 5): cos, sin of th5 (products per pose)
         th1, real = _trig2_roots((cs * cs).sum(axis=1) - 1.0)
         basis = np.stack([np.ones_like(th1), np.cos(th1), np.sin(th1)], axis=-1)  # (N, 4, 3)
-        c5s5 = np.einsum("ij,njk,nmk->nmi", self.K_inv, S, basis)
+        c5s5 = np.swapaxes(self.K_inv @ S @ np.swapaxes(basis, -1, -2), -1, -2)
         th5 = np.arctan2(c5s5[..., 1], c5s5[..., 0])
         return th1, th5, real, np.zeros(N, dtype=bool)
 
@@ -258,7 +258,7 @@ class ParallelAxesSolver(ChainPolish):
         is still fixed by the pose to 1e-9 rad, and any other value moves what joints 2-4
         must reach (a pose 1e-7 rad off the singularity was refused as unreachable)."""
         n = _rz4(th1)[..., :3, :3] @ self.u  # (N, 4, 3)
-        a = np.einsum("nji,nmj->nmi", W[:, :3, :3], n)  # R_W^T n
+        a = n @ W[:, :3, :3]  # R_W^T n, a product per pose
         r = self.model.M[4, 2, :3]
         R5t = self.model.M[5, :3, :3].T
         turned = np.swapaxes(_rz4(th5)[..., :3, :3], -1, -2) @ r
