@@ -236,3 +236,24 @@ def test_ur5e_on_and_near_the_wrist_singularity_every_pose_solved():
             assert gap[:, [0, 4]].max(1).min() <= SAME_Q
         else:
             assert gap.max(1).min() <= SAME_Q
+
+
+@pytest.mark.parametrize("error", [1e-7, 1e-3])
+def test_a_solution_that_misses_is_never_handed_back(monkeypatch, error):
+    """The general path's last FK check (the one-pose path's stricter check first, each
+    solution's error where that is not met) refuses a solver's answer that misses."""
+    from rikin.ik.general6r import General6RSolver
+
+    arm = random_6r(np.random.default_rng(9), "standard")
+    T = arm.fk(np.random.default_rng(4).uniform(-pi, pi, 6))
+    assert len(arm.ik(T)) >= 2
+    solve = General6RSolver.solve
+
+    def off_by(self, *args, **kwargs):
+        raw = solve(self, *args, **kwargs)
+        raw.q[0, np.flatnonzero(raw.valid[0])[-1], 2] += error
+        return raw
+
+    monkeypatch.setattr(General6RSolver, "solve", off_by)
+    with pytest.raises(RuntimeError, match="rikin bug"):
+        arm.ik(T)
