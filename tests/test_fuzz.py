@@ -995,6 +995,8 @@ def _api_cases() -> list[Case]:
           param="key", numeric=False, accept=_index(4, False)),
         C("BatchIKResult[index]", "index", lambda v: a6.ik_batch(T6[None])[v], None,
           fn=rikin.BatchIKResult.__getitem__, param="key", numeric=False, accept=lambda v: False),
+        C("BatchIKResult.labels", "index", lambda v: a6.ik_batch(T6[None]).labels(v), 0,
+          fn=rikin.BatchIKResult.labels, param="i", numeric=False, accept=_index(1, False)),
         C("NumericalIKResult[index]", "index", lambda v: num6[v], None,
           fn=rikin.ik.numerical.NumericalIKResult.__getitem__, param="key", numeric=False,
           accept=lambda v: False),

@@ -64,6 +64,11 @@ SHIFT = np.array([0.4142, 0.9131, 1.3719, 0.6180, 1.1547, 0.2718])
 #: relative; two roots that meet at a fold split into a pair ~sqrt(eps) off the line.
 IMAG_TOL = 1e-4
 
+#: A formulation is used only where the better end of its matrix polynomial has a condition
+#: number below this on a few poses: 1e2..1e5 on random tables and on the formulations that
+#: solve a Kinova Jaco or a UR5e, 5e16 and more on those that degenerate (both ends singular).
+PENCIL_COND = 1e12
+
 #: The 3 angles of the grid on which a sum ``a + b cos + c sin`` is read.
 _GRID = 2 * np.pi * np.arange(3) / 3
 _BASIS_INV = np.linalg.inv(np.stack([np.ones(3), np.cos(_GRID), np.sin(_GRID)], axis=1))
@@ -196,8 +201,7 @@ def _eig_quadratic(S: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     C = np.zeros((N, 24, 24))
     C[:, :12, 12:] = np.eye(12)
     with np.errstate(all="ignore"):
-        C[:, 12:, :12] = -np.linalg.solve(B, A)
-        C[:, 12:, 12:] = -np.linalg.solve(B, S1)
+        C[:, 12:] = -_solve_each(B, np.concatenate([A, S1], axis=-1))
     C = np.where(np.isfinite(C), C, 0.0)
     lam, vec = np.linalg.eig(C)
     num, den = np.where(flip[:, None], 1.0 + 0j, lam), np.where(flip[:, None], lam, 1.0 + 0j)
@@ -210,6 +214,23 @@ def _eig_quadratic(S: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
     pick = (np.abs(top) ** 2).sum(1, keepdims=True) >= (np.abs(bottom) ** 2).sum(1, keepdims=True)
     v = np.where(pick, top, bottom).transpose(0, 2, 1).reshape(N, 24, 4, 3)
     return th, imag, v
+
+
+def _solve_each(B: FloatArray, rhs: FloatArray) -> FloatArray:
+    """``B^-1 rhs`` per pose, ``B (N, 12, 12)``, ``rhs (N, 12, k)``: where LAPACK meets an
+    exactly zero pivot (both ends of the matrix polynomial singular, as on a table that has
+    a closed form), least squares for that pose alone, so the others' answers stay those
+    they get alone."""
+    try:
+        return np.linalg.solve(B, rhs)
+    except np.linalg.LinAlgError:
+        out = np.empty(rhs.shape)
+        for k in range(len(B)):
+            try:
+                out[k] = np.linalg.solve(B[k], rhs[k])
+            except np.linalg.LinAlgError:
+                out[k] = np.linalg.lstsq(B[k], rhs[k], rcond=None)[0]
+        return out
 
 
 def _half_angle(lo: FloatArray, hi: FloatArray) -> FloatArray:
@@ -370,13 +391,18 @@ def _distinct(th: FloatArray, valid: np.ndarray, res: FloatArray) -> None:
 
 
 def _works(solver: General6RSolver) -> bool:
-    """Whether the elimination finds known solutions of a few poses of the arm (a table on
-    which it degenerates does not)."""
+    """Whether the elimination finds known solutions of a few poses of the arm, from a
+    matrix polynomial one of whose ends is invertible (a table on which it degenerates
+    does not: there both ends are singular to rounding, and which roots come out of the
+    eigenvalues is luck, which four poses do not reveal)."""
     rng = np.random.default_rng(6)
     th = rng.uniform(-np.pi, np.pi, size=(4, 6))
     W = solver.M0_inv @ solver._fk_frames(th)[0] @ solver.M6_inv
     try:
         with np.errstate(all="ignore"):
+            sv = np.linalg.svd(solver.elim.matrices(W)[0][:, ::2], compute_uv=False)
+            if not np.all((sv[..., 0] / sv[..., -1]).min(axis=-1) <= PENCIL_COND):
+                return False
             found, valid, _ = solver._polished(W)
     except np.linalg.LinAlgError:  # a factor of the loop not invertible: not this way
         return False
