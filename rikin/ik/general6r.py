@@ -222,7 +222,7 @@ def _solve_each(B: FloatArray, rhs: FloatArray) -> FloatArray:
     a closed form), least squares for that pose alone, so the others' answers stay those
     they get alone."""
     try:
-        return np.linalg.solve(B, rhs)
+        return np.asarray(np.linalg.solve(B, rhs), dtype=float)
     except np.linalg.LinAlgError:
         out = np.empty(rhs.shape)
         for k in range(len(B)):
