@@ -21,9 +21,12 @@ the machine's load hits all sides alike):
   EAIK's, and EAIK's over the batch's (what each pose costs, whatever the machine's load
   does to the wall clock);
 * ``x sph``: this arm's ``arm.ik`` time over the Puma's (the general 6R's goal: <= 10);
-* with ``--baseline CHECKOUT``: the same two times of the rikin in another checkout (run in
-  a subprocess, in turn with this one, round by round), and ``base/ik``, ``base/batch``: its
-  times over this checkout's (2 = this one twice as fast).
+* ``cpu ik``, ``cpu x sph``: ``arm.ik``'s CPU time per pose and its ratio to the Puma's
+  (steadier than the wall clock on a machine shared with other work);
+* with ``--baseline CHECKOUT``: the same times of the rikin in another checkout (run in
+  a subprocess, in turn with this one, round by round), and ``base/ik``, ``base/batch``,
+  ``base/cpu ik``: its times over this checkout's (2 = this one twice as fast), and its
+  ``cpu x sph``.
 
     python benchmarks/bench_ik6r_families.py             # 300 poses per arm
     python benchmarks/bench_ik6r_families.py --poses 30 --batch-poses 30  # a smoke run
@@ -131,8 +134,8 @@ def per_pose(fn, Ts: np.ndarray) -> tuple[float, float]:
     return (time.perf_counter() - start) / len(Ts), (time.process_time() - cpu) / len(Ts)
 
 
-#: The timed columns: seconds per pose (the batch's and EAIK's also in CPU seconds).
-KEYS = ("ik", "batch", "batch_cpu", "eaik", "eaik_cpu")
+#: The timed columns: seconds per pose (also in CPU seconds).
+KEYS = ("ik", "ik_cpu", "batch", "batch_cpu", "eaik", "eaik_cpu")
 
 
 def timings(poses: int, rounds: int, batch_poses: int) -> list[dict]:
@@ -151,7 +154,8 @@ def timings(poses: int, rounds: int, batch_poses: int) -> list[dict]:
         robot = eaik_of(arm)
         best = dict.fromkeys(KEYS, np.inf)
         for _ in range(rounds):
-            best["ik"] = min(best["ik"], per_pose(arm.ik, Ts)[0])
+            wall, cpu = per_pose(arm.ik, Ts)
+            best["ik"], best["ik_cpu"] = min(best["ik"], wall), min(best["ik_cpu"], cpu)
             batch = per_pose(partial(arm.ik_batch, workers=2), Tb[None])
             best["batch"] = min(best["batch"], batch[0] / nb)
             best["batch_cpu"] = min(best["batch_cpu"], batch[1] / nb)
@@ -197,21 +201,25 @@ def print_table(rows: list[dict], base: list[dict] | None) -> None:
     and EAIK's over the batch's); with a baseline, its times over these."""
     head = (f"{'arm':12} {'family':28} {'ik':>9} {'N batch':>7} {'batch':>8} {'eaik':>7} "
             f"{'eaik/ik':>8} {'eaik/batch':>10} {'cpu batch':>9} {'cpu eaik':>8} "
-            f"{'cpu e/b':>7} {'x sph':>6}")
+            f"{'cpu e/b':>7} {'x sph':>6} {'cpu ik':>8} {'cpu x sph':>9}")
     if base is not None:
-        head += f" {'base ik':>9} {'base batch':>10} {'base/ik':>8} {'base/batch':>10}"
+        head += (f" {'base ik':>9} {'base batch':>10} {'base/ik':>8} {'base/batch':>10} "
+                 f"{'base/cpu ik':>11} {'base cpu x sph':>14}")
     print(head)
-    sph = rows[0]["ik"]
+    sph, sph_cpu = rows[0]["ik"], rows[0]["ik_cpu"]
     for n, row in enumerate(rows):
         line = (f"{row['arm'][:12]:12} {row['family']:28} {_us(row['ik'], 9)} {row['n']:7d} "
                 f"{_us(row['batch'], 8)} {_us(row['eaik'], 7)} "
                 f"{_ratio(row['eaik'], row['ik'], 8)} {_ratio(row['eaik'], row['batch'], 10)} "
                 f"{_us(row['batch_cpu'], 9)} {_us(row['eaik_cpu'], 8)} "
-                f"{_ratio(row['eaik_cpu'], row['batch_cpu'], 7)} {row['ik'] / sph:6.1f}")
+                f"{_ratio(row['eaik_cpu'], row['batch_cpu'], 7)} {row['ik'] / sph:6.1f} "
+                f"{_us(row['ik_cpu'], 8)} {row['ik_cpu'] / sph_cpu:9.1f}")
         if base is not None:
             b = base[n]
             line += (f" {_us(b['ik'], 9)} {_us(b['batch'], 10)} "
-                     f"{_ratio(b['ik'], row['ik'], 8)} {_ratio(b['batch'], row['batch'], 10)}")
+                     f"{_ratio(b['ik'], row['ik'], 8)} {_ratio(b['batch'], row['batch'], 10)} "
+                     f"{_ratio(b['ik_cpu'], row['ik_cpu'], 11)} "
+                     f"{b['ik_cpu'] / base[0]['ik_cpu']:14.1f}")
         print(line)
 
 
