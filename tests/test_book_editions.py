@@ -262,6 +262,102 @@ def test_the_site_texts_are_translated(language: str, book_html: Path) -> None:
     assert not left, "English left in the Spanish pages:\n" + "\n".join(left[:20])
 
 
+#: Where a page shows words of the site around its text (the theme, the book's extension):
+#: the sidebar's part captions, the preview banner, the launch lines, the fold buttons,
+#: the previous/next links, the headings and buttons of the header and of both sidebars.
+_CHROME = ("nav.bd-links p.caption", ".rikin-preview-banner", ".rikin-launch",
+           "details.hide summary p", ".prev-next-area .prev-next-subtitle",
+           ".bd-sidebar-secondary .onthispage", ".bd-header-article .btn__text-container",
+           ".bd-header-article .dropdown-item")
+#: ... and the tooltips and labels for screen readers there.
+_TIPS = (".bd-header-article [{a}]", ".bd-sidebar-primary [{a}]", ".bd-sidebar-secondary [{a}]",
+         "details.hide summary[{a}]", ".prev-next-area [{a}]", ".bd-header [{a}]")
+#: Words the Spanish edition keeps as they are: names (of programs, settings, keys), and
+#: the words the word list keeps (notebook, URL).
+_KEPT_WORDS = {"notebook", "notebooks", "jupyter", "jupyterlab", "colab", "binder", "rikin",
+               "ipynb", "ctrl", "html", "baseurl", "_config", "yml", "pdf", "url"}
+_WORDS = re.compile(r"[A-Za-z_]{3,}")
+#: Addresses and file names in a text (kept as they are).
+_NAMES = re.compile(r"\b\w+://\S+|[\w.-]+\.(?:ipynb|yml|html)\b")
+
+
+def chrome_texts(html_file: Path) -> list[tuple[str, str]]:
+    """The texts of the site around a page's text (:data:`_CHROME`, :data:`_TIPS`), as
+    (where, text) in the page's order; not the language switch, which speaks the other
+    edition's language on purpose."""
+    soup = BeautifulSoup(html_file.read_text(encoding="utf-8"), "html.parser")
+    for switch in soup.select(".rikin-language-switch"):
+        switch.decompose()
+    found = [(where, el.get_text(" ", strip=True)) for where in _CHROME
+             for el in soup.select(where)]
+    for attribute in ("title", "aria-label", "data-bs-title", "placeholder"):
+        for where in _TIPS:
+            found += [(f"{where.format(a=attribute)}", str(el[attribute]))
+                      for el in soup.select(where.format(a=attribute))]
+    return [(where, re.sub(r"\s+", " ", text)) for where, text in found if text.strip()]
+
+
+def english_left(english: list[tuple[str, str]], other: list[tuple[str, str]]) -> list[str]:
+    """The English words of ``english`` (a page's :func:`chrome_texts`) still in ``other``
+    (the same page's in another edition), text by text: each place must hold as many texts
+    in both, and no text of ``other`` a word of its English one but the names it keeps."""
+    left = []
+    places = dict.fromkeys(where for where, _ in english + other)
+    for where in places:
+        mine = [t for w, t in english if w == where]
+        theirs = [t for w, t in other if w == where]
+        if len(mine) != len(theirs):
+            left.append(f"{where}: {len(theirs)} texts, the English page has {len(mine)}: "
+                        f"{theirs[:3]}")
+            continue
+        for en, es in zip(mine, theirs, strict=True):
+            words = {w.lower() for w in _WORDS.findall(_NAMES.sub(" ", en))} - _KEPT_WORDS
+            same = sorted(w for w in words if re.search(rf"(?<![A-Za-z]){re.escape(w)}"
+                                                        r"(?![A-Za-z])", es, re.I))
+            if same:
+                left.append(f"{where}: {es!r} (English {en!r}: {same})")
+    return left
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("language", list(EDITIONS))
+def test_the_site_around_a_page_speaks_its_language(language: str, book_html: Path) -> None:
+    """What a reader of the translated edition sees around the text: the sidebar's part
+    captions, the local-preview banner, the "Run this page yourself" launch lines, the fold
+    buttons ("Show code cell source", "... outputs", "... content"), previous and next, the
+    header's buttons and tooltips; none still in English."""
+    english_chrome = chrome_texts(book_html / "book/planar.html")
+    wheres = {where for where, _ in english_chrome}
+    for needed in ("nav.bd-links p.caption", ".rikin-preview-banner", ".rikin-launch",
+                   "details.hide summary p", "details.hide summary[aria-label]"):
+        assert needed in wheres, f"the English planar page has no {needed}: {english_chrome}"
+    left = []
+    for page in SWITCH_PAGES:
+        english = chrome_texts(book_html / page)
+        other = chrome_texts(book_html / EDITIONS[language] / page)
+        left += [f"{page}: {text}" for text in english_left(english, other)]
+    assert not left, f"{len(left)} texts around the pages still in English:\n" + "\n".join(
+        left[:40])
+
+
+def test_english_left_sees_an_english_caption_fold_or_banner() -> None:
+    """english_left flags a text left in English, or with an English word in it, and lets
+    the names the translation keeps and a translated text pass."""
+    english = [("caption", "Inverse kinematics"), ("fold", "Show code cell source"),
+               ("launch", "Run this page yourself: download the notebook (.ipynb) and open it "
+                          "in Jupyter, JupyterLab or Colab (File → Upload notebook)")]
+    spanish = [("caption", "Cinemática inversa"),
+               ("fold", "Mostrar el código de la celda"),
+               ("launch", "Ejecuta esta página tú: descarga el notebook (.ipynb) y ábrelo en "
+                          "Jupyter, JupyterLab o Colab (Archivo → Subir cuaderno)")]
+    assert english_left(english, spanish) == []
+    assert english_left(english, [spanish[0], ("fold", "Mostrar celda de código (source)"),
+                                  spanish[2]]) != []
+    assert english_left(english, [("caption", "Inverse kinematics"), *spanish[1:]]) != []
+    assert english_left(english, spanish[:2]) != []  # a text missing is reported too
+
+
 def test_the_number_comparison_sees_a_changed_number(tmp_path: Path) -> None:
     """output_numbers reads cell outputs and interactive coordinates, not the prose."""
     def page(prose: str, value: str, x: str) -> Path:

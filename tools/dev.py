@@ -5,7 +5,8 @@
     python3 tools/dev.py test [-- ARGS]    set up .venv with everything, run every test
     python3 tools/dev.py lint              set up .venv with everything, run ruff (the whole
                                            repository) and mypy (rikin, grader/rikingrade)
-    python3 tools/dev.py translations      refresh the Spanish catalogues (book/locales/)
+    python3 tools/dev.py translations      refresh every Spanish catalogue (the book's in
+                                           book/locales/, the exercises' and the grader's)
     python3 tools/dev.py lab [-- ARGS]     set up .venv with everything, start JupyterLab
                                            at the repository root (book/, exercises/, ...)
 
@@ -307,7 +308,8 @@ def cmd_book(args: argparse.Namespace) -> int:
 
 
 def cmd_translations() -> int:
-    """Refresh the translation catalogues (book/locales/<lang>/LC_MESSAGES/) from the sources.
+    """Refresh every translation catalogue from the sources: the book's
+    (book/locales/<lang>/LC_MESSAGES/), then the exercises' and the grader's.
 
     Sphinx's gettext builder extracts every paragraph, heading, caption and admonition of
     the book (notebooks are not executed for this) into ``_build/gettext/*.pot``; sphinx-intl
@@ -315,7 +317,10 @@ def cmd_translations() -> int:
     changed text keeps the old one marked ``fuzzy`` until a translator checks it. The texts
     the code cells print (rikin.booktext templates) are merged the same way into
     ``cells.po`` by tools/cell_messages.py. The tests refuse a catalogue with an empty or
-    fuzzy entry.
+    fuzzy entry. ``tools/make_exercises.py --translations`` does the same for the exercises
+    (solutions/locales/) and the grader (grader/rikingrade/locales/), then makes the
+    exercises in each language; it refuses (exit 2) while a message there has no current
+    translation, and so does this command then, after every catalogue is refreshed.
     """
     ensure_venv("all")
     text = (ROOT / "_config.yml").read_text()
@@ -332,7 +337,13 @@ def cmd_translations() -> int:
                "-l", language, "-w", "0"], child_env())
     # the texts the cells print (✓ lines, table headers): book/locales/<lang>/.../cells.po
     check([PY, ROOT / "tools" / "cell_messages.py"], child_env())
-    return 0
+    rc = run([PY, ROOT / "tools" / "make_exercises.py", "--translations"], child_env())
+    if rc != 0:
+        print("dev.py: the exercises' catalogues are refreshed, but the exercises were not "
+              "made in every language (see above): translate what is new or fuzzy in "
+              "solutions/locales/ and grader/rikingrade/locales/, then run python3 "
+              "tools/make_exercises.py", file=sys.stderr, flush=True)
+    return rc
 
 
 def _published_note() -> str:

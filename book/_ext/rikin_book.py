@@ -38,6 +38,7 @@ Loaded from ``_config.yml`` (``sphinx.local_extensions``). It does two things:
 
 from __future__ import annotations
 
+import functools
 import html
 import importlib.util
 import json
@@ -55,6 +56,7 @@ from sphinx.errors import ExtensionError
 from sphinx.util import logging
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import rikin_i18n  # noqa: E402  (the editions, and the site's texts in their language)
 import rikin_markdown  # noqa: E402  (next to this file; standard library only)
 import rikin_site  # noqa: E402
 
@@ -352,18 +354,25 @@ def _with_ids(nb: nbformat.NotebookNode) -> nbformat.NotebookNode:
     return nb
 
 
-def _launch_html(app: Sphinx, path: str, download: str | None, what: str) -> str:
-    """Links that open the published notebook at ``path`` (in the site) with one click."""
+def _launch_html(app: Sphinx, path: str, download: str | None, what: str | None) -> str:
+    """Links that open the published notebook at ``path`` (in the edition's site) with one
+    click, in the edition's language: "Run this page yourself" (``what`` None) or "Run
+    <what> yourself". The launch links name the file in the published repository, where a
+    translated edition's site is a folder of the English one's (``es/``)."""
     repo = rikin_site.read_launch_repository(app.config.rikin_launch_repository,
                                              "_config.yml sphinx.config.rikin_launch_repository")
+    inside = rikin_i18n.EDITIONS[rikin_i18n.edition(app.config.language)][0] + path
     links = [f'<a class="rikin-launch-{name.split()[0].lower()}" href="{html.escape(url)}" '
              f'target="_blank" rel="noopener">{html.escape(name)}</a>'
-             for name, url in (rikin_site.launch_links(repo, path).items() if repo else ())]
+             for name, url in (rikin_site.launch_links(repo, inside).items() if repo else ())]
+    say = functools.partial(rikin_i18n.site_text, app)
     if download:
-        links.append(f'<a href="{html.escape(download)}" download>download the notebook '
-                     "(.ipynb)</a>")
-    tail = "" if repo else " and open it in Jupyter, JupyterLab or Colab (File → Upload notebook)"
-    return (f'<p class="rikin-launch" style="margin:.2em 0 1em">Run {what} yourself: '
+        links.append(f'<a href="{html.escape(download)}" download>'
+                     f"{html.escape(say(rikin_site.LAUNCH_DOWNLOAD))}</a>")
+    tail = "" if repo else " " + html.escape(say(rikin_site.LAUNCH_UPLOAD))
+    run = (say(rikin_site.LAUNCH_PAGE) if what is None
+           else say(rikin_site.LAUNCH_FILE, name=what))
+    return (f'<p class="rikin-launch" style="margin:.2em 0 1em">{html.escape(run)} '
             + " · ".join(links) + tail + "</p>")
 
 
@@ -371,9 +380,11 @@ def _preview_banner(app: Sphinx) -> str:
     base = app.env.rikin_install["book"]
     if not rikin_site.is_loopback(base):
         return ""
+    say = functools.partial(rikin_i18n.site_text, app)
+    warning = rikin_site.loopback_warning(base, say(rikin_site.LOOPBACK_WARNING))
     return ('<div class="rikin-preview-banner" role="note" style="border-left:4px solid '
             'var(--pst-color-danger, #c00);padding:.4em .8em;margin:0 0 1em">'
-            f"<b>Not for publishing.</b> {html.escape(rikin_site.loopback_warning(base))}</div>")
+            f"<b>{html.escape(say(rikin_site.PREVIEW_TITLE))}</b> {html.escape(warning)}</div>")
 
 
 #: A download link to an exercise notebook in a page's HTML (Sphinx's ``{download}`` role).
@@ -393,7 +404,7 @@ def add_launch_links(
     if context.get("ipynb_source"):
         path = f"_sources/{context['ipynb_source']}"
         top += _launch_html(app, path, context.get("pathto", lambda p, _=1: p)(path, 1),
-                            "this page")
+                            None)
 
     def with_links(m: re.Match[str]) -> str:
         path = f"{rikin_site.EXERCISES_PATH}/{m['name']}"

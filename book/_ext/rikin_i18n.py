@@ -34,14 +34,23 @@ target, the reader gets the notebook in their language.
 
 from __future__ import annotations
 
+import html
+import sys
 from pathlib import Path
 from typing import Any
 
 from docutils import nodes
 from myst_nb.ext.glue.directives import PasteFigureDirective
+from myst_nb.sphinx_ import HideCodeCellNode, depart_HideCellInput, visit_HideCellInput
 from sphinx import addnodes
 from sphinx.application import Sphinx
+from sphinx.locale import init as init_locale
 from sphinx.transforms import SphinxTransform
+from sphinx.transforms.post_transforms import SphinxPostTransform
+from sphinx.util.i18n import docname_to_domain
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import rikin_site  # noqa: E402  (the texts the book's extension writes on its pages)
 
 #: The editions: language code -> (folder below the site root, the language's own name).
 EDITIONS: dict[str, tuple[str, str]] = {"en": ("", "English"), "es": ("es/", "Español")}
@@ -49,11 +58,22 @@ EDITIONS: dict[str, tuple[str, str]] = {"en": ("", "English"), "es": ("es/", "Es
 #: reads that language).
 SWITCH_TITLE = {"en": "Read this page in English", "es": "Lee esta página en español"}
 #: The site's texts that the config gives, not a page (the title, the footer, the search
-#: box, the buttons that fold a cell, "Show code cell {type}" with {type} source, outputs
-#: or content): the gettext build puts them in the first page's catalogue, and a
-#: translated edition takes them from its catalogues (:func:`translated_config`).
-SITE_TEXTS = ("html_title", "copyright", "search_bar_text", "nb_code_prompt_show",
-              "nb_code_prompt_hide")
+#: box): they, the fold buttons' texts and the book extension's (:func:`site_messages`)
+#: go into the first page's catalogue in the gettext build, and a translated edition takes
+#: them from its catalogues (:func:`translated_config`, :func:`site_text`).
+SITE_TEXTS = ("html_title", "copyright", "search_bar_text")
+#: The words myst-nb puts for ``{type}`` in the fold buttons' texts (``nb_code_prompt_show``
+#: "Show code cell {type}", ``nb_code_prompt_hide``; myst_nb.sphinx_.HideInputCells): a
+#: whole cell, its source, its output, its outputs. Each filled-in text is one message.
+FOLD_TYPES = ("content", "source", "output", "outputs")
+#: What myst-nb's fold button says to a screen reader (its ``aria-label``).
+FOLD_LABEL = "Toggle hidden content"
+#: The theme's words that its templates write untranslated (sphinx-book-theme 1.3's
+#: sidebar buttons' tooltips, the sidebar's label for screen readers): the book's copies of
+#: those templates (``templates/``) write ``rikin_text(...)`` of them (:func:`add_switch`).
+THEME_TEXTS = ("Toggle primary sidebar", "Toggle secondary sidebar", "Main")
+#: Where a translated edition keeps its site texts' translations (an attribute of the app).
+SITE_STRINGS = "rikin_site_strings"
 #: The builder that extracts the messages (``tools/dev.py translations``).
 GETTEXT = "gettext"
 #: The template (in ``templates/``) that draws the switch in the article header.
@@ -96,9 +116,11 @@ def add_switch_template(app: Sphinx, config: Any) -> None:
 def add_switch(
     app: Sphinx, pagename: str, templatename: str, context: dict[str, Any], doctree: Any
 ) -> None:
-    """Give the page's template the other editions' links (switch and hreflang)."""
+    """Give the page's template the other editions' links (switch and hreflang), and
+    ``rikin_text``, the site's texts in the edition's language (:func:`site_text`)."""
     if app.builder.format != "html":
         return
+    context["rikin_text"] = lambda message: site_text(app, message)
     here = edition(app.config.language)
     others = [lang for lang in EDITIONS if lang != here]
     context["rikin_editions"] = [
@@ -199,8 +221,8 @@ class ExtractCellTexts(SphinxTransform):
         if self.app.builder.name != GETTEXT:
             return
         if self.env.docname == self.config.root_doc:
-            texts = [t for t in site_texts(self.config).values() if t]
-            self.document += _late_node(texts, self.document["source"], None)
+            self.document += _late_node(site_messages(self.config), self.document["source"],
+                                        None)
         for cell in list(self.document.findall(nodes.container)):
             if cell.get("nb_element") != "cell_code":
                 continue
@@ -228,10 +250,33 @@ def site_texts(config: Any) -> dict[str, str]:
     """The config's :data:`SITE_TEXTS` (the search box's is a theme option)."""
     options = config.html_theme_options or {}
     values = {"html_title": config.html_title, "copyright": config.copyright,
-              "search_bar_text": options.get("search_bar_text"),
-              "nb_code_prompt_show": config.nb_code_prompt_show,
-              "nb_code_prompt_hide": config.nb_code_prompt_hide}
+              "search_bar_text": options.get("search_bar_text")}
     return {name: str(values[name] or "") for name in SITE_TEXTS}
+
+
+def fold_texts(config: Any) -> list[str]:
+    """What the fold buttons say, each ``{type}`` (:data:`FOLD_TYPES`) filled in as myst-nb
+    does: "Show code cell source", "Hide code cell outputs", ..."""
+    prompts = (config.nb_code_prompt_show, config.nb_code_prompt_hide)
+    return [str(prompt).replace("{type}", kind) for prompt in prompts for kind in FOLD_TYPES]
+
+
+def site_messages(config: Any) -> list[str]:
+    """Every text the site shows that no page's source has, as a message: the config's
+    (:func:`site_texts`), the fold buttons' (:func:`fold_texts`, :data:`FOLD_LABEL`), the
+    theme's untranslated ones (:data:`THEME_TEXTS`), and what the book's extension writes
+    on pages (the preview banner, the launch lines:
+    ``rikin_site.PAGE_TEXTS``, some with ``{placeholders}``)."""
+    texts = [*site_texts(config).values(), *fold_texts(config), FOLD_LABEL, *THEME_TEXTS,
+             *rikin_site.PAGE_TEXTS]
+    return [t for t in dict.fromkeys(texts) if t]
+
+
+def site_text(app: Sphinx, message: str, **values: str) -> str:
+    """``message`` (one of :func:`site_messages`) in the edition's language, its
+    ``{placeholders}`` filled in with ``values``."""
+    text = getattr(app, SITE_STRINGS, {}).get(message, message)
+    return text.format(**values) if values else text
 
 
 def catalogue_strings(folders: list[Path], language: str) -> dict[str, str]:
@@ -249,21 +294,100 @@ def catalogue_strings(folders: list[Path], language: str) -> dict[str, str]:
 
 
 def translated_config(app: Sphinx, config: Any) -> None:
-    """A translated edition: the site's title, footer and search box (:data:`SITE_TEXTS`)
-    as its catalogues translate them, and each text of a page it has no translation for
+    """A translated edition: the site's texts (:func:`site_messages`) as its catalogues
+    translate them (the title, footer and search box set here in the config, the others
+    looked up by :func:`site_text`), and each text of a page it has no translation for
     marked (class ``untranslated``, which the tests look for)."""
     language = edition(config.language)
     if language == "en":
         return
     config.translation_progress_classes = "untranslated"
     strings = catalogue_strings([Path(app.srcdir) / d for d in config.locale_dirs], language)
+    found = {m: strings[m] for m in site_messages(config) if m in strings}
+    setattr(app, SITE_STRINGS, found)
+    # a config value of the html build: a changed translation rewrites every page, also in
+    # an incremental build (tools/dev.py book --cached), which rewrites only changed pages
+    config.rikin_site_translations = sorted(found.items())
     texts = {name: strings.get(text, text) for name, text in site_texts(config).items()}
     config.html_title, config.copyright = texts["html_title"], texts["copyright"]
-    config.nb_code_prompt_show = texts["nb_code_prompt_show"]
-    config.nb_code_prompt_hide = texts["nb_code_prompt_hide"]
     if texts["search_bar_text"]:
         config.html_theme_options = {**(config.html_theme_options or {}),
                                      "search_bar_text": texts["search_bar_text"]}
+
+
+class TranslatedFolds(SphinxPostTransform):
+    """The fold buttons' texts in the edition's language (:func:`fold_texts`).
+
+    myst-nb fills ``{type}`` of ``nb_code_prompt_show`` with an English word when it folds
+    a cell (after the page was translated), so each filled-in text is its own message."""
+
+    default_priority = 200  # after myst-nb's HideInputCells (199), which writes them
+    formats = ("html",)
+
+    def run(self, **kwargs: Any) -> None:
+        for node in self.document.findall(HideCodeCellNode):
+            for key in ("prompt_show", "prompt_hide"):
+                node[key] = site_text(self.app, str(node[key]))
+
+
+def visit_fold(self: Any, node: HideCodeCellNode) -> None:
+    """myst-nb's fold button, its label for screen readers (:data:`FOLD_LABEL`) translated."""
+    start = len(self.body)
+    visit_HideCellInput(self, node)
+    label = html.escape(site_text(self.builder.app, FOLD_LABEL))
+    self.body[start:] = [part.replace(f'aria-label="{FOLD_LABEL}"', f'aria-label="{label}"')
+                         for part in self.body[start:]]
+
+
+class TranslatedPartCaptions(SphinxTransform):
+    """The captions of the book's parts ("Inverse kinematics", the sidebar's headings) from
+    the page's catalogue: sphinx-external-toc adds the toctrees that carry them after
+    Sphinx translated the page (the gettext build extracts them all the same)."""
+
+    default_priority = 101  # after sphinx-external-toc's InsertToctrees (100)
+
+    def apply(self, **kwargs: Any) -> None:
+        if edition(self.config.language) == "en" or self.app.builder.name == GETTEXT:
+            return
+        dirs = [str(Path(self.env.srcdir) / d) for d in self.config.locale_dirs]
+        domain = docname_to_domain(self.env.docname, self.config.gettext_compact)
+        catalogue, found = init_locale(dirs, self.config.language, domain)
+        for node in self.document.findall(addnodes.toctree):
+            caption = node.get("rawcaption") or node.get("caption")
+            translated = catalogue.gettext(caption) if found and caption else caption
+            if caption and translated != caption:
+                node["rawcaption"] = caption
+                node.apply_translated_message(caption, translated)
+
+
+#: The attribute an image keeps its alt text in while Sphinx translates the page.
+ORIGINAL_ALT = "rikin_original_alt"
+
+
+class RememberAlt(SphinxTransform):
+    """Before Sphinx translates the page: each image's alt text as written."""
+
+    default_priority = 19  # before Locale (20)
+
+    def apply(self, **kwargs: Any) -> None:
+        for node in self.document.findall(nodes.image):
+            if node.get("alt"):
+                node[ORIGINAL_ALT] = node["alt"]
+
+
+class MarkAltTranslated(SphinxTransform):
+    """An image whose alt text Sphinx's ``Locale`` looked up and replaced by its translation
+    marked translated: Sphinx 7 replaces it but leaves the image marked not translated, so
+    it would show with the class ``untranslated``. An alt text not found stays marked."""
+
+    default_priority = 21  # after Locale (20), before the translation progress (25, 950)
+
+    def apply(self, **kwargs: Any) -> None:
+        for node in self.document.findall(nodes.image):
+            original = node.attributes.pop(ORIGINAL_ALT, None)
+            if (original is not None and node.get("translated") is False
+                    and node.get("alt") != original):
+                node["translated"] = True
 
 
 class KeepCellOutputs(SphinxTransform):
@@ -284,9 +408,15 @@ class KeepCellOutputs(SphinxTransform):
 def setup(app: Sphinx) -> dict[str, Any]:
     app.setup_extension("myst_nb")  # its glue domain first: GlueFigure replaces a directive
     app.add_node(late_texts)
+    app.add_config_value("rikin_site_translations", [], "html")
     app.add_transform(ExtractCellTexts)
     app.add_transform(KeepCellOutputs)
     app.add_transform(ExercisesInLanguage)
+    app.add_transform(TranslatedPartCaptions)
+    app.add_transform(RememberAlt)
+    app.add_transform(MarkAltTranslated)
+    app.add_post_transform(TranslatedFolds)
+    app.add_node(HideCodeCellNode, override=True, html=(visit_fold, depart_HideCellInput))
     app.add_directive_to_domain("glue", "figure", GlueFigure, override=True)
     app.connect("config-inited", add_switch_template)
     app.connect("config-inited", translated_config)

@@ -101,11 +101,30 @@ def is_loopback(url: str) -> bool:
     return ip.is_loopback or ip.is_unspecified
 
 
-def loopback_warning(url: str) -> str:
-    """What a build for a loopback ``url`` says (on every page, and in the log)."""
-    return (f"A local preview: this book's notebooks install rikin from {url}, an address only "
-            "this computer can reach. Set html.baseurl in _config.yml to the public URL the "
-            "book is served from, then build it again before publishing it.")
+#: What a build for a loopback address says, on every page and in the log ({url}: the
+#: address). It and the other texts the book's extension writes on its pages
+#: (:data:`PAGE_TEXTS`) are messages: a translated edition shows them as its catalogues
+#: translate them (book/_ext/rikin_i18n.py).
+LOOPBACK_WARNING = ("A local preview: this book's notebooks install rikin from {url}, an "
+                    "address only this computer can reach. Set html.baseurl in _config.yml to "
+                    "the public URL the book is served from, then build it again before "
+                    "publishing it.")
+#: The preview banner's first words (then :data:`LOOPBACK_WARNING`).
+PREVIEW_TITLE = "Not for publishing."
+#: The launch line of a page published as a notebook, and of an exercise ({name}: its file).
+LAUNCH_PAGE = "Run this page yourself:"
+LAUNCH_FILE = "Run {name} yourself:"
+#: The launch line's download link, and what it says when there are no launch links.
+LAUNCH_DOWNLOAD = "download the notebook (.ipynb)"
+LAUNCH_UPLOAD = "and open it in Jupyter, JupyterLab or Colab (File → Upload notebook)"
+PAGE_TEXTS = (PREVIEW_TITLE, LOOPBACK_WARNING, LAUNCH_PAGE, LAUNCH_FILE, LAUNCH_DOWNLOAD,
+              LAUNCH_UPLOAD)
+
+
+def loopback_warning(url: str, template: str = LOOPBACK_WARNING) -> str:
+    """What a build for a loopback ``url`` says (``template``: :data:`LOOPBACK_WARNING` or
+    its translation)."""
+    return template.format(url=url)
 
 
 #: The GitHub address of a folder of a branch: owner, repository, branch, folder.
