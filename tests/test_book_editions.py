@@ -148,10 +148,6 @@ def test_pages_say_their_language(language: str, book_html: Path) -> None:
 
 @pytest.mark.book
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "issue 32, open: images whose alt text comes from cell metadata are shown translated "
-    "but Sphinx still marks them 'untranslated' (38 in the last build), and two empty image "
-    "links on instructor/report"))
 @pytest.mark.parametrize("language", list(EDITIONS))
 def test_every_text_of_a_translated_page_is_translated(language: str, book_html: Path) -> None:
     """What the translated build looked up and did not find (a new or changed message not
@@ -247,8 +243,6 @@ def _site_texts(page_html: str) -> list[str]:
 
 @pytest.mark.book
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, reason=(
-    "issue 32, open: planar's fold button still reads 'Show code cell source' in Spanish"))
 @pytest.mark.parametrize("language", list(EDITIONS))
 def test_the_site_texts_are_translated(language: str, book_html: Path) -> None:
     """The title, search box, fold buttons and footer come from the config, not from a page:

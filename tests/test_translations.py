@@ -402,3 +402,34 @@ def test_cell_texts_read_caption_and_alt_from_cell_metadata():
     assert ext.cell_texts(meta) == ["Two arms. Both reach.", "Two arms side by side."]
     assert ext.cell_texts({"tags": ["hide-input"]}) == []
     assert ext.cell_texts({"mystnb": {"figure": {"name": "fig-b"}}}) == []
+
+
+@pytest.mark.parametrize("exercises_rc", [0, 2])
+def test_the_translations_command_refreshes_every_catalogue(tmp_path, monkeypatch, capsys,
+                                                            exercises_rc):
+    """``tools/dev.py translations`` refreshes the book's catalogues (Sphinx's gettext
+    builder, then sphinx-intl), then the exercises' and the grader's
+    (``make_exercises.py --translations``), and fails when those cannot be made."""
+    sys.path.insert(0, str(ROOT / "tools"))
+    import dev
+
+    (tmp_path / "_config.yml").write_text((ROOT / "_config.yml").read_text(encoding="utf-8"),
+                                          encoding="utf-8")
+    monkeypatch.setattr(dev, "ROOT", tmp_path)
+    monkeypatch.setattr(dev, "BUILD", tmp_path / "_build")
+    monkeypatch.setattr(dev, "ensure_venv", lambda what="all": None)
+    ran: list[list[str]] = []
+
+    def run(cmd, env=None):
+        ran.append([Path(str(c)).name if i < 2 else str(c) for i, c in enumerate(cmd)])
+        if "--custom-builder" in ran[-1]:
+            (tmp_path / "_build" / "_gettext" / "_build" / "gettext").mkdir(parents=True)
+        return exercises_rc if ran[-1][1] == "make_exercises.py" else 0
+
+    monkeypatch.setattr(dev, "run", run)
+    assert dev.cmd_translations() == exercises_rc
+    assert [c[0] if c[1] != "make_exercises.py" else c[1] for c in ran] == [
+        "jupyter-book", *["sphinx-intl"] * len(dev.EDITIONS), "make_exercises.py"]
+    assert ran[-1][2:] == ["--translations"]
+    if exercises_rc:
+        assert "solutions/locales/" in capsys.readouterr().err

@@ -219,22 +219,27 @@ def clean_metadata(nb) -> None:
     })
 
 
-def install_cell():
+def install_cell(texts: dict[str, str] | None = None, lang: str | None = None):
     """The exercises' first cell: install rikin from the book at html.baseurl when missing.
 
     Not pinned to a wheel's sha256 (that changes with every edit of rikin/, and exercises/ is
     in git): it asks the book's manifest. The book build pins the copies it publishes.
+    ``texts``: its title and comment translated (``rikin_site.INSTALL_TEXTS``); ``lang``:
+    the notebook's language, whose edition of the book (``<baseurl><lang>/``) it names as
+    the page to download it again from.
     """
     base = rikin_site.read_base_url(CONFIG_FILE)
-    cell = rikin_site.install_cell(base, rikin_site.read_version(),
-                                   page=base + rikin_site.EXERCISES_PAGE)
+    page = base + (f"{lang}/" if lang else "") + rikin_site.EXERCISES_PAGE
+    cell = rikin_site.install_cell(base, rikin_site.read_version(), page=page, texts=texts)
     return nbformat.from_dict(cell)
 
 
-def make_exercise(solution, name: str):
-    """The exercise notebook made from one solution notebook (not written)."""
+def make_exercise(solution, name: str, texts: dict[str, str] | None = None,
+                  lang: str | None = None):
+    """The exercise notebook made from one solution notebook (not written); ``texts`` and
+    ``lang`` make its install cell in another language (:func:`install_cell`)."""
     nb = copy.deepcopy(solution)
-    cells = [install_cell()]
+    cells = [install_cell(texts, lang)]
     stubbed: list[str] = []
     for k, cell in enumerate(nb.cells):
         t = tags(cell)
@@ -389,7 +394,8 @@ def _check_grader_catalogue(lang: str, check: bool) -> list[str]:
 def catalogue_sources(solutions: dict, shared: dict[str, str]) -> dict[str, list[str]]:
     """Every message to translate, by the file it comes from."""
     sources = {str(CHECKS_FILE.relative_to(CHECKS_FILE.parents[1])):
-               list(i18n.shared_messages(shared))}
+               list(i18n.shared_messages(shared)),
+               "book/_ext/rikin_site.py": list(rikin_site.INSTALL_TEXTS)}
     for name, nb in solutions.items():
         sources[f"solutions/{name}"] = list(i18n.notebook_messages(nb, SHARED_TAGS))
     return sources
@@ -423,7 +429,7 @@ def _generate_language(lang: str, solutions: dict, shared: dict[str, str],
         for name, nb in solutions.items():
             translated = i18n.translate_notebook(nb, tr, SHARED_TAGS)
             sync_shared(translated, localized, f"{lang}/{name}")
-            exercise = make_exercise(translated, name)
+            exercise = make_exercise(translated, name, tr, lang)
             exercise.metadata["language"] = lang
             _write_if_changed(EXERCISES / lang / name, dumps(exercise), check, differ)
     except i18n.Untranslated as exc:

@@ -163,8 +163,9 @@ def build_rikin_dists(app: Sphinx) -> None:
 def _install_cell(app: Sphinx, extras: tuple[str, ...] = (),
                   page: str | None = None) -> nbformat.NotebookNode:
     info = app.env.rikin_install
+    texts = {m: rikin_i18n.site_text(app, m) for m in rikin_site.INSTALL_TEXTS}
     cell = rikin_site.install_cell(info["book"], info["version"], info["wheel"], extras=extras,
-                                   extra_tags=("remove-cell",), page=page)
+                                   extra_tags=("remove-cell",), page=page, texts=texts)
     return nbformat.from_dict(cell)
 
 

@@ -19,17 +19,32 @@ figure's caption and alt text written in a code cell's metadata (``mystnb: figur
 notebook ran, and ``tools/dev.py translations`` extracts without running any. In that
 (gettext) build the texts are added to the page as :class:`late_texts` nodes, with exactly
 the messages Sphinx's ``Locale`` transform looks up in the executed Spanish build (a
-caption's paragraph, its lines joined by spaces; an image's alt text). The site's texts
-that the config gives (title, footer, search box, the buttons that fold a cell) go into the
-first page's catalogue, and a translated edition takes them from there. What cells print is
-not looked up in the catalogues (rikin prints its words in the page's language, see
-``rikin/i18n.py``). The Spanish build marks every text it found no translation for with
-the class ``untranslated`` (``translation_progress_classes``), which the tests look for.
+caption's paragraph, its lines joined by spaces; an image's alt text).
+
+And what makes the site around the pages speak the edition's language:
+
+* the texts the site shows that no page's source has (:func:`site_messages`: the config's
+  title, footer and search box; each fold button's text as myst-nb fills it in, "Show code
+  cell source", "... outputs", and its label for screen readers; the theme's tooltips
+  that its templates leave English; the book extension's preview banner and launch lines)
+  go into the first page's catalogue, and a translated edition takes them from there
+  (:func:`site_text`); the install cell's title and comment come from the exercises'
+  catalogue, which has them for the exercise notebooks;
+* the parts' captions of the sidebar ("Inverse kinematics"), which sphinx-external-toc
+  adds after Sphinx translated the root page, are translated from its catalogue then;
+* an image whose alt text Sphinx translated is marked translated (Sphinx 7 leaves it
+  marked untranslated).
+
+What cells print is not looked up in the catalogues (rikin prints its words in the
+page's language, see ``rikin/i18n.py``). The Spanish build marks every text it found no
+translation for with the class ``untranslated`` (``translation_progress_classes``), which
+the tests look for.
 
 And in a translated edition, a ``{download}`` of an exercise notebook
 (``exercises/<arm>.ipynb``) offers that edition's notebook, ``exercises/<lang>/<arm>.ipynb``
 (made by tools/make_exercises.py), when there is one: the catalogues keep the English
-target, the reader gets the notebook in their language.
+target, the reader gets the notebook in their language; its launch links (Colab, Binder)
+name the edition's copy, ``es/_static/exercises/<arm>.ipynb`` (book/_ext/rikin_book.py).
 """
 
 from __future__ import annotations
@@ -74,6 +89,9 @@ FOLD_LABEL = "Toggle hidden content"
 THEME_TEXTS = ("Toggle primary sidebar", "Toggle secondary sidebar", "Main")
 #: Where a translated edition keeps its site texts' translations (an attribute of the app).
 SITE_STRINGS = "rikin_site_strings"
+#: The exercises' catalogues (below the book's source folder), which also translate the
+#: install cell of every notebook the book publishes (``rikin_site.INSTALL_TEXTS``).
+EXERCISE_LOCALES = "solutions/locales"
 #: The builder that extracts the messages (``tools/dev.py translations``).
 GETTEXT = "gettext"
 #: The template (in ``templates/``) that draws the switch in the article header.
@@ -273,8 +291,9 @@ def site_messages(config: Any) -> list[str]:
 
 
 def site_text(app: Sphinx, message: str, **values: str) -> str:
-    """``message`` (one of :func:`site_messages`) in the edition's language, its
-    ``{placeholders}`` filled in with ``values``."""
+    """``message`` (one of :func:`site_messages`, or of the install cell's
+    ``rikin_site.INSTALL_TEXTS``) in the edition's language, its ``{placeholders}`` filled
+    in with ``values``."""
     text = getattr(app, SITE_STRINGS, {}).get(message, message)
     return text.format(**values) if values else text
 
@@ -303,7 +322,9 @@ def translated_config(app: Sphinx, config: Any) -> None:
         return
     config.translation_progress_classes = "untranslated"
     strings = catalogue_strings([Path(app.srcdir) / d for d in config.locale_dirs], language)
+    exercises = catalogue_strings([Path(app.srcdir) / EXERCISE_LOCALES], language)
     found = {m: strings[m] for m in site_messages(config) if m in strings}
+    found |= {m: exercises[m] for m in rikin_site.INSTALL_TEXTS if m in exercises}
     setattr(app, SITE_STRINGS, found)
     # a config value of the html build: a changed translation rewrites every page, also in
     # an incremental build (tools/dev.py book --cached), which rewrites only changed pages

@@ -468,13 +468,32 @@ finally:
 '''
 
 
+#: The install cell's title (Colab shows it on the folded cell) and the comment under it:
+#: messages, translated in the exercises' catalogue (solutions/locales/, see
+#: tools/make_exercises.py) for the notebooks of the other languages, the book's too.
+INSTALL_TITLE = "Setup: install rikin if it is missing (Colab, a fresh Jupyter)"
+INSTALL_NOTE = ("Installs the rikin wheel published with this course's book, pinned by its "
+                "sha256, never a package of that name from a public index. A no-op where "
+                "rikin is already installed.")
+INSTALL_TEXTS = (INSTALL_TITLE, INSTALL_NOTE)
+
+
+def _comment(text: str, width: int = 92) -> str:
+    """``text`` as comment lines ("# ...") of at most about ``width`` characters."""
+    lines: list[str] = []
+    for word in text.split():
+        if lines and len(lines[-1]) + 1 + len(word) <= width:
+            lines[-1] += " " + word
+        else:
+            lines.append("# " + word)
+    return "".join(line + "\n" for line in lines)
+
+
 def _install_cell_header(book: str, page: str, version: str, wheel: str | None,
-                         extras: tuple[str, ...]) -> str:
+                         extras: tuple[str, ...], texts: dict[str, str]) -> str:
     return (
-        "#@title Setup: install rikin if it is missing (Colab, a fresh Jupyter)\n"
-        "# Installs the rikin wheel published with this course's book, pinned by its sha256,"
-        " never a\n# package of that name from a public index. A no-op where rikin is already"
-        " installed.\n"
+        f"#@title {texts.get(INSTALL_TITLE, INSTALL_TITLE)}\n"
+        + _comment(texts.get(INSTALL_NOTE, INSTALL_NOTE)) +
         f"RIKIN_BOOK = {book!r}\n"
         f"RIKIN_PAGE = {page!r}\n"
         f"RIKIN_NEEDED = {version!r}\n"
@@ -485,7 +504,7 @@ def _install_cell_header(book: str, page: str, version: str, wheel: str | None,
 
 def install_cell_source(
     book: str, version: str, wheel: str | None = None, extras: tuple[str, ...] = (),
-    page: str | None = None,
+    page: str | None = None, texts: dict[str, str] | None = None,
 ) -> str:
     """The install cell's code: needs rikin >= ``version``, published by the book at ``book``.
 
@@ -499,17 +518,21 @@ def install_cell_source(
 
     ``page`` is where a student downloads this notebook again (default: the book).
 
+    ``texts`` translates the cell's title and comment (:data:`INSTALL_TEXTS`, English ->
+    the notebook's language); what the cell prints stays English.
+
     What a student sees: one line when rikin is there; pip's progress and one line when it
     installs; otherwise one line (a ``RikinSetupError``, which stops Run All) saying what
     to do: restart the kernel (pip changed a package this kernel had imported), download
     the notebook again (the book hosts another wheel now), or go online.
     """
-    return _install_cell_header(book, page or book, version, wheel, extras) + INSTALL_BODY
+    return _install_cell_header(book, page or book, version, wheel, extras,
+                                texts or {}) + INSTALL_BODY
 
 
 def install_cell(book: str, version: str, wheel: str | None = None,
                  extras: tuple[str, ...] = (), extra_tags: tuple[str, ...] = (),
-                 page: str | None = None) -> dict[str, Any]:
+                 page: str | None = None, texts: dict[str, str] | None = None) -> dict[str, Any]:
     """The install cell as an nbformat 4 code cell (a plain dict), its code folded away.
 
     Colab shows it as a form titled by its ``#@title`` line; Jupyter folds its source.
@@ -524,5 +547,5 @@ def install_cell(book: str, version: str, wheel: str | None = None,
             "tags": [INSTALL_TAG, *extra_tags],
         },
         "outputs": [],
-        "source": install_cell_source(book, version, wheel, extras, page),
+        "source": install_cell_source(book, version, wheel, extras, page, texts),
     }
