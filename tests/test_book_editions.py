@@ -266,10 +266,10 @@ _CHROME = ("nav.bd-links p.caption", ".rikin-preview-banner", ".rikin-launch",
 #: ... and the tooltips and labels for screen readers there.
 _TIPS = (".bd-header-article [{a}]", ".bd-sidebar-primary [{a}]", ".bd-sidebar-secondary [{a}]",
          "details.hide summary[{a}]", ".prev-next-area [{a}]", ".bd-header [{a}]")
-#: Words the Spanish edition keeps as they are: names (of programs, settings, keys), and
-#: the words the word list keeps (notebook, URL).
+#: Words the Spanish edition keeps as they are: names (of programs, settings, keys), the
+#: words the word list keeps (notebook, URL), and words both languages spell alike.
 _KEPT_WORDS = {"notebook", "notebooks", "jupyter", "jupyterlab", "colab", "binder", "rikin",
-               "ipynb", "ctrl", "html", "baseurl", "_config", "yml", "pdf", "url"}
+               "ipynb", "ctrl", "html", "baseurl", "_config", "yml", "pdf", "url", "local"}
 _WORDS = re.compile(r"[A-Za-z_]{3,}")
 #: Addresses and file names in a text (kept as they are).
 _NAMES = re.compile(r"\b\w+://\S+|[\w.-]+\.(?:ipynb|yml|html)\b")

@@ -120,8 +120,9 @@ def page_url(pagename: str, here: str, there: str) -> str:
 
 
 def add_switch_template(app: Sphinx, config: Any) -> None:
-    """Put the switch after the theme's own header buttons (download, full screen, ...)."""
-    config.templates_path = [*config.templates_path, str(TEMPLATES)]
+    """Put the switch after the theme's own header buttons (download, full screen, ...);
+    the book's templates first, before the themes' components (which they replace)."""
+    config.templates_path = [str(TEMPLATES), *config.templates_path]
     options = dict(config.html_theme_options or {})
     end = options.get("article_header_end", "article-header-buttons.html")
     end = [end] if isinstance(end, str) else list(end)
