@@ -18,13 +18,14 @@ does (``dev.build_book``).
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from urllib.parse import urlsplit
+from urllib.parse import unquote, urlsplit
 
 import pytest
 import test_book_browser as _browser
@@ -333,6 +334,38 @@ def test_the_site_around_a_page_speaks_its_language(language: str, book_html: Pa
         left += [f"{page}: {text}" for text in english_left(english, other)]
     assert not left, f"{len(left)} texts around the pages still in English:\n" + "\n".join(
         left[:40])
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("language", list(EDITIONS))
+def test_a_translated_page_offers_its_languages_notebooks(language: str,
+                                                          book_html: Path) -> None:
+    """The exercises page of a translated edition downloads the exercises in its language
+    (the download links and the stable copies in ``<edition>/_static/exercises/``), and
+    every launch link (Colab, Binder) of its pages opens the edition's copy, in its folder
+    of the published site, not the English one."""
+    site = book_html / EDITIONS[language]
+    page = site / "book" / "exercises.html"
+    soup = BeautifulSoup(page.read_text(encoding="utf-8"), "html.parser")
+    downloads = [a["href"] for a in soup.select("a.reference.download")
+                 if str(a["href"]).endswith(".ipynb")]
+    assert len(downloads) >= 4, downloads
+    for href in downloads:
+        name = href.rsplit("/", 1)[-1]
+        for notebook in (page.parent / href, site / "_static" / "exercises" / name):
+            data = json.loads(notebook.read_text(encoding="utf-8"))
+            assert data["metadata"].get("language") == language, notebook
+            title = "".join(data["cells"][0]["source"]).splitlines()[0]
+            assert "install rikin" not in title, f"{notebook}: {title}"
+    wrong = []
+    for name in SWITCH_PAGES:
+        html = BeautifulSoup((site / name).read_text(encoding="utf-8"), "html.parser")
+        for a in html.select(".rikin-launch a[target=_blank]"):
+            url = unquote(str(a["href"]))
+            if not re.search(rf"/{EDITIONS[language]}/(_sources|_static)/", url):
+                wrong.append(f"{name}: {url}")
+    assert not wrong, "launch links to the English notebooks:\n" + "\n".join(wrong[:20])
 
 
 def test_english_left_sees_an_english_caption_fold_or_banner() -> None:

@@ -370,11 +370,11 @@ def _launch_html(app: Sphinx, path: str, download: str | None, what: str | None)
     if download:
         links.append(f'<a href="{html.escape(download)}" download>'
                      f"{html.escape(say(rikin_site.LAUNCH_DOWNLOAD))}</a>")
-    tail = "" if repo else " " + html.escape(say(rikin_site.LAUNCH_UPLOAD))
+    tail = [] if repo else [html.escape(say(rikin_site.LAUNCH_UPLOAD))]
     run = (say(rikin_site.LAUNCH_PAGE) if what is None
            else say(rikin_site.LAUNCH_FILE, name=what))
-    return (f'<p class="rikin-launch" style="margin:.2em 0 1em">{html.escape(run)} '
-            + " · ".join(links) + tail + "</p>")
+    words = " ".join(w for w in (html.escape(run), " · ".join(links), *tail) if w)
+    return f'<p class="rikin-launch" style="margin:.2em 0 1em">{words}</p>'
 
 
 def _preview_banner(app: Sphinx) -> str:
