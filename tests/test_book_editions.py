@@ -368,6 +368,62 @@ def test_a_translated_page_offers_its_languages_notebooks(language: str,
     assert not wrong, "launch links to the English notebooks:\n" + "\n".join(wrong[:20])
 
 
+#: A markdown block of a notebook that has no prose to translate: display maths, a
+#: table, HTML, code.
+_NO_PROSE = re.compile(r"^(?:\$\$|\||<|```|~~~)")
+#: A fenced code block (in a markdown cell), blank lines and all.
+_CODE_BLOCK = re.compile(r"(?ms)^```(?!\{)[^\n]*\n.*?^```[ \t]*$")
+
+
+def _blocks(cell: dict) -> list[str]:
+    """A markdown cell's blocks (split at blank lines), its code blocks left out."""
+    return _CODE_BLOCK.sub("", "".join(cell["source"])).split("\n\n")
+
+
+def _spelt_alike(language: str) -> set[str]:
+    """The messages the catalogues of ``language`` translate as they are ("Magnitudes")."""
+    from babel.messages.pofile import read_po
+
+    alike = set()
+    for po in (ROOT / "book" / "locales" / language / "LC_MESSAGES").rglob("*.po"):
+        with po.open("rb") as f:
+            alike |= {m.id for m in read_po(f) if m.id and m.string == m.id}
+    return alike
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("language", list(EDITIONS))
+def test_a_translated_chapter_notebook_is_in_its_language(language: str,
+                                                          book_html: Path) -> None:
+    """The notebook a translated page offers (``<edition>/_sources/<page>.ipynb``: the
+    header's download button, "Run this page yourself") has the page's text in the
+    edition's language: its title is the page's, and no prose block is the English
+    notebook's."""
+    site = book_html / EDITIONS[language]
+    left, seen = [], 0
+    alike = _spelt_alike(language)
+    for page in BOOK_PAGES:
+        notebook = site / "_sources" / page.replace(".html", ".ipynb")
+        if not notebook.is_file():
+            continue
+        seen += 1
+        data = json.loads(notebook.read_text(encoding="utf-8"))
+        english = json.loads((book_html / "_sources" / page.replace(".html", ".ipynb"))
+                             .read_text(encoding="utf-8"))
+        assert data["metadata"].get("language") == language, notebook
+        title = _article(site / page).select_one("h1").get_text(" ", strip=True).rstrip("#")
+        markdown = [c for c in data["cells"] if c["cell_type"] == "markdown"]
+        first = "".join(markdown[0]["source"]).splitlines()[0]
+        assert first == f"# {title.strip()}", (page, first)
+        prose = {b for c in english["cells"] if c["cell_type"] == "markdown"
+                 for b in _blocks(c) if not _NO_PROSE.match(b)}
+        left += [f"{page}: {b[:80]!r}" for c in markdown for b in _blocks(c)
+                 if b in prose and re.search(r"[A-Za-z]{4,}", b) and b.strip("# ") not in alike]
+    assert seen >= 10, f"only {seen} chapter notebooks in {site / '_sources'}"
+    assert not left, f"{len(left)} English blocks in the notebooks:\n" + "\n".join(left[:30])
+
+
 def test_english_left_sees_an_english_caption_fold_or_banner() -> None:
     """english_left flags a text left in English, or with an English word in it, and lets
     the names the translation keeps and a translated text pass."""

@@ -433,3 +433,28 @@ def test_the_translations_command_refreshes_every_catalogue(tmp_path, monkeypatc
     assert ran[-1][2:] == ["--translations"]
     if exercises_rc:
         assert "solutions/locales/" in capsys.readouterr().err
+
+
+def test_translate_markdown_translates_prose_and_keeps_code():
+    """A chapter's markdown cell in the catalogue's language (the Spanish edition's
+    published notebooks): headings, paragraphs (their lines joined), list items and an
+    admonition's title and body translated; targets, code, maths and a block the catalogue
+    lacks as they are."""
+    ext = _i18n_extension()
+    spanish = {"The planar 2R": "El 2R plano", "Two links turn and reach a point.":
+               "Dos eslabones giran y alcanzan un punto.", "first item on two lines":
+               "primer elemento", "Errata: Aula 23": "Erratas: Aula 23", "Clamp it.":
+               "Limítalo.", "Errata": "Erratas"}
+
+    def lookup(messages):
+        return next((spanish[m] for m in messages if m in spanish), None)
+
+    text = ("(sec-2r)=\n## The planar 2R\n\nTwo links turn\nand reach a point.\n\n"
+            "- first item\n  on two lines\n- an item not in the catalogue\n\n"
+            "```{admonition} Errata: Aula 23\n:class: warning\nClamp it.\n```\n\n"
+            "```python\n# Errata\nx = 1\n```\n\n$$\nq = 1\n$$\n")
+    assert ext.translate_markdown(text, lookup) == (
+        "(sec-2r)=\n## El 2R plano\n\nDos eslabones giran y alcanzan un punto.\n\n"
+        "- primer elemento\n- an item not in the catalogue\n\n"
+        "```{admonition} Erratas: Aula 23\n:class: warning\nLimítalo.\n```\n\n"
+        "```python\n# Errata\nx = 1\n```\n\n$$\nq = 1\n$$\n")

@@ -285,6 +285,24 @@ def jupyter_markdown(nb: nbformat.NotebookNode, links: rikin_markdown.Resolve) -
     nb.cells = cells
 
 
+def translate_notebook(nb: nbformat.NotebookNode, lookup: Any, language: str) -> None:
+    """A chapter's executed notebook in a translated edition's language (in place): its
+    markdown and its figures' captions, as the page's catalogue translates them
+    (``rikin_i18n.translate_markdown``); the code and what it printed stay as they are
+    (the cells printed in the edition's language); its metadata says ``language`` (as the
+    exercises in other languages do). ``lookup`` None: English, unchanged."""
+    if lookup is None:
+        return
+    for cell in nb.cells:
+        if cell.cell_type == "markdown":
+            cell.source = rikin_i18n.translate_markdown(cell.source, lookup)
+        figure = cell.get("metadata", {}).get("mystnb", {}).get("figure", {})
+        if cell.cell_type == "code" and figure.get("caption"):
+            figure["caption"] = rikin_i18n.translate_markdown(str(figure["caption"]).strip(),
+                                                              lookup)
+    nb.metadata["language"] = language
+
+
 def publish_notebook(
     app: Sphinx, pagename: str, templatename: str, context: dict[str, Any], doctree: Any
 ) -> None:
@@ -298,6 +316,8 @@ def publish_notebook(
     nb = nbformat.read(executed, as_version=4)
     for key in ("jupytext", "source_map"):  # build-time metadata, noise for a reader
         nb.metadata.pop(key, None)
+    translate_notebook(nb, rikin_i18n.page_lookup(app, pagename),
+                       rikin_i18n.edition(app.config.language))
     jupyter_markdown(nb, BookLinks(app, pagename))
     page = BookLinks(app, pagename).url(pagename)
     nb.cells.insert(0, _install_cell(app, rikin_site.CHAPTER_EXTRAS, page=page))

@@ -50,6 +50,7 @@ name the edition's copy, ``es/_static/exercises/<arm>.ipynb`` (book/_ext/rikin_b
 from __future__ import annotations
 
 import html
+import re
 import sys
 from pathlib import Path
 from typing import Any
@@ -410,6 +411,117 @@ class MarkAltTranslated(SphinxTransform):
             if (original is not None and node.get("translated") is False
                     and node.get("alt") != original):
                 node["translated"] = True
+
+
+#: A markdown line that starts a list item (its marker, then its text).
+_ITEM = re.compile(r"^(?P<marker>[ ]{0,3}(?:[-*+]|\d+[.)])[ ]+)(?P<text>\S.*)$")
+_HEADING = re.compile(r"^(?P<marker>#{1,6}[ ]+)(?P<text>.+?)[ ]*$")
+_TARGET = re.compile(r"^\s*\([^()\s]+\)=\s*$")
+#: The opening line of a fenced block: a directive (``{name}``, its argument) or code.
+_FENCE = re.compile(r"^(?P<indent>[ ]{0,3})(?P<fence>`{3,}|~{3,}|:{3,})"
+                    r"(?:\{(?P<name>[\w:.-]+)\}[ \t]*(?P<arg>.*?)|[^`{]*?)\s*$")
+#: Directives whose body is not prose (kept as they are).
+_VERBATIM = ("code", "code-block", "code-cell", "math", "sourcecode", "raw", "glue:figure",
+             "figure", "image", "toctree", "literalinclude", "tableofcontents")
+
+
+def _message_of(lines: list[str]) -> list[str]:
+    """The ways Sphinx may have written the message of a paragraph of ``lines``: its
+    source with newlines as spaces (inner indentation kept), or each line stripped."""
+    kept = " ".join(lines).strip()
+    return list(dict.fromkeys([kept, " ".join(line.strip() for line in lines)]))
+
+
+def _translated_block(lines: list[str], lookup: Any) -> list[str]:
+    """One block of markdown (no blank line, no fence) in the catalogue's language: a
+    heading, a list (each item), or a paragraph; as it is when a part is not found."""
+    heading = _HEADING.match(lines[0])
+    if heading and len(lines) == 1:
+        found = lookup([heading["text"]])
+        return [heading["marker"] + found] if found else lines
+    if lines[0].lstrip().startswith(("|", "$$", "<")):
+        return lines
+    if _ITEM.match(lines[0]):
+        items: list[tuple[str, list[str]]] = []
+        for line in lines:
+            m = _ITEM.match(line)
+            if m:
+                items.append((m["marker"], [m["text"]]))
+            else:
+                items[-1][1].append(line)
+        out = []
+        for marker, text in items:
+            found = lookup(_message_of(text))
+            out += [marker + found] if found else [marker + text[0], *text[1:]]
+        return out
+    found = lookup(_message_of(lines))
+    return [found] if found else lines
+
+
+def translate_markdown(text: str, lookup: Any) -> str:
+    """A markdown cell of a page in the catalogue's language, block by block.
+
+    ``lookup(messages)`` is the translation of the first of ``messages`` the catalogue has,
+    or None. Headings, paragraphs, list items and a directive's argument and body are
+    looked up as Sphinx extracted them; code, maths, tables and HTML stay as they are, and
+    so does a block the catalogue does not have."""
+    out: list[str] = []
+    block: list[str] = []
+    lines = text.split("\n")
+    i = 0
+    while i <= len(lines):
+        line = lines[i] if i < len(lines) else ""
+        fence = _FENCE.match(line) if i < len(lines) else None
+        if fence or not line.strip():
+            out += _translated_block(block, lookup) if block else []
+            block = []
+        if fence:
+            end = next((j for j in range(i + 1, len(lines))
+                        if lines[j].strip() == fence["fence"]), len(lines))
+            name, arg = fence["name"], fence["arg"]
+            if name is None or name in _VERBATIM:
+                out += lines[i:end + 1]
+            else:
+                found = lookup([arg]) if arg else None
+                out.append(line.replace(arg, found) if found else line)
+                body = lines[i + 1:end]
+                options = [b for b in body if re.match(r"^:[\w-]+:", b)]
+                rest = "\n".join(body[len(options):])
+                out += options + translate_markdown(rest, lookup).split("\n")
+                out += lines[end:end + 1]
+            i = end + 1
+            continue
+        if _HEADING.match(line) or _TARGET.match(line):  # a block of one line
+            out += _translated_block(block, lookup) if block else []
+            out += _translated_block([line], lookup)
+            block = []
+        elif line.strip():
+            block.append(line)
+        elif i < len(lines):
+            out.append(line)
+        i += 1
+    return "\n".join(out)
+
+
+def page_lookup(app: Sphinx, docname: str) -> Any:
+    """The translation of a message of page ``docname`` in the edition's language, as
+    :func:`translate_markdown` wants it; None in the English edition."""
+    if edition(app.config.language) == "en":
+        return None
+    dirs = [str(Path(app.srcdir) / d) for d in app.config.locale_dirs]
+    domain = docname_to_domain(docname, app.config.gettext_compact)
+    catalogue, found = init_locale(dirs, app.config.language, domain)
+    if not found:
+        return None
+
+    def lookup(messages: list[str]) -> str | None:
+        for message in messages:
+            translated = catalogue.gettext(message)
+            if message and translated != message:
+                return translated
+        return None
+
+    return lookup
 
 
 class KeepCellOutputs(SphinxTransform):
