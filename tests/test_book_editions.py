@@ -259,18 +259,20 @@ def test_the_site_texts_are_translated(language: str, book_html: Path) -> None:
 
 #: Where a page shows words of the site around its text (the theme, the book's extension):
 #: the sidebar's part captions, the preview banner, the launch lines, the fold buttons,
-#: the previous/next links, the headings and buttons of the header and of both sidebars.
+#: the previous/next links, the headings and buttons of the header and of both sidebars,
+#: the footer (author, copyright).
 _CHROME = ("nav.bd-links p.caption", ".rikin-preview-banner", ".rikin-launch",
            "details.hide summary p", ".prev-next-area .prev-next-subtitle",
            ".bd-sidebar-secondary .onthispage", ".bd-header-article .btn__text-container",
-           ".bd-header-article .dropdown-item")
+           ".bd-header-article .dropdown-item", "footer .footer-item")
 #: ... and the tooltips and labels for screen readers there.
 _TIPS = (".bd-header-article [{a}]", ".bd-sidebar-primary [{a}]", ".bd-sidebar-secondary [{a}]",
          "details.hide summary[{a}]", ".prev-next-area [{a}]", ".bd-header [{a}]")
 #: Words the Spanish edition keeps as they are: names (of programs, settings, keys), the
 #: words the word list keeps (notebook, URL), and words both languages spell alike.
 _KEPT_WORDS = {"notebook", "notebooks", "jupyter", "jupyterlab", "colab", "binder", "rikin",
-               "ipynb", "ctrl", "html", "baseurl", "_config", "yml", "pdf", "url", "local"}
+               "ipynb", "ctrl", "html", "baseurl", "_config", "yml", "pdf", "url", "local",
+               "copyright", "mit"}
 _WORDS = re.compile(r"[A-Za-z_]{3,}")
 #: Addresses and file names in a text (kept as they are).
 _NAMES = re.compile(r"\b\w+://\S+|[\w.-]+\.(?:ipynb|yml|html)\b")

@@ -329,8 +329,12 @@ def cmd_translations() -> int:
                                   "'execute_notebooks: force'"))
     pot = BUILD / "gettext"
     shutil.rmtree(pot, ignore_errors=True)
+    # --all: every page read again (nothing is executed), so that a text the config or the
+    # book's extensions give (rikin_i18n.site_messages) reaches the catalogue even when no
+    # page's source changed since the last refresh
     check([BIN / "jupyter-book", "build", ROOT, "--config", config, "--builder", "custom",
-           "--custom-builder", "gettext", "--path-output", BUILD / "_gettext"], child_env())
+           "--custom-builder", "gettext", "--path-output", BUILD / "_gettext", "--all"],
+          child_env())
     shutil.copytree(BUILD / "_gettext" / "_build" / "gettext", pot)
     for language in EDITIONS:
         check([BIN / "sphinx-intl", "update", "-p", pot, "-d", ROOT / "book" / "locales",

@@ -73,11 +73,12 @@ EDITIONS: dict[str, tuple[str, str]] = {"en": ("", "English"), "es": ("es/", "Es
 #: The switch's tooltip, in the language of the edition it leads to (who wants that edition
 #: reads that language).
 SWITCH_TITLE = {"en": "Read this page in English", "es": "Lee esta página en español"}
-#: The site's texts that the config gives, not a page (the title, the footer, the search
-#: box): they, the fold buttons' texts and the book extension's (:func:`site_messages`)
-#: go into the first page's catalogue in the gettext build, and a translated edition takes
-#: them from its catalogues (:func:`translated_config`, :func:`site_text`).
-SITE_TEXTS = ("html_title", "copyright", "search_bar_text")
+#: The site's texts that the config gives, not a page (the title, the footer's author and
+#: copyright, the search box): they, the fold buttons' texts and the book extension's
+#: (:func:`site_messages`) go into the first page's catalogue in the gettext build, and a
+#: translated edition takes them from its catalogues (:func:`translated_config`,
+#: :func:`site_text`).
+SITE_TEXTS = ("html_title", "author", "copyright", "search_bar_text")
 #: The words myst-nb puts for ``{type}`` in the fold buttons' texts (``nb_code_prompt_show``
 #: "Show code cell {type}", ``nb_code_prompt_hide``; myst_nb.sphinx_.HideInputCells): a
 #: whole cell, its source, its output, its outputs. Each filled-in text is one message.
@@ -269,8 +270,8 @@ class GlueFigure(PasteFigureDirective):
 def site_texts(config: Any) -> dict[str, str]:
     """The config's :data:`SITE_TEXTS` (the search box's is a theme option)."""
     options = config.html_theme_options or {}
-    values = {"html_title": config.html_title, "copyright": config.copyright,
-              "search_bar_text": options.get("search_bar_text")}
+    values = {"html_title": config.html_title, "author": config.author,
+              "copyright": config.copyright, "search_bar_text": options.get("search_bar_text")}
     return {name: str(values[name] or "") for name in SITE_TEXTS}
 
 
@@ -333,6 +334,7 @@ def translated_config(app: Sphinx, config: Any) -> None:
     config.rikin_site_translations = sorted(found.items())
     texts = {name: strings.get(text, text) for name, text in site_texts(config).items()}
     config.html_title, config.copyright = texts["html_title"], texts["copyright"]
+    config.author = texts["author"]
     if texts["search_bar_text"]:
         config.html_theme_options = {**(config.html_theme_options or {}),
                                      "search_bar_text": texts["search_bar_text"]}
