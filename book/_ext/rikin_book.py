@@ -390,6 +390,9 @@ def _launch_html(app: Sphinx, path: str, download: str | None, what: str | None)
     if download:
         links.append(f'<a href="{html.escape(download)}" download>'
                      f"{html.escape(say(rikin_site.LAUNCH_DOWNLOAD))}</a>")
+    if not links:  # an exercise, no launch links: its download link is just before this
+        return ('<p class="rikin-launch" style="margin:.2em 0 1em">'
+                f"{html.escape(say(rikin_site.LAUNCH_OPEN))}</p>")
     tail = [] if repo else [html.escape(say(rikin_site.LAUNCH_UPLOAD))]
     run = (say(rikin_site.LAUNCH_PAGE) if what is None
            else say(rikin_site.LAUNCH_FILE, name=what))

@@ -117,8 +117,10 @@ LAUNCH_FILE = "Run {name} yourself:"
 #: The launch line's download link, and what it says when there are no launch links.
 LAUNCH_DOWNLOAD = "download the notebook (.ipynb)"
 LAUNCH_UPLOAD = "and open it in Jupyter, JupyterLab or Colab (File → Upload notebook)"
+#: After an exercise's download link, when there are no launch links.
+LAUNCH_OPEN = "Open it in Jupyter, JupyterLab or Colab (File → Upload notebook)."
 PAGE_TEXTS = (PREVIEW_TITLE, LOOPBACK_WARNING, LAUNCH_PAGE, LAUNCH_FILE, LAUNCH_DOWNLOAD,
-              LAUNCH_UPLOAD)
+              LAUNCH_UPLOAD, LAUNCH_OPEN)
 
 
 def loopback_warning(url: str, template: str = LOOPBACK_WARNING) -> str:
