@@ -293,6 +293,12 @@ def site_messages(config: Any) -> list[str]:
     return [t for t in dict.fromkeys(texts) if t]
 
 
+def all_site_messages(config: Any) -> list[str]:
+    """:func:`site_messages` and the install cell's (``rikin_site.INSTALL_TEXTS``, whose
+    translations are the exercises' catalogue's)."""
+    return [*site_messages(config), *rikin_site.INSTALL_TEXTS]
+
+
 def site_text(app: Sphinx, message: str, **values: str) -> str:
     """``message`` (one of :func:`site_messages`, or of the install cell's
     ``rikin_site.INSTALL_TEXTS``) in the edition's language, its ``{placeholders}`` filled
@@ -322,16 +328,19 @@ def translated_config(app: Sphinx, config: Any) -> None:
     marked (class ``untranslated``, which the tests look for)."""
     language = edition(config.language)
     if language == "en":
+        config.rikin_site_translations = [(m, m) for m in all_site_messages(config)]
         return
     config.translation_progress_classes = "untranslated"
     strings = catalogue_strings([Path(app.srcdir) / d for d in config.locale_dirs], language)
     exercises = catalogue_strings([Path(app.srcdir) / EXERCISE_LOCALES], language)
     found = {m: strings[m] for m in site_messages(config) if m in strings}
     found |= {m: exercises[m] for m in rikin_site.INSTALL_TEXTS if m in exercises}
+    found = {m: found[m] for m in all_site_messages(config) if m in found}
     setattr(app, SITE_STRINGS, found)
-    # a config value of the html build: a changed translation rewrites every page, also in
-    # an incremental build (tools/dev.py book --cached), which rewrites only changed pages
-    config.rikin_site_translations = sorted(found.items())
+    # a config value of the html build: a changed site text or translation rewrites every
+    # page, also in an incremental build (tools/dev.py book --cached), which rewrites only
+    # the pages whose source changed
+    config.rikin_site_translations = [(m, found.get(m, m)) for m in all_site_messages(config)]
     texts = {name: strings.get(text, text) for name, text in site_texts(config).items()}
     config.html_title, config.copyright = texts["html_title"], texts["copyright"]
     config.author = texts["author"]
