@@ -335,7 +335,6 @@ def translated_config(app: Sphinx, config: Any) -> None:
     exercises = catalogue_strings([Path(app.srcdir) / EXERCISE_LOCALES], language)
     found = {m: strings[m] for m in site_messages(config) if m in strings}
     found |= {m: exercises[m] for m in rikin_site.INSTALL_TEXTS if m in exercises}
-    found = {m: found[m] for m in all_site_messages(config) if m in found}
     setattr(app, SITE_STRINGS, found)
     # a config value of the html build: a changed site text or translation rewrites every
     # page, also in an incremental build (tools/dev.py book --cached), which rewrites only
