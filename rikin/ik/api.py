@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import os
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any, cast
 
 import numpy as np
@@ -447,7 +447,9 @@ def _finish(
     active = [name for name, m in masks.items() if m.any()]
     specs = [solver.singularities[name] for name in active]
 
-    q, branches = _branches(solver, raw, q, slots, masks.get("wrist"))
+    branches, order = _branches(solver, raw, q, slots, masks.get("wrist"))
+    if order is not None:
+        q, branches = q[order], [branches[i] for i in order]
     miss = _fk_miss(arm, q, T_world, kind)
     if miss is not None:  # a bug in rikin: never hand back a wrong answer
         raise RuntimeError(
@@ -474,13 +476,14 @@ def _finish(
 
 
 def _branches(solver: Solver, raw: RawSolutions, q: FloatArray, slots: np.ndarray,
-              wrist_singular: np.ndarray | None) -> tuple[FloatArray, list[Branch]]:
-    """The branch of each solution ``q[i]`` (of slot ``slots[i]``): the slot's, with the
-    elbow and shoulder the solver computed, the wrist flip from the middle wrist joint
-    (or the slot's, for a solver with ``wrist_from_slot``),
-    and, for a solver that numbers its solutions by a polynomial's roots (``root_joint``:
-    the joint, ``root_grouped``: whether solutions share roots), the root; then ``q`` and
-    the branches, in root order for such a solver."""
+              wrist_singular: np.ndarray | None) -> tuple[list[Branch], list[int] | None]:
+    """The branch of each solution ``q[i]`` (of pose 0's slot ``slots[i]`` in ``raw``):
+    the slot's, with the elbow and shoulder the solver computed, the wrist flip from the
+    middle wrist joint (or the slot's, for a solver with ``wrist_from_slot``), and, for a
+    solver that numbers its solutions by a polynomial's roots (``root_joint``: the joint,
+    ``root_grouped``: whether solutions share roots), the root. Returns the branches in
+    the order of ``q``, and the order to list them in (root order; None: as they are).
+    ``arm.ik`` and :meth:`BatchIKResult.labels` both label by this function."""
     mid = solver.wrist_middle
     from_slot = getattr(solver, "wrist_from_slot", False)
     branches = []
@@ -499,10 +502,63 @@ def _branches(solver: Solver, raw: RawSolutions, q: FloatArray, slots: np.ndarra
         branches.append(Branch(shoulder, elbow, wrist))
     j = getattr(solver, "root_joint", None)
     if j is None:
-        return q, branches
+        return branches, None
     key = np.roll(_wrap_angle(q), -j, axis=1)
     names, order = root_names(key, bool(getattr(solver, "root_grouped", False)))
-    return q[order], [branches[i]._replace(root=names[i]) for i in order]
+    return [b._replace(root=r) for b, r in zip(branches, names, strict=True)], order
+
+
+def _slot_branches(arm: SerialArm, solver: Solver, slots: tuple[Branch, ...]
+                   ) -> tuple[Branch, ...]:
+    """:attr:`BatchIKResult.branches`: each slot's branch with None where :func:`_branches`
+    takes that field from the pose rather than the slot (the elbow and shoulder a solver
+    computes, the wrist from the middle wrist joint), so that no slot claims a branch its
+    solution may not have. Kept on the (immutable) arm."""
+    kept = arm.__dict__.get("_batch_branches")
+    if kept is not None and kept[0] is solver and kept[1] == slots:
+        return cast(tuple[Branch, ...], kept[2])
+    raw = solver.solve(arm, arm._world_to_base(np.eye(4))[None], None)
+    changes: dict[str, None] = {}
+    if raw.elbow_up is not None:
+        changes["elbow"] = None
+    if raw.shoulder_front is not None:
+        changes["shoulder"] = None
+    if solver.wrist_middle is not None and not getattr(solver, "wrist_from_slot", False):
+        changes["wrist"] = None
+    honest = tuple(b._replace(**changes) for b in slots)
+    object.__setattr__(arm, "_batch_branches", (solver, slots, honest))
+    return honest
+
+
+@dataclass(frozen=True)
+class _PoseLabels:
+    """:attr:`BatchIKResult.labeller`: the branches of one pose's batch solutions, as
+    ``arm.ik`` labels them (by :func:`_branches`, on the same solver's labelled solve of
+    that pose, each batch solution taking the slot whose joints are nearest its own).
+
+    ``arm`` is the arm solved (a reversed arm's DH twin), ``Tw (N, 4, 4)`` the batch's world
+    poses, ``directions`` (+-1 per joint) turn the batch's joints into ``arm``'s.
+    """
+
+    arm: SerialArm
+    solver: Solver
+    Tw: FloatArray
+    directions: FloatArray | None = None
+
+    def __call__(self, i: int, q: FloatArray, slots: np.ndarray) -> list[Branch]:
+        """The branches of pose ``i``'s solutions ``q (m, n)`` (of the batch's ``slots``)."""
+        arm, solver = self.arm, self.solver
+        if self.directions is not None:
+            q = _wrap(q * self.directions, arm.revolute)
+        T_world, _ = _target_pose(arm, self.Tw[i], "pose")
+        raw = solver.solve(arm, arm._world_to_base(T_world)[None], None)
+        raw, _, _ = _onto_reach(arm, solver, T_world[None], raw, None)
+        gap = np.abs(_wrap(raw.q[0][None] - q[:, None], arm.revolute)).max(axis=-1)
+        gap = np.where(raw.valid[0][None] & np.isfinite(gap), gap, np.inf)
+        near = gap.argmin(axis=1)
+        wrist = raw.singular.get("wrist")
+        branches, _ = _branches(solver, raw, q, near, None if wrist is None else wrist[0, near])
+        return branches
 
 
 def solve_batch(
@@ -545,8 +601,8 @@ def solve_batch(
     """
     if isinstance(arm, SerialArm) and arm.reversed_joints:
         res = solve_batch(arm._dh, T, chunk_size=chunk_size, workers=workers)
-        roots = None if res.roots is None else (res.roots[0], tuple(arm.directions))
-        return replace(res, q=_wrap(res.q * arm.directions, arm.revolute), roots=roots)
+        labeller = replace(res.labeller, directions=arm.directions)
+        return replace(res, q=_wrap(res.q * arm.directions, arm.revolute), labeller=labeller)
     solver = _solver(arm)
     chunk_size = _count(chunk_size, "chunk_size")
     if workers is not None:
@@ -645,19 +701,11 @@ class _Batch:
             q=self.q,
             valid=self.valid,
             singular=self.singular,
-            branches=self.slots,
+            branches=_slot_branches(self.arm, self.solver, self.slots),
             rotation_distance=self.rotation_distance,
             reach_distance=self.reach_distance,
-            roots=self._roots(),
+            labeller=_PoseLabels(self.arm, self.solver, self.Tw),
         )
-
-    def _roots(self) -> tuple[int, tuple[float, ...]] | None:
-        """:attr:`BatchIKResult.roots` of this arm's solver: for one that names each
-        solution by its own root alone (not a root shared by slots with fixed elbows)."""
-        j = getattr(self.solver, "root_joint", None)
-        if j is None or getattr(self.solver, "root_grouped", False):
-            return None
-        return int(j), (1.0,) * self.arm.n
 
 
 #: Below this many poses per chunk, splitting a batch across threads costs more than it saves.

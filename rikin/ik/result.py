@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any, NamedTuple
 
@@ -265,11 +265,7 @@ class BatchIKResult:
     Attributes
     ----------
     q : ndarray, shape (N, k, n)
-        Slot ``j`` of every pose is the same branch, ``branches[j]``. For an arm
-        solved from its DH table (:mod:`rikin.ik.pieper`) that fixes only the
-        wrist: ``branches[j]`` has shoulder and elbow None, since which root of
-        the position problem a slot holds depends on the pose (``arm.ik`` labels
-        every solution).
+        Slot ``j`` of every pose holds solutions of one kind, ``branches[j]``.
         Revolute values in radians, wrapped to (-pi, pi]. Slots that are not
         valid hold NaN: always read ``valid`` first.
     valid : ndarray of bool, shape (N, k)
@@ -278,6 +274,12 @@ class BatchIKResult:
         The pose is at a singularity (some slots are then representatives
         of an infinite family, and may repeat).
     branches : tuple of Branch, length k
+        What slot ``j`` fixes, the same for every pose: a field is None where the
+        pose decides it (the shoulder and elbow of an arm whose solver tells them by
+        the geometry, as for a spherical wrist solved from its DH table or a UR; the
+        wrist flip that the middle wrist joint's sign gives; a root). A slot never
+        names a branch its solutions may lack: :meth:`labels` gives each solution's
+        full label.
     rotation_distance : ndarray, shape (N,)
         Per pose, as :attr:`IKResult.rotation_distance`: how far its rotation
         block was from the rotation it was solved for (0 for most poses).
@@ -286,17 +288,16 @@ class BatchIKResult:
         pose was from reachable, when it was solved for the nearest reachable
         pose (a 5-DOF arm's rounded pose, or a 6R pose rounded just beyond its
         reach); 0 for the others.
-    roots : tuple or None
-        For a family whose solutions are named by the roots of a polynomial alone (a
-        general 6R), ``(j, directions)``: the polynomial's joint (0-based) and the
-        joints' directions (+-1, to count them as the DH table does); else None. Used
-        by :meth:`labels`.
+    labeller : callable or None
+        ``labeller(i, q_i, slots) -> list of Branch``: the branches of pose ``i``'s
+        solutions ``q_i (m, n)`` held in ``slots (m,)``, as ``arm.ik`` labels them (the
+        same function labels both); used by :meth:`labels`. None: the slots' branches.
 
     Notes
     -----
-    A slot's ``branches[j]`` names what every pose's slot ``j`` holds. Where a family
-    names its solutions by roots, which root a slot holds, and how many there are,
-    depend on the pose: :meth:`labels` gives pose ``i``'s labels.
+    Which branch a slot's solution lies on may depend on the pose (which root of the
+    position problem it holds, where the elbow lies): :meth:`labels` gives pose ``i``'s
+    labels, computed when asked (``ik_batch`` itself labels nothing).
     """
 
     q: FloatArray
@@ -305,23 +306,21 @@ class BatchIKResult:
     branches: tuple[Branch, ...]
     rotation_distance: Any = None
     reach_distance: Any = None
-    roots: tuple[int, tuple[float, ...]] | None = None
+    labeller: Callable[[int, FloatArray, Any], list[Branch]] | None = field(
+        default=None, repr=False, compare=False)
 
     def labels(self, i: Any) -> tuple[str, ...]:
-        """The branch labels of pose ``i``'s solutions ``q[i][valid[i]]``, in that order:
-        for a general 6R as ``arm.ik`` gives them (``"root k of n"``, k by increasing value
-        of the polynomial's joint, distinct), else each slot's branch. ``i`` is a whole
+        """The branch labels of pose ``i``'s solutions ``q[i][valid[i]]``, in that order,
+        each the label ``arm.ik`` gives the same joints (shoulder, elbow, wrist, or
+        ``"root k of n"``; at a wrist singularity ``"singular"``), computed on the call by
+        the arm's solver for that pose (about one ``arm.ik``'s time). ``i`` is a whole
         number, negative from the end."""
         i = check_index(i, self.valid.shape[:1], "BatchIKResult.labels", ("pose",),
                         arrays=False, var="labels")
         slots = np.flatnonzero(self.valid[i])
-        named = [self.branches[s] for s in slots]
-        if self.roots is not None and slots.size:
-            j, directions = self.roots
-            q_dh = self.q[i, slots] * np.asarray(directions)
-            names, _ = root_names(np.roll(_wrap_angle(q_dh), -j, axis=1), False)
-            named = [b._replace(root=r) for b, r in zip(named, names, strict=True)]
-        return tuple(b.label for b in named)
+        if self.labeller is None or not slots.size:
+            return tuple(self.branches[s].label for s in slots)
+        return tuple(b.label for b in self.labeller(i, self.q[i, slots], slots))
 
     @property
     def counts(self) -> Any:
