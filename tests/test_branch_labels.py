@@ -19,11 +19,12 @@ import numpy as np
 import pytest
 from test_families import FAMILIES, random_q, target, typed
 from test_ik6r_families import parallel_arm, random_6r, ur5e
+from test_pieper_batch import irb140, kr5, puma_modified, puma_standard
 
 from rikin import SerialArm, robots
 from rikin.errors import InputError
 from rikin.ik.api import _solver
-from rikin.ik.result import LABEL_WORDS
+from rikin.ik.result import LABEL_WORDS, Branch
 
 pi = np.pi
 ROOT = re.compile(r"root (\d+) of (\d+)")
@@ -130,3 +131,73 @@ def test_batch_labels_are_those_of_one_pose_at_a_time(seed):
     assert batch.labels(-1) == batch.labels(len(Ts) - 1)
     with pytest.raises(InputError, match="pose"):
         batch.labels(len(Ts))
+
+
+def _world(rng, scale: float):
+    """A random rigid transform, its translation up to ``scale``."""
+    R = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    R *= np.sign(np.linalg.det(R))
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, rng.uniform(-scale, scale, 3)
+    return T
+
+
+def batch_arms(rng):
+    """Every family for the batch: the course families and three-parallel-axes tables and
+    general 6Rs of :func:`arms`, spherical-wrist arms typed from their tables (standard and
+    modified DH), a UR5e and the lesson robots, those that take a 6-D pose with a random
+    base and tool; each also with joints reversed at random."""
+    out = [arm for arm, _ in arms(rng)]
+    out += [puma_standard(), puma_modified(), kr5(), irb140(), ur5e()]
+    out += [make() for make in (robots.aula10_6r, robots.barrientos_6r, robots.epson_c4,
+                                robots.kuka_kr5_arc, robots.fanuc_lrmate200id, robots.rprrr,
+                                robots.pprrr, robots.angular_3r, robots.planar_3r,
+                                robots.planar_2r)]
+    placed = []
+    for arm in out:
+        if _solver(arm).target_kind == "pose" and arm.base is None and arm.n == 6:
+            arm = arm.replace(base=_world(rng, arm.scale), tool=_world(rng, 0.3 * arm.scale))
+        placed += [arm, reversed_at_random(arm, rng)]
+    return placed
+
+
+def _field_names(label: str) -> Branch:
+    """The branch a label names (its root as the root field)."""
+    fields: dict[str, str] = {}
+    for part in label.split("/") if label != "unique" else ():
+        kind = "root" if ROOT.fullmatch(part) else next(
+            k for k in ("shoulder", "elbow", "wrist") if part in LABEL_WORDS[k])
+        fields[kind] = part
+    return Branch(**fields)
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_every_batch_solution_has_the_label_arm_ik_gives_its_joints(seed):
+    """Issue 29: ``ik_batch(...).labels(i)`` labels each solution as ``arm.ik`` labels the
+    same joints (matched within 1e-9 rad, wrapped), for every family, with base, tool and
+    reversed joints; and a slot's ``branches`` names no field its solution lacks. Fails
+    before for the UR5e (700 of 1416 elbows) and every spherical wrist typed as a table
+    (only "no-flip"/"flip")."""
+    rng = np.random.default_rng([29, 29, seed])
+    wrong: dict[str, list] = {}  # arm -> its mislabelled solutions, to see every family
+    for arm in batch_arms(rng):
+        Q = np.array([random_q(arm, rng) for _ in range(5)])
+        Ts = arm.fk(Q)
+        batch = arm.ik_batch(Ts, workers=1)
+        for i, T in enumerate(Ts):
+            one = arm.ik(T)
+            slots = np.flatnonzero(batch.valid[i])
+            labels = batch.labels(i)
+            assert len(labels) == len(slots)
+            for s, q, label in zip(slots, batch.q[i, slots], labels, strict=True):
+                gap = np.where(arm.revolute, np.abs(np.remainder(one.q - q + pi, 2 * pi) - pi),
+                               np.abs(one.q - q)).max(axis=1)
+                k = int(gap.argmin())
+                assert gap[k] <= 1e-9, (arm.name, i, s, gap[k])
+                named = _field_names(one.labels[k])
+                claims = [fixed is None or getattr(named, f) == fixed
+                          for f, fixed in zip(Branch._fields, batch.branches[s], strict=True)]
+                if label != one.labels[k] or not all(claims):
+                    wrong.setdefault(arm.name, []).append(
+                        (label, batch.branches[s].label, one.labels[k]))
+    assert not wrong, "; ".join(f"{name}: {len(w)}, e.g. {w[0]}" for name, w in wrong.items())

@@ -12,7 +12,6 @@ import numpy as np
 from .._validate import FloatArray, check_index
 from ..errors import InputError, NotIndexedError
 from ..i18n import branch_name, word
-from ..transforms import _wrap_angle
 
 __all__ = ["Branch", "IKResult", "BatchIKResult", "LABEL_WORDS"]
 
