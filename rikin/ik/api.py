@@ -447,9 +447,9 @@ def _finish(
     active = [name for name, m in masks.items() if m.any()]
     specs = [solver.singularities[name] for name in active]
 
-    branches, order = _branches(solver, raw, q, slots, masks.get("wrist"))
-    if order is not None:
-        q, branches = q[order], [branches[i] for i in order]
+    branches, in_order = _branches(solver, raw, q, slots, masks.get("wrist"))
+    if in_order is not None:
+        q, branches = q[in_order], [branches[i] for i in in_order]
     miss = _fk_miss(arm, q, T_world, kind)
     if miss is not None:  # a bug in rikin: never hand back a wrong answer
         raise RuntimeError(
@@ -601,7 +601,7 @@ def solve_batch(
     """
     if isinstance(arm, SerialArm) and arm.reversed_joints:
         res = solve_batch(arm._dh, T, chunk_size=chunk_size, workers=workers)
-        labeller = replace(res.labeller, directions=arm.directions)
+        labeller = replace(cast(_PoseLabels, res.labeller), directions=arm.directions)
         return replace(res, q=_wrap(res.q * arm.directions, arm.revolute), labeller=labeller)
     solver = _solver(arm)
     chunk_size = _count(chunk_size, "chunk_size")
