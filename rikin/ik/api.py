@@ -586,7 +586,8 @@ def solve_batch(
     BatchIKResult
         ``q (N, k, n)`` with NaN in invalid slots, ``valid (N, k)``,
         ``singular (N,)``, ``rotation_distance (N,)``, ``reach_distance (N,)``.
-        No de-duplication, no FK check, no labels beyond the slot's branch. A
+        No de-duplication, no FK check; ``labels(i)`` names pose i's solutions as
+        ``arm.ik`` does, when asked (``branches``: what each slot fixes). A
         pose whose rotation block is not a rotation to rounding (but within
         ``ORTHONORMAL_TOL``) is solved for the nearest rotation, and a pose the
         arm misses by rounding (within ``ROUNDED_POSE_TOL``: a 5-DOF arm's
