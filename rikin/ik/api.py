@@ -533,16 +533,20 @@ def _slot_branches(arm: SerialArm, solver: Solver, slots: tuple[Branch, ...]
 @dataclass(frozen=True)
 class _PoseLabels:
     """:attr:`BatchIKResult.labeller`: the branches of one pose's batch solutions, as
-    ``arm.ik`` labels them (by :func:`_branches`, on the same solver's labelled solve of
-    that pose, each batch solution taking the slot whose joints are nearest its own).
+    ``arm.ik`` labels them, by :func:`_branches`: from the joint rows, where the solver
+    offers ``label_rows`` and the pose is regular; else on the solver's labelled solve
+    of that pose, each batch solution taking the slot whose joints are nearest its own.
 
     ``arm`` is the arm solved (a reversed arm's DH twin), ``Tw (N, 4, 4)`` the batch's world
+    poses, ``slots`` its slots as the solver gives them, ``singular (N,)`` its singular
     poses, ``directions`` (+-1 per joint) turn the batch's joints into ``arm``'s.
     """
 
     arm: SerialArm
     solver: Solver
     Tw: FloatArray
+    slots: tuple[Branch, ...]
+    singular: np.ndarray
     directions: FloatArray | None = None
 
     def __call__(self, i: int, q: FloatArray, slots: np.ndarray) -> list[Branch]:
@@ -550,6 +554,15 @@ class _PoseLabels:
         arm, solver = self.arm, self.solver
         if self.directions is not None:
             q = _wrap(q * self.directions, arm.revolute)
+        label_rows = getattr(solver, "label_rows", None)
+        if label_rows is not None and not self.singular[i]:
+            front, up = label_rows(q)
+            raw = RawSolutions(
+                q=q[None], valid=np.ones((1, len(q)), dtype=bool),
+                slots=tuple(self.slots[s] for s in slots),
+                elbow_up=None if up is None else up[None],
+                shoulder_front=None if front is None else front[None])
+            return _branches(solver, raw, q, np.arange(len(q)), None)[0]
         T_world, _ = _target_pose(arm, self.Tw[i], "pose")
         raw = solver.solve(arm, arm._world_to_base(T_world)[None], None)
         raw, _, _ = _onto_reach(arm, solver, T_world[None], raw, None)
@@ -705,7 +718,7 @@ class _Batch:
             branches=_slot_branches(self.arm, self.solver, self.slots),
             rotation_distance=self.rotation_distance,
             reach_distance=self.reach_distance,
-            labeller=_PoseLabels(self.arm, self.solver, self.Tw),
+            labeller=_PoseLabels(self.arm, self.solver, self.Tw, self.slots, self.singular),
         )
 
 

@@ -59,7 +59,10 @@ class Solver(Protocol):
     (:class:`~rikin.ik.result.Branch`) may come from ``wrist_from_slot = True`` (the
     slot's wrist, not the middle wrist joint's sign) and ``root_joint`` (0-based, with
     ``root_grouped``): its solutions named and ordered by the roots of a polynomial in
-    that joint, where no shoulder, elbow or wrist tells them apart.
+    that joint, where no shoulder, elbow or wrist tells them apart; and
+    ``label_rows(q)``: the ``shoulder_front`` and ``elbow_up`` ``(m,)`` (or None) its
+    ``solve`` gives joint rows ``q (m, n)``, which label a batch's regular poses
+    without solving them again.
     """
 
     target_kind: TargetKind

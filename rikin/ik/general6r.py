@@ -272,6 +272,10 @@ class General6RSolver(ChainPolish):
                 return
         raise InputError(f"{arm.name}: {_DEGENERATE}")
 
+    def label_rows(self, q: FloatArray) -> tuple[None, None]:
+        """No shoulder or elbow (``q (m, 6)``): the roots name the solutions."""
+        return None, None
+
     def check(self, arm: SerialArm) -> None:  # noqa: D102 - the Solver protocol
         _ = arm
 

@@ -399,6 +399,14 @@ class ParallelAxesSolver(ChainPolish):
         """The batch path's kernel (:func:`rikin.ik.api.solve_batch` looks it up)."""
         return ParallelBatchKernel(self, arm)
 
+    def label_rows(self, q: FloatArray) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """Shoulder front (None without a rank-1 wrist: named by roots) and elbow up
+        ``(m,)`` of joint rows ``q (m, 6)`` (the table's values), as :meth:`solve` labels
+        its solutions (:meth:`_labels`)."""
+        th = q + self.offsets
+        front, up = self._labels((th[:, ::-1] if self.reverse else th)[None])
+        return (front[0] if self.rank1 else None), up[0]
+
     def _labels(self, th: FloatArray) -> tuple[np.ndarray, np.ndarray]:
         """Shoulder front (axis 6 ahead of axis 1, seen across the parallel axes) and elbow
         up (axis 3 above the line from axis 2 to axis 4, seen along them, towards +axis 1),

@@ -1232,6 +1232,12 @@ class Pieper6RSolver(ChainPolish):
         near[rows] = close.any(axis=1)
         return paired, near
 
+    def label_rows(self, q: FloatArray) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """Shoulder front and elbow up ``(m,)`` of joint rows ``q (m, 6)`` (the table's
+        values), as :meth:`solve` labels its solutions (:meth:`_labels`)."""
+        front, up = self._labels((q + self.model.offsets)[None])
+        return front[0], up[0]
+
     def _labels(self, th: FloatArray) -> tuple[np.ndarray, np.ndarray]:
         """Shoulder front (wrist centre ahead of axis 1 along the turned x axis) and elbow up
         (elbow above the shoulder-wrist line, along axis 1) of joints ``th (N, k, 3+)``,
