@@ -171,33 +171,57 @@ def _field_names(label: str) -> Branch:
     return Branch(**fields)
 
 
+def mislabelled(arm: SerialArm, Ts) -> list:
+    """The batch solutions of poses ``Ts (N, 4, 4)`` whose label is not the one ``arm.ik``
+    gives the same joints (matched within 1e-9 rad, wrapped), or whose slot's ``branches``
+    names a field their label lacks (but for "singular" wrists): (batch label, slot's branch, arm.ik's label)."""
+    batch = arm.ik_batch(Ts, workers=1)
+    wrong = []
+    for i, T in enumerate(Ts):
+        one = arm.ik(T)
+        slots = np.flatnonzero(batch.valid[i])
+        labels = batch.labels(i)
+        assert len(labels) == len(slots)
+        for s, q, label in zip(slots, batch.q[i, slots], labels, strict=True):
+            gap = np.where(arm.revolute, np.abs(np.remainder(one.q - q + pi, 2 * pi) - pi),
+                           np.abs(one.q - q)).max(axis=1)
+            k = int(gap.argmin())
+            assert gap[k] <= 1e-9, (arm.name, i, s, gap[k])
+            named = _field_names(one.labels[k])
+            # a slot's wrist (a UR's) at a wrist singularity: arm.ik says "singular"
+            claims = [fixed is None or getattr(named, f) in (fixed, "singular" * (f == "wrist"))
+                      for f, fixed in zip(Branch._fields, batch.branches[s], strict=True)]
+            if label != one.labels[k] or not all(claims):
+                wrong.append((label, batch.branches[s].label, one.labels[k]))
+    return wrong
+
+
 @pytest.mark.parametrize("seed", range(2))
 def test_every_batch_solution_has_the_label_arm_ik_gives_its_joints(seed):
     """Issue 29: ``ik_batch(...).labels(i)`` labels each solution as ``arm.ik`` labels the
-    same joints (matched within 1e-9 rad, wrapped), for every family, with base, tool and
-    reversed joints; and a slot's ``branches`` names no field its solution lacks. Fails
-    before for the UR5e (700 of 1416 elbows) and every spherical wrist typed as a table
-    (only "no-flip"/"flip")."""
+    same joints, for every family, with base, tool and reversed joints; and a slot's
+    ``branches`` names no field its solution lacks. Fails before for the UR5e (elbows) and
+    every spherical wrist typed as a table (only "no-flip"/"flip"), among others."""
     rng = np.random.default_rng([29, 29, seed])
-    wrong: dict[str, list] = {}  # arm -> its mislabelled solutions, to see every family
+    wrong = {}  # arm -> its mislabelled solutions, to see every family
     for arm in batch_arms(rng):
-        Q = np.array([random_q(arm, rng) for _ in range(5)])
-        Ts = arm.fk(Q)
-        batch = arm.ik_batch(Ts, workers=1)
-        for i, T in enumerate(Ts):
-            one = arm.ik(T)
-            slots = np.flatnonzero(batch.valid[i])
-            labels = batch.labels(i)
-            assert len(labels) == len(slots)
-            for s, q, label in zip(slots, batch.q[i, slots], labels, strict=True):
-                gap = np.where(arm.revolute, np.abs(np.remainder(one.q - q + pi, 2 * pi) - pi),
-                               np.abs(one.q - q)).max(axis=1)
-                k = int(gap.argmin())
-                assert gap[k] <= 1e-9, (arm.name, i, s, gap[k])
-                named = _field_names(one.labels[k])
-                claims = [fixed is None or getattr(named, f) == fixed
-                          for f, fixed in zip(Branch._fields, batch.branches[s], strict=True)]
-                if label != one.labels[k] or not all(claims):
-                    wrong.setdefault(arm.name, []).append(
-                        (label, batch.branches[s].label, one.labels[k]))
+        bad = mislabelled(arm, arm.fk(np.array([random_q(arm, rng) for _ in range(5)])))
+        if bad:
+            wrong[arm.name] = bad
     assert not wrong, "; ".join(f"{name}: {len(w)}, e.g. {w[0]}" for name, w in wrong.items())
+
+
+@pytest.mark.parametrize("make", [puma_standard, puma_modified, kr5, ur5e, robots.aula10_6r,
+                                  robots.epson_c4, robots.kuka_kr5_arc])
+def test_batch_labels_at_a_wrist_singularity_are_those_of_arm_ik(make):
+    """At a wrist singularity (joint 5 at 0) the batch labels what ``arm.ik`` does,
+    "singular" wrists included (a batch may repeat a solution there: the same label)."""
+    rng = np.random.default_rng(31)
+    arm = make()
+    Q = rng.uniform(-pi, pi, (4, 6))
+    Q[:, 4] = 0.0
+    Ts = arm.fk(Q)
+    assert mislabelled(arm, Ts) == []
+    batch = arm.ik_batch(Ts, workers=1)
+    assert batch.singular.all()
+    assert any("singular" in label for label in batch.labels(0))

@@ -277,8 +277,9 @@ class BatchIKResult:
         pose decides it (the shoulder and elbow of an arm whose solver tells them by
         the geometry, as for a spherical wrist solved from its DH table or a UR; the
         wrist flip that the middle wrist joint's sign gives; a root). A slot never
-        names a branch its solutions may lack: :meth:`labels` gives each solution's
-        full label.
+        names a branch its solutions may lack (but at a wrist singularity, where a
+        slot's wrist, a UR's, is one representative of the family ``labels`` calls
+        "singular"): :meth:`labels` gives each solution's full label.
     rotation_distance : ndarray, shape (N,)
         Per pose, as :attr:`IKResult.rotation_distance`: how far its rotation
         block was from the rotation it was solved for (0 for most poses).
