@@ -174,7 +174,8 @@ def _field_names(label: str) -> Branch:
 def mislabelled(arm: SerialArm, Ts) -> list:
     """The batch solutions of poses ``Ts (N, 4, 4)`` whose label is not the one ``arm.ik``
     gives the same joints (matched within 1e-9 rad, wrapped), or whose slot's ``branches``
-    names a field their label lacks (but for "singular" wrists): (batch label, slot's branch, arm.ik's label)."""
+    names a field their label lacks (but for "singular" wrists): (batch label, slot's
+    branch, arm.ik's label)."""
     batch = arm.ik_batch(Ts, workers=1)
     wrong = []
     for i, T in enumerate(Ts):
