@@ -155,7 +155,7 @@ def batch_arms(rng):
                                 robots.planar_2r)]
     placed = []
     for arm in out:
-        if _solver(arm).target_kind == "pose" and arm.base is None and arm.n == 6:
+        if _solver(arm).target_kind == "pose" and np.array_equal(arm.base, np.eye(4)):
             arm = arm.replace(base=_world(rng, arm.scale), tool=_world(rng, 0.3 * arm.scale))
         placed += [arm, reversed_at_random(arm, rng)]
     return placed
