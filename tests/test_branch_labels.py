@@ -226,3 +226,16 @@ def test_batch_labels_at_a_wrist_singularity_are_those_of_arm_ik(make):
     batch = arm.ik_batch(Ts, workers=1)
     assert batch.singular.all()
     assert any("singular" in label for label in batch.labels(0))
+
+
+def test_batch_labels_do_not_change_when_the_poses_array_does():
+    """``labels(i)`` may solve pose i again (a family with no ``label_rows``, or a singular
+    pose): it solves the pose given to ``ik_batch``, not what the caller's array holds now."""
+    arm = robots.aula10_6r()
+    rng = np.random.default_rng(37)
+    Ts = arm.fk(rng.uniform(-pi, pi, (3, 6)))
+    batch = arm.ik_batch(Ts, workers=1)
+    before = [batch.labels(i) for i in range(3)]
+    Ts[:] = Ts[::-1].copy()
+    assert [batch.labels(i) for i in range(3)] == before
+    assert mislabelled(arm, arm.fk(rng.uniform(-pi, pi, (3, 6)))) == []

@@ -718,7 +718,8 @@ class _Batch:
             branches=_slot_branches(self.arm, self.solver, self.slots),
             rotation_distance=self.rotation_distance,
             reach_distance=self.reach_distance,
-            labeller=_PoseLabels(self.arm, self.solver, self.Tw, self.slots, self.singular),
+            # the poses copied: labels(i) may solve pose i again after the caller's array changed
+            labeller=_PoseLabels(self.arm, self.solver, self.Tw.copy(), self.slots, self.singular),
         )
 
 
