@@ -188,6 +188,20 @@ def cell_texts(html_file: Path) -> list[str]:
     return texts
 
 
+def caption_texts(html_file: Path) -> list[str]:
+    """The texts of a page's figure captions (without their numbers), those written in a
+    code cell's metadata among them."""
+    return [" ".join(span.get_text(" ").split())
+            for span in _article(html_file).select("figcaption .caption-text")]
+
+
+def english_captions(english_html: Path, other_html: Path) -> list[str]:
+    """The figure captions of the English page that the other edition's page shows
+    unchanged."""
+    other = set(caption_texts(other_html))
+    return [t for t in caption_texts(english_html) if t in other and _has_words(t)]
+
+
 def english_cell_texts(english_html: Path, other_html: Path) -> list[str]:
     """The ✓ lines and headers of the English page with words in them that the other
     edition's page shows unchanged."""
@@ -207,6 +221,37 @@ def test_no_check_line_or_table_header_is_english(page: str, book_html: Path) ->
         left = english_cell_texts(english, book_html / folder / page)
         assert not left, (f"{folder}/{page}: {len(left)} cell texts still English:\n"
                           + "\n".join(repr(t[:100]) for t in left[:30]))
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", BOOK_PAGES)
+def test_no_figure_caption_is_english(page: str, book_html: Path) -> None:
+    """Every figure's caption reads in the edition's language, those a code cell's metadata
+    gives too (they sit in the cell's output, whose printed texts are not looked up)."""
+    english = book_html / page
+    for folder in EDITIONS.values():
+        left = english_captions(english, book_html / folder / page)
+        assert not left, (f"{folder}/{page}: {len(left)} captions still English:\n"
+                          + "\n".join(repr(t[:100]) for t in left[:30]))
+
+
+def test_the_caption_comparison_sees_english(tmp_path: Path) -> None:
+    """caption_texts reads the caption's text, not its number."""
+    def page(name: str, number: str, caption: str) -> Path:
+        path = tmp_path / f"{name}.html"
+        path.write_text(
+            f'<html><body><article class="bd-article"><figure><img alt="x"/><figcaption>'
+            f'<p><span class="caption-number">{number} </span><span class="caption-text">'
+            f"{caption}</span></p></figcaption></figure></article></body></html>",
+            encoding="utf-8")
+        return path
+
+    english = page("en", "Fig. 3", "The arm at q = 0")
+    assert caption_texts(english) == ["The arm at q = 0"]
+    assert english_captions(english, page("es", "Figura 3", "El brazo en q = 0")) == []
+    assert english_captions(english, page("half", "Figura 3", "The arm at q = 0")) == [
+        "The arm at q = 0"]
 
 
 def test_the_cell_text_comparison_sees_english(tmp_path: Path) -> None:

@@ -537,7 +537,9 @@ def page_lookup(app: Sphinx, docname: str) -> Any:
 class KeepCellOutputs(SphinxTransform):
     """What a cell printed is not looked up in the catalogues (it is not in them: it exists
     only once the notebook ran, in the language rikin prints in, see rikin.i18n); marked
-    so, a Markdown output is neither translated nor reported untranslated."""
+    so, a Markdown output is neither translated nor reported untranslated. A figure's
+    caption and legend, which myst-nb puts in the output too but takes from the cell's
+    metadata (``mystnb: figure: caption``), are in the catalogue and are translated."""
 
     default_priority = 15  # before Locale (20)
 
@@ -546,7 +548,17 @@ class KeepCellOutputs(SphinxTransform):
             if output.get("nb_element") != "cell_code_output":
                 continue
             for node in output.findall(nodes.TextElement):
-                node["translatable"] = False
+                if not _in_caption(node):
+                    node["translatable"] = False
+
+
+def _in_caption(node: nodes.Node | None) -> bool:
+    """``node`` is, or is inside, a figure's caption or legend."""
+    while node is not None:
+        if isinstance(node, (nodes.caption, nodes.legend)):
+            return True
+        node = node.parent
+    return False
 
 
 def setup(app: Sphinx) -> dict[str, Any]:
