@@ -105,40 +105,20 @@ def _placeholders(text: str) -> list[str]:
     return sorted(PLACEHOLDER.findall(text))
 
 
-def _unquote(text: str) -> str:
-    """The value of one quoted PO string: ``"a \\"b\\"\\n"`` -> ``a "b"`` + newline."""
-    body = text.strip()[1:-1]
-    escapes = {"n": "\n", "t": "\t", '"': '"', "\\": "\\"}
-    return re.sub(r"\\(.)", lambda m: escapes.get(m.group(1), m.group(0)), body)
-
-
 def read_catalogue(path: str | Path) -> dict[str, str]:
     """The translated entries of a gettext catalogue (``.po``): msgid -> msgstr.
 
-    Entries marked ``fuzzy``, with an empty translation, with a context or plural forms
-    are left out (an English template is then shown as it is).
+    Read by Babel (which Sphinx, and so the book's build, depends on). Entries marked
+    ``fuzzy``, with an empty translation, with a context or plural forms are left out (an
+    English template is then shown as it is).
     """
-    out: dict[str, str] = {}
-    entry: dict[str, str] = {}
-    key = ""
-    for line in [*Path(path).read_text(encoding="utf-8").splitlines(), ""]:
-        line = line.strip()
-        if not line:
-            if entry.get("msgid") and entry.get("msgstr") and not entry.get("skip"):
-                out[entry["msgid"]] = entry["msgstr"]
-            entry, key = {}, ""
-        elif line.startswith("#,") and "fuzzy" in line:
-            entry["skip"] = "fuzzy"
-        elif line.startswith("#"):
-            continue
-        elif line.startswith('"') and key:
-            entry[key] += _unquote(line)
-        else:
-            key, _, rest = line.partition(" ")
-            if key not in ("msgid", "msgstr"):
-                entry["skip"] = key  # msgctxt, msgid_plural, msgstr[n]
-            entry[key] = _unquote(rest)
-    return out
+    from babel.messages.pofile import read_po  # only a book with catalogues needs it
+
+    with Path(path).open("rb") as po:
+        catalogue = read_po(po)
+    return {m.id: m.string for m in catalogue
+            if isinstance(m.id, str) and m.id and isinstance(m.string, str) and m.string
+            and not m.fuzzy and m.context is None}
 
 
 # ----------------------------------------------------------------------------- extraction
