@@ -258,7 +258,10 @@ def _secrets_probe(paths: list[str]) -> str:
         "        if n in ('solutions', 'grader', 'hidden', 'rikingrade', 'grader_fixtures', '.git'):\n"  # noqa: E501
         "            found.append(os.path.join(d, n))\n"
         "    d = os.path.dirname(d)\n"
-        "for root, dirs, files in os.walk('/'):\n"
+        "# nothing seen so far: search the whole tree it can see (not when something was\n"
+        "# found: then the walk would only decide whether the cell ends within the time\n"
+        "# limit, by how many files the machine has)\n"
+        "for root, dirs, files in (os.walk('/') if not found else ()):\n"
         "    if root.startswith(('/proc', '/sys', '/dev', '/usr')) or 'site-packages' in root or '.pyenv' in root:\n"  # noqa: E501
         "        dirs[:] = []\n"
         "        continue\n"
