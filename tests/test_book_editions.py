@@ -236,16 +236,20 @@ def test_no_figure_caption_is_english(page: str, book_html: Path) -> None:
                           + "\n".join(repr(t[:100]) for t in left[:30]))
 
 
+def article_page(path: Path, body: str) -> Path:
+    """A page at ``path`` whose article (what the checks read) is ``body``."""
+    path.write_text(f'<html><body><article class="bd-article">{body}</article></body></html>',
+                    encoding="utf-8")
+    return path
+
+
 def test_the_caption_comparison_sees_english(tmp_path: Path) -> None:
     """caption_texts reads the caption's text, not its number."""
     def page(name: str, number: str, caption: str) -> Path:
-        path = tmp_path / f"{name}.html"
-        path.write_text(
-            f'<html><body><article class="bd-article"><figure><img alt="x"/><figcaption>'
-            f'<p><span class="caption-number">{number} </span><span class="caption-text">'
-            f"{caption}</span></p></figcaption></figure></article></body></html>",
-            encoding="utf-8")
-        return path
+        return article_page(
+            tmp_path / f"{name}.html",
+            f'<figure><img alt="x"/><figcaption><p><span class="caption-number">{number} '
+            f'</span><span class="caption-text">{caption}</span></p></figcaption></figure>')
 
     english = page("en", "Fig. 3", "The arm at q = 0")
     assert caption_texts(english) == ["The arm at q = 0"]
@@ -258,13 +262,11 @@ def test_the_cell_text_comparison_sees_english(tmp_path: Path) -> None:
     """cell_texts reads ✓ lines and headers of cell outputs (not the prose); a text with
     only numbers, symbols, code or units may stay as it is."""
     def page(name: str, check: str, header: str) -> Path:
-        path = tmp_path / f"{name}.html"
-        path.write_text(
-            f'<html><body><article class="bd-article"><p>✓ prose is not a cell</p>'
-            f'<div class="cell_output"><p>{check}</p><table><tr><th>{header}</th>'
-            f"<th>q1 (°)</th><th>θ1 (rad)</th><th>arm_slot</th></tr></table></div>"
-            f"</article></body></html>", encoding="utf-8")
-        return path
+        return article_page(
+            tmp_path / f"{name}.html",
+            f'<p>✓ prose is not a cell</p><div class="cell_output"><p>{check}</p><table><tr>'
+            f"<th>{header}</th><th>q1 (°)</th><th>θ1 (rad)</th><th>arm_slot</th></tr></table>"
+            f"</div>")
 
     english = page("en", "✓ both reach the target (gap 1e-12)", "joint")
     assert cell_texts(english) == ["joint", "q1 (°)", "θ1 (rad)", "arm_slot",
@@ -491,14 +493,12 @@ def test_english_left_sees_an_english_caption_fold_or_banner() -> None:
 def test_the_number_comparison_sees_a_changed_number(tmp_path: Path) -> None:
     """output_numbers reads cell outputs and interactive coordinates, not the prose."""
     def page(prose: str, value: str, x: str) -> Path:
-        path = tmp_path / f"{prose}-{value}-{x}.html"
-        path.write_text(
-            f'<html><body><article class="bd-article"><p>{prose} 7</p>'
-            f'<div class="cell_output"><table><tr><th>rama</th></tr><tr><td>{value}</td></tr>'
-            f'</table></div><figure><div class="output"><div style="height:600px"></div>'
-            f'<script>Plotly.newPlot(el, [{{"x": [{x}], "y": [2]}}])</script></div></figure>'
-            f"</article></body></html>", encoding="utf-8")
-        return path
+        return article_page(
+            tmp_path / f"{prose}-{value}-{x}.html",
+            f'<p>{prose} 7</p><div class="cell_output"><table><tr><th>rama</th></tr><tr>'
+            f'<td>{value}</td></tr></table></div><figure><div class="output"><div '
+            f'style="height:600px"></div><script>Plotly.newPlot(el, [{{"x": [{x}], "y": [2]}}])'
+            f"</script></div></figure>")
 
     english = output_numbers(page("joint", "12.5", "1.0"))
     assert english == ["12.5", "x:1.0", "y:2"]
