@@ -1310,6 +1310,11 @@ NOT_FUZZED = {
     "rikin.ik.pieper_batch.PieperBatchKernel.solve": "the array kernel on validated poses, "
     "as PieperBatchKernel",
     "rikin.ik.pieper_batch.batch_kernel": "builds the array kernel, as PieperBatchKernel",
+    "rikin.ik.pieper.Pieper6RSolver.label_rows": "solver protocol, as "
+    "Pieper6RSolver.check: BatchIKResult.labels calls it on the batch's own joint rows "
+    "(fuzzed through BatchIKResult.labels)",
+    "rikin.ik.parallel3.ParallelAxesSolver.label_rows": "as Pieper6RSolver.label_rows",
+    "rikin.ik.general6r.General6RSolver.label_rows": "as Pieper6RSolver.label_rows",
     "rikin.booktext.BookText": "the book's own cells call it with string literals, which "
     "tools/cell_messages.py extracts (refusing anything else); its checks are in "
     "tests/test_booktext.py",
