@@ -340,26 +340,16 @@ def _wrist_columns(k: PieperKernel, rows: list[Any], c1: FloatArray, s1: FloatAr
     (g00, g01, g02), (g10, g11, g12), (g20, g21, g22) = k.G
     r00, r01, r02, _, r10, r11, r12, _, r20, r21, r22, _ = rows
     _, c2, s2, _, c3, s3, _, _, _ = pos
-    ca1s, sa1s = k.x1
-    ca2, sa2 = k.x2
-    rw: list[FloatArray] = []
+    cols = []
     for j in ((0, 2) if k.orthogonal else (0, 1, 2)):
         h0, h1, h2 = k.Hcols[j]
         a = r00 * h0 + r01 * h1 + r02 * h2
         b = r10 * h0 + r11 * h1 + r12 * h2
         c = r20 * h0 + r21 * h1 + r22 * h2
-        x, y, z = (g00 * a + g01 * b + g02 * c, g10 * a + g11 * b + g12 * c,
-                   g20 * a + g21 * b + g22 * c)
-        x1 = c1 * x + s1 * y
-        y1 = c1 * y - s1 * x
-        y2 = ca1s * y1 + sa1s * z
-        z2 = ca1s * z - sa1s * y1
-        x3 = c2 * x1 + s2 * y2
-        y3 = c2 * y2 - s2 * x1
-        y4 = ca2 * y3 + sa2 * z2
-        z4 = ca2 * z2 - sa2 * y3
-        rw += (c3 * x3 + s3 * y4, c3 * y4 - s3 * x3, z4)
-    return rw
+        cols.append((g00 * a + g01 * b + g02 * c, g10 * a + g11 * b + g12 * c,
+                     g20 * a + g21 * b + g22 * c))
+    # the one-pose kernel's chain, plain arithmetic: the same on arrays of poses
+    return k._wrist_columns(cols, c1, s1, c2, s2, c3, s3)
 
 
 #: The wrist of every position: ``th4, th5, th6``, each a pair (wrist slot 0, slot 1) of

@@ -520,9 +520,10 @@ class PieperKernel:
             return None
         return th1, c1, s1, fr >= 0.0, hu > 0.0
 
-    def _wrist_columns(self, cols, c1, s1, c2, s2, c3, s3) -> list[float]:
+    def _wrist_columns(self, cols, c1, s1, c2, s2, c3, s3) -> list[Any]:
         """``R_w``'s columns, flat: Rx(-al3) Rz(-th3) Rx(-al2) Rz(-th2) Rx(-al1) Rz(-th1) S
-        (the last Rx(-al3) left to the wrist)."""
+        (the last Rx(-al3) left to the wrist). Plain arithmetic: floats for one pose, arrays
+        of poses for the batch kernel."""
         ca1s, sa1s = self.x1
         ca2, sa2 = self.x2
         rw: list[float] = []
