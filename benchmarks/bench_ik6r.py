@@ -40,6 +40,12 @@ joint_limits=False)`` per pose. Printed per arm:
 
     python benchmarks/bench_ik6r.py                          # 1,000 + 5 x 50 poses per arm
     python benchmarks/bench_ik6r.py --poses 50 --singular 10 # a smoke run
+    python benchmarks/bench_ik6r.py --time-only --arms "Puma 560" "KUKA KR5" "IRB 140"
+
+``--time-only`` times the three sides on the random poses and prints the ratios, without
+comparing the solution sets (minutes instead of most of an hour on a busy machine: the
+derivation of rtb's closed form is still timed apart); ``--arms`` keeps the arms whose
+name contains one of the words given.
 
 roboticstoolbox is optional (``pip install "roboticstoolbox-python[ik]"``); without it
 only rikin's figures (FK residuals, time) are printed.
@@ -88,6 +94,10 @@ ROBOTS = [
      "ARTE (A. Gil, UMH) robots/ABB/IRB120/parameters.m",
      [(0.29, 0, -pi / 2, 0), (0, 0.27, 0, -pi / 2), (0, 0.07, -pi / 2, 0),
       (0.302, 0, pi / 2, 0), (0, 0, -pi / 2, 0), (0.072, 0, 0, pi)]),
+    ("ABB IRB 140",
+     "roboticstoolbox 1.5 models.DH.IRB140",
+     [(0.352, 0.07, -pi / 2, 0), (0, 0.36, 0, 0), (0, 0, -pi / 2, 0),
+      (0.38, 0, pi / 2, 0), (0, 0, -pi / 2, 0), (0.065, 0, 0, 0)]),
 ]
 EPSON_SOURCE = "rikin.robots.epson_c4(): the lab's modified-DH table (mm), rewritten as standard DH"
 
@@ -378,11 +388,29 @@ def _case_note(case: Case, lost: object, reg: Tally, sing: Tally) -> str:
         f"solution rikin/rtb: {reg.none[0] + sing.none[0]}/{reg.none[1] + sing.none[1]}")
 
 
+def time_only(chosen: list[Case], poses: int, rounds: int, rng: np.random.Generator) -> None:
+    """``--time-only``: per arm, rikin ``arm.ik``, rtb's ``solve`` and rikin's ``ik_batch``
+    on the same random poses in alternating rounds (:func:`time_sides`), and the ratios."""
+    head = (f"{'arm':<26}{'rikin us':>9}{'batch us':>9}{'rtb us':>8}{'ratio':>7}{'cpu':>6}"
+            f"{'batch':>7}{'derive s':>9}")
+    print(head, flush=True)
+    for case in chosen:
+        T_reg = case.arm.fk(rng.uniform(-pi, pi, (poses, 6)))
+        attach_rtb(case, rng)
+        t_r, t_t, c_r, c_t, t_b = time_sides(case, T_reg, rounds)
+        us = 1e6 / poses
+        print(f"{case.name:<26}{t_r * us:>9.0f}{t_b * us:>9.1f}{t_t * us:>8.0f}{t_t / t_r:>7.2f}"
+              f"{c_t / c_r:>6.1f}{t_t / t_b:>7.1f}{case.derive_s:>9.1f}", flush=True)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--poses", type=int, default=1000, help="random poses per arm")
     ap.add_argument("--singular", type=int, default=50, help="poses per singularity kind")
     ap.add_argument("--rounds", type=int, default=3, help="alternating timing rounds")
+    ap.add_argument("--arms", nargs="+", help="only the arms whose name contains one of these")
+    ap.add_argument("--time-only", action="store_true",
+                    help="time the sides on the random poses, without comparing solution sets")
     args = ap.parse_args()
     try:
         import roboticstoolbox  # noqa: F401
@@ -399,8 +427,13 @@ def main() -> None:
             f"{'wrong':>7}{'res rikin':>10}{'res rtb':>9}{'rikin us':>9}{'batch us':>9}"
             f"{'rtb us':>8}{'ratio':>7}{'cpu':>6}{'batch':>7}{'derive s':>9}")
     rows, notes = [], []
+    chosen = [case for case in cases()
+              if not args.arms or any(word in case.name for word in args.arms)]
+    if args.time_only and with_rtb:
+        time_only(chosen, args.poses, args.rounds, rng)
+        return
     print(head, flush=True)  # each arm's row as it is done (the run takes a while)
-    for case in cases():
+    for case in chosen:
         n_notes = len(notes)
         arm = case.arm
         q_reg = rng.uniform(-pi, pi, (args.poses, 6))

@@ -195,6 +195,9 @@ class PieperKernel:
         self.t1 = (M[1][0][3], M[1][1][3], M[1][2][3])
         self.t2 = (M[2][0][3], M[2][1][3], M[2][2][3])
         self.up1 = (M[1][2][0], M[1][2][1])  # axis 1 in frame 2's xy plane
+        #: what :meth:`_joint1_and_labels` reads, in one tuple (one lookup per call)
+        self._j1 = (float(model.scale), *self.x1, *self.t1[:2], *self.t2[:2], *self.up1,
+                    LABEL * float(model.scale))
         # g(th3) = M2 Rz(th3) v = g0 + cos(th3) gc + sin(th3) gs
         vx, vy, _ = (float(x) for x in wg.v)
         g0, gc, gs, _, _ = solver._arm_constants()
@@ -465,9 +468,8 @@ class PieperKernel:
                     return None
                 q_out += (a1, a2, a3, rem(th4 - o4, tau), q5, rem(th6 - o6, tau))
                 branches.append(labels[front][up][sq5 >= 0.0])
-        if not q_out:
-            return None
-        if max(map(abs, q_out)) > WRAP_EDGE:
+        # not max(map(abs, .)): a call of abs per value costs as much as the two passes
+        if not q_out or max(q_out) > WRAP_EDGE or min(q_out) < -WRAP_EDGE:
             return None
         return q_out, branches
 
@@ -488,12 +490,7 @@ class PieperKernel:
     def _joint1_and_labels(self, px, py, phi_p, c2, s2, gx, gy, gz):
         """``(th1, cos th1, sin th1, front, elbow up)`` of one position, or None when a
         label is too near its boundary to be decided the same way as the general path."""
-        L = self.L
-        ca1s, sa1s = self.x1
-        t1x, t1y, _ = self.t1
-        t2x, t2y, _ = self.t2
-        ux, uy = self.up1
-        label_tol = LABEL * L
+        L, ca1s, sa1s, t1x, t1y, t2x, t2y, ux, uy, label_tol = self._j1
         # joint 1 turns r = M1 Rz(th2) g onto p'
         xp, yp = c2 * gx - s2 * gy, s2 * gx + c2 * gy
         rx, ry = xp + t1x, ca1s * yp - sa1s * gz + t1y
