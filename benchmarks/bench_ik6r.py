@@ -403,7 +403,8 @@ def time_only(chosen: list[Case], poses: int, rounds: int, rng: np.random.Genera
               f"{c_t / c_r:>6.1f}{t_t / t_b:>7.1f}{case.derive_s:>9.1f}", flush=True)
 
 
-def main() -> None:
+def _arguments() -> argparse.Namespace:
+    """The command line (module docstring)."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--poses", type=int, default=1000, help="random poses per arm")
     ap.add_argument("--singular", type=int, default=50, help="poses per singularity kind")
@@ -411,7 +412,11 @@ def main() -> None:
     ap.add_argument("--arms", nargs="+", help="only the arms whose name contains one of these")
     ap.add_argument("--time-only", action="store_true",
                     help="time the sides on the random poses, without comparing solution sets")
-    args = ap.parse_args()
+    return ap.parse_args()
+
+
+def main() -> None:
+    args = _arguments()
     try:
         import roboticstoolbox  # noqa: F401
 
@@ -421,8 +426,9 @@ def main() -> None:
         print("roboticstoolbox not installed: rikin's figures only")
     rng = np.random.default_rng(SEED)
     print(f"load average {os.getloadavg()[0]:.1f} {os.getloadavg()[1]:.1f}, {os.cpu_count()} "
-          f"CPUs; seed {SEED}; per arm {args.poses} random poses + "
-          f"{len(SINGULAR_KINDS)} x {args.singular} near singularities")
+          f"CPUs; seed {SEED}; per arm {args.poses} random poses"
+          + ("" if args.time_only else
+             f" + {len(SINGULAR_KINDS)} x {args.singular} near singularities"))
     head = (f"{'arm':<26}{'equal reg':>10}{'equal sing':>11}{'miss rikin/rtb':>15}"
             f"{'wrong':>7}{'res rikin':>10}{'res rtb':>9}{'rikin us':>9}{'batch us':>9}"
             f"{'rtb us':>8}{'ratio':>7}{'cpu':>6}{'batch':>7}{'derive s':>9}")
