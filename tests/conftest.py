@@ -44,16 +44,46 @@ def pytest_report_header(config):
 
 
 #: Modules that ask for ``book_site`` at run time (``request.getfixturevalue``) unless the
-#: environment variable names a site built before.
-_BOOK_SITE_ON_DEMAND = {"test_book_browser.py": "RIKIN_BOOK_HTML",
-                        "test_student_download.py": "RIKIN_STUDENT_SITE"}
+#: environment variable names a site built before (tests/test_session_order.py checks that
+#: every module asking so is here).
+BOOK_SITE_ON_DEMAND = {"test_book_browser.py": "RIKIN_BOOK_HTML",
+                       "test_book_editions.py": "RIKIN_BOOK_HTML",
+                       "test_student_download.py": "RIKIN_STUDENT_SITE"}
 
 
-def _wants_book_site(item: pytest.Item) -> bool:
+def wants_book_site(item: pytest.Item) -> bool:
+    """True when ``item`` needs the session's build of the book: it names ``book_site``, or
+    its module asks for it at run time (BOOK_SITE_ON_DEMAND)."""
     if "book_site" in getattr(item, "fixturenames", ()):
         return True
-    variable = _BOOK_SITE_ON_DEMAND.get(item.path.name)
+    variable = BOOK_SITE_ON_DEMAND.get(item.path.name)
     return variable is not None and not os.environ.get(variable)
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    """xdist hands out test files in the collection's order, which
+    pytest_collection_modifyitems below sets, instead of by their number of tests."""
+    if hasattr(config.option, "loadscopereorder"):
+        config.option.loadscopereorder = False
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """Files whose tests need the book's build run last, so that both xdist workers run
+    every other file while the build runs (``_book_site_started_early``) instead of
+    waiting for it; within each group, files with more tests first (what xdist's
+    ``--loadscope-reorder`` does). A stable sort on what each file holds: every worker
+    collects the same items and so reaches the same order, as xdist requires."""
+    per_file: dict[str, list[pytest.Item]] = {}
+    for item in items:
+        per_file.setdefault(_file_of(item), []).append(item)
+    needs_site = {f: any(wants_book_site(i) for i in its) for f, its in per_file.items()}
+    items.sort(key=lambda i: (needs_site[_file_of(i)], -len(per_file[_file_of(i)])))
+
+
+def _file_of(item: pytest.Item) -> str:
+    """The test file of ``item``, as xdist's ``--dist loadfile`` groups them."""
+    return item.nodeid.split("::", 1)[0]
 
 
 @pytest.fixture(scope="session", autouse=True)
@@ -66,7 +96,7 @@ def _book_site_started_early(request: pytest.FixtureRequest,
     subprocesses; a test that needs the site waits for the same lock (tests/book_build.py).
     A build that raises in the thread leaves no record: the fixture then builds again and
     reports the error."""
-    if any(_wants_book_site(item) for item in request.session.items):
+    if any(wants_book_site(item) for item in request.session.items):
         threading.Thread(target=_build_quietly, args=(tmp_path_factory,), daemon=True,
                          name="rikin-book-build").start()
 
