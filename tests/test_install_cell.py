@@ -24,6 +24,7 @@ import http.server
 import io
 import os
 import re
+import socket
 import subprocess
 import sys
 import threading
@@ -88,16 +89,19 @@ def book(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Book]:
     httpd = http.server.ThreadingHTTPServer(("127.0.0.1", 0),
                                             functools.partial(Quiet, directory=str(folder)))
     threading.Thread(target=httpd.serve_forever, daemon=True).start()
-    closed = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Quiet)  # bound, never served
+    # bound, never listening: a connection is refused at once, as on a machine offline (a
+    # listening socket never served would hold pip and urllib until their timeouts)
+    closed = socket.socket()
+    closed.bind(("127.0.0.1", 0))
     venv = tmp_path_factory.mktemp("venv")
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
     try:
         yield Book(f"http://127.0.0.1:{httpd.server_address[1]}/", folder,
-                   venv / "bin" / "python", f"http://127.0.0.1:{closed.server_address[1]}/")
+                   venv / "bin" / "python", f"http://127.0.0.1:{closed.getsockname()[1]}/")
     finally:
         httpd.shutdown()
         httpd.server_close()
-        closed.server_close()
+        closed.close()
 
 
 def _env() -> dict[str, str]:
