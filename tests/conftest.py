@@ -71,14 +71,14 @@ def pytest_configure(config: pytest.Config) -> None:
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     """Files whose tests need the book's build run last, so that both xdist workers run
     every other file while the build runs (``_book_site_started_early``) instead of
-    waiting for it; within each group, files with more tests first (what xdist's
-    ``--loadscope-reorder`` does). A stable sort on what each file holds: every worker
-    collects the same items and so reaches the same order, as xdist requires."""
-    per_file: dict[str, list[pytest.Item]] = {}
+    waiting for it. A stable sort on what each file holds, after every other reordering
+    (``--ff``, pytest-randomly): every worker collects the same items and so reaches the
+    same order, as xdist requires."""
+    needs_site: dict[str, bool] = {}
     for item in items:
-        per_file.setdefault(_file_of(item), []).append(item)
-    needs_site = {f: any(wants_book_site(i) for i in its) for f, its in per_file.items()}
-    items.sort(key=lambda i: (needs_site[_file_of(i)], -len(per_file[_file_of(i)])))
+        f = _file_of(item)
+        needs_site[f] = needs_site.get(f, False) or wants_book_site(item)
+    items.sort(key=lambda i: needs_site[_file_of(i)])
 
 
 def _file_of(item: pytest.Item) -> str:
