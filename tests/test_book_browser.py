@@ -279,29 +279,47 @@ def _check_links(links: list[list[str]], origin: str, html: Path, page: str) -> 
     return problems
 
 
-@pytest.mark.book
-@pytest.mark.slow
-@pytest.mark.parametrize("page", PAGES)
-def test_page_renders_offline(page: str, book_html: Path, server: str, driver: object) -> None:
-    assert (book_html / page).is_file(), f"{page} was not built"
-    driver.get_log("browser")  # drop messages of earlier pages
-    driver.get(f"{server}/{page}")
-    deadline = time.monotonic() + PAGE_TIMEOUT_S
-    while driver.execute_script("return document.readyState") != "complete":
-        assert time.monotonic() < deadline, f"{page} did not finish loading"
-        time.sleep(0.05)
-    problems: list[str] = []
-
+def _offline_state(driver: object, server: str, book_html: Path, page: str) -> dict:
+    """What ``test_page_renders_offline`` reads of the page just loaded: MathJax's status,
+    the math, the images (right after MathJax, then once loaded), the links, the markup,
+    the outputs' numbers and the console's SEVERE messages."""
     has_math_script = bool(
         driver.execute_script(
             "return Array.from(document.scripts).some(s => /mathjax/i.test(s.src))"
         )
     )
+    status = driver.execute_async_script(_WAIT_MATHJAX) if has_math_script else None
+    math = driver.execute_script(_MATH_STATE)
+    first_images = driver.execute_script(_IMAGES)
+    time.sleep(0.2)
+    deadline = time.monotonic() + 10
+    images = driver.execute_script(_IMAGES)
+    while not all(done for _, done, _ in images) and time.monotonic() < deadline:
+        time.sleep(0.1)
+        images = driver.execute_script(_IMAGES)
+    links = _check_links(driver.execute_script(_LINKS), server, book_html, page)
+    markup = driver.execute_script(_RAW_MARKUP)
+    noisy = driver.execute_script(_NOISY_NUMBERS)
+    severe = [e["message"] for e in driver.get_log("browser") if e.get("level") == "SEVERE"]
+    return {"has_math_script": has_math_script, "mathjax": status, "math": math,
+            "first_images": first_images, "images": images, "links": links,
+            "markup": markup, "noisy": noisy, "severe": severe}
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", PAGES)
+def test_page_renders_offline(page: str, book_html: Path, loaded: LoadedPages) -> None:
+    assert (book_html / page).is_file(), f"{page} was not built"
+    state = loaded.desktop(page)["offline"]
+    problems: list[str] = []
+
+    has_math_script = state["has_math_script"]
     if has_math_script:
-        status = driver.execute_async_script(_WAIT_MATHJAX)
+        status = state["mathjax"]
         if status != "ok":
             problems.append(f"{page}: {status}")
-    math = driver.execute_script(_MATH_STATE)
+    math = state["math"]
     if math["n_math"] and not has_math_script:
         problems.append(f"{page}: {math['n_math']} math elements but no MathJax script")
     if math["n_math"] and math["n_typeset"] == 0:
@@ -310,40 +328,34 @@ def test_page_renders_offline(page: str, book_html: Path, server: str, driver: o
     problems += [f"{page}: MathJax TeX error: {e!r}" for e in math["errors"]]
     problems += [f"{page}: raw TeX left in the text: {t!r}" for t in math["raw"]]
 
-    driver.execute_script(_IMAGES)
-    time.sleep(0.2)
-    deadline = time.monotonic() + 10
-    images = driver.execute_script(_IMAGES)
-    while not all(done for _, done, _ in images) and time.monotonic() < deadline:
-        time.sleep(0.1)
-        images = driver.execute_script(_IMAGES)
+    images = state["images"]
     problems += [
         f"{page}: image not loaded: {src!r}"
         for src, done, width in images
         if not done or width == 0
     ]
 
-    problems += _check_links(driver.execute_script(_LINKS), server, book_html, page)
+    problems += state["links"]
 
-    markup = driver.execute_script(_RAW_MARKUP)
+    markup = state["markup"]
     problems += [f"{page}: MyST markup shown as text (a broken directive): {t!r}"
                  for t in markup]
     problems += [f"{page}: an output shows a number's rounding noise or its numpy type: {t!r}"
-                 for t in driver.execute_script(_NOISY_NUMBERS)]
+                 for t in state["noisy"]]
 
-    severe = [e["message"] for e in driver.get_log("browser") if e.get("level") == "SEVERE"]
+    severe = state["severe"]
     problems += [f"{page}: console error: {m}" for m in severe]
     assert not problems, "\n".join(problems)
 
 
 @pytest.mark.book
 @pytest.mark.slow
-def test_chapters_have_math_and_figures(book_html: Path, server: str, driver: object) -> None:
+def test_chapters_have_math_and_figures(loaded: LoadedPages) -> None:
     """The checks above are not vacuous: the chapters do have typeset math and figures."""
-    driver.get(f"{server}/book/decoupling.html")
-    assert driver.execute_async_script(_WAIT_MATHJAX) == "ok"
-    math = driver.execute_script(_MATH_STATE)
-    images = driver.execute_script(_IMAGES)
+    state = loaded.desktop("book/decoupling.html")["offline"]
+    assert state["mathjax"] == "ok"
+    math = state["math"]
+    images = state["first_images"]
     assert math["n_typeset"] >= 10, math
     assert len(images) >= 2 and all(w > 0 for _, _, w in images), images
 
@@ -495,22 +507,14 @@ def _layout_problems(page: str, px: int, state: dict, *, may_scroll: bool) -> li
 @pytest.mark.book
 @pytest.mark.slow
 @pytest.mark.parametrize("page", CHAPTER_PAGES)
-def test_nothing_is_wider_than_the_column(page: str, book_html: Path, server: str,
-                                          driver: object) -> None:
+def test_nothing_is_wider_than_the_column(page: str, loaded: LoadedPages) -> None:
     """Every folded cell and dropdown opened: at 1280 px every code cell, output, table,
     display equation and figure fits the text column (none scrolls sideways, none sticks
     out, none is cut by ``overflow: hidden``); at 390 px (a phone) the page never scrolls
     sideways and nothing sticks out or is cut, though a wide table, code block or
     equation may scroll inside its own box."""
-    try:
-        _set_width(driver, DESKTOP_PX)
-        _open(driver, f"{server}/{page}")
-        desk = driver.execute_script(_OVERFLOW)
-        _set_width(driver, PHONE_PX)
-        time.sleep(0.5)  # plotly and MathJax re-lay out on resize
-        phone = driver.execute_script(_OVERFLOW)
-    finally:
-        _set_width(driver, DESKTOP_PX)
+    desk = loaded.desktop(page)["overflow"]
+    phone = loaded.desktop(page)["overflow_resized"]
     assert desk["viewport"] == DESKTOP_PX and phone["viewport"] == PHONE_PX, (desk, phone)
     assert desk["column"] > 500, f"{page}: the text column is only {desk['column']}px at 1280"
     assert phone["column"] < PHONE_PX, f"{page}: the column is {phone['column']}px on a phone"
@@ -713,13 +717,10 @@ const sizeOf = style => {
 @pytest.mark.book
 @pytest.mark.slow
 @pytest.mark.parametrize("page", COURSE_PAGES)
-def test_figure_text_is_readable_at_1280(page: str, book_html: Path, server: str,
-                                         driver: object) -> None:
+def test_figure_text_is_readable_at_1280(page: str, loaded: LoadedPages) -> None:
     """At 1280 px every figure is an SVG whose text is text, and no text of it, shrunk or
     not to the column, is smaller than MIN_FIGURE_TEXT_PX; every figure has alt text."""
-    _set_width(driver, DESKTOP_PX)
-    _open(driver, f"{server}/{page}")
-    figures = driver.execute_async_script(_FIGURE_TEXT)
+    figures = loaded.desktop(page)["figure_text"]
     assert isinstance(figures, list), figures
     problems = []
     for f in figures:
@@ -761,17 +762,10 @@ return out;
 @pytest.mark.book
 @pytest.mark.slow
 @pytest.mark.parametrize("page", CHAPTER_PAGES)
-def test_no_figure_text_is_clipped_on_a_phone(page: str, book_html: Path, server: str,
-                                              driver: object) -> None:
+def test_no_figure_text_is_clipped_on_a_phone(page: str, loaded: LoadedPages) -> None:
     """At 390 px every title, legend entry, button and note of an interactive figure lies
     inside the figure (plotly cuts off text that runs past its edge)."""
-    try:
-        _set_width(driver, PHONE_PX)
-        _open(driver, f"{server}/{page}")
-        time.sleep(0.5)
-        cut = driver.execute_script(_INTERACTIVE_CLIPPING)
-    finally:
-        _set_width(driver, DESKTOP_PX)
+    cut = loaded.phone(page)["clipping"]
     assert not cut, "\n".join(
         f"{page} at {PHONE_PX}px: {c['text']!r} runs {max(-c['left'], c['right'])}px past "
         f"the {c['width']}px figure" for c in cut)
@@ -801,13 +795,10 @@ return out;
 @pytest.mark.book
 @pytest.mark.slow
 @pytest.mark.parametrize("page", COURSE_PAGES)
-def test_no_line_of_code_wraps_at_1280(page: str, book_html: Path, server: str,
-                                       driver: object) -> None:
+def test_no_line_of_code_wraps_at_1280(page: str, loaded: LoadedPages) -> None:
     """Every code line, folded cells opened, fits its box at 1280 px: a wrapped line of
     Python reads as a new statement."""
-    _set_width(driver, DESKTOP_PX)
-    _open(driver, f"{server}/{page}")
-    wrapped = driver.execute_script(_WRAPPED_CODE)
+    wrapped = loaded.desktop(page)["wrapped_code"]
     assert not wrapped, "\n".join(
         f"{page}: a {w['chars']}-character line wraps at {DESKTOP_PX}px: {w['line']!r}"
         for w in wrapped)
@@ -828,44 +819,53 @@ def _lightness(png: bytes) -> tuple[float, float]:
     return mean, top
 
 
+def _dark_figures(driver: object) -> list[dict]:
+    """Each figure (image or interactive) of the article in the page just loaded: its size,
+    name, and the lightness of its screenshot (:func:`_lightness`) when it is 50 px or more
+    both ways."""
+    from selenium.webdriver.common.by import By
+
+    figures = []
+    for el in driver.find_elements(
+            By.CSS_SELECTOR, "article.bd-article img, article.bd-article .rikin-interactive"):
+        figure = {"size": el.size, "mean": None, "top": None}
+        figures.append(figure)
+        if el.size["width"] < 50 or el.size["height"] < 50:
+            continue
+        driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", el)
+        time.sleep(0.1)
+        figure["mean"], figure["top"] = _lightness(el.screenshot_as_png)
+        figure["name"] = el.get_attribute("src") or "interactive " + (el.get_attribute("id")
+                                                                      or "")
+    return figures
+
+
 @pytest.mark.book
 @pytest.mark.slow
 @pytest.mark.parametrize("page", CHAPTER_PAGES)
-def test_figures_are_dark_in_dark_mode(page: str, book_html: Path, server: str,
-                                       driver: object) -> None:
+def test_figures_are_dark_in_dark_mode(page: str, book_html: Path,
+                                       loaded: LoadedPages) -> None:
     """With the theme's dark mode (data-theme="dark") no figure is a white box on the dark
     page: each figure, drawn image or interactive, is mostly dark, and its lines and text
     are light."""
-    from selenium.webdriver.common.by import By
-
-    _set_width(driver, DESKTOP_PX)
-    driver.get(f"{server}/{page}")
-    driver.execute_script("localStorage.setItem('mode', 'dark')")
-    try:
-        _open(driver, f"{server}/{page}")
-        assert driver.execute_script("return document.documentElement.dataset.theme") == "dark"
-        time.sleep(0.5)
-        problems = []
-        figures = driver.find_elements(
-            By.CSS_SELECTOR, "article.bd-article img, article.bd-article .rikin-interactive")
-        for el in figures:
-            if el.size["width"] < 50 or el.size["height"] < 50:
-                continue
-            driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", el)
-            time.sleep(0.1)
-            mean, top = _lightness(el.screenshot_as_png)
-            name = el.get_attribute("src") or "interactive " + (el.get_attribute("id") or "")
-            if mean > 0.4:
-                problems.append(f"{page}: {name.rsplit('/', 1)[-1]} is light in dark mode "
-                                f"(mean lightness {mean:.2f})")
-            elif top < 0.5:
-                problems.append(f"{page}: {name.rsplit('/', 1)[-1]} shows nothing light in "
-                                f"dark mode (its text is dark on dark)")
-        html = (book_html / page).read_text(encoding="utf-8")
-        if "<img" in html or "rikin-interactive" in html:
-            assert figures, f"{page}: no figure was found"
-    finally:
-        driver.execute_script("localStorage.setItem('mode', 'light')")
+    dark = loaded.dark(page)
+    assert dark["theme"] == "dark"
+    problems = []
+    figures = dark["figures"]
+    for el in figures:
+        if el["size"]["width"] < 50 or el["size"]["height"] < 50:
+            continue
+        mean, top = el["mean"], el["top"]
+        name = el["name"]
+        if mean > 0.4:
+            problems.append(f"{page}: {name.rsplit('/', 1)[-1]} is light in dark mode "
+                            f"(mean lightness {mean:.2f})")
+        elif top < 0.5:
+            problems.append(f"{page}: {name.rsplit('/', 1)[-1]} shows nothing light in "
+                            f"dark mode (its text is dark on dark)")
+    html = (book_html / page).read_text(encoding="utf-8")
+    if "<img" in html or "rikin-interactive" in html:
+        assert figures, f"{page}: no figure was found"
     assert not problems, "\n".join(problems)
 
 
@@ -906,17 +906,13 @@ return out;
 @pytest.mark.book
 @pytest.mark.slow
 @pytest.mark.parametrize("page", CHAPTER_PAGES)
-def test_no_leftover_markup(page: str, book_html: Path, server: str, driver: object) -> None:
+def test_no_leftover_markup(page: str, loaded: LoadedPages) -> None:
     """No MyST role is shown as text, and no period or comma is parted from its formula by a
     line break, at 1280 px and at 390 px."""
     problems = []
-    try:
-        for px in (DESKTOP_PX, PHONE_PX):
-            _set_width(driver, px)
-            _open(driver, f"{server}/{page}")
-            problems += [f"{page} at {px}px: {p}" for p in driver.execute_script(_LEFTOVER)]
-    finally:
-        _set_width(driver, DESKTOP_PX)
+    for px in (DESKTOP_PX, PHONE_PX):
+        view = loaded.desktop(page) if px == DESKTOP_PX else loaded.phone(page)
+        problems += [f"{page} at {px}px: {p}" for p in view["leftover"]]
     assert not problems, "\n".join(problems)
 
 
@@ -931,12 +927,10 @@ return Array.from(document.querySelectorAll('.search-button-field, form.bd-searc
 
 @pytest.mark.book
 @pytest.mark.slow
-def test_one_search_field(book_html: Path, server: str, driver: object) -> None:
+def test_one_search_field(loaded: LoadedPages) -> None:
     """At 1280 px the page shows one search field (the sidebar's), not a second one in a
     bar above it."""
-    _set_width(driver, DESKTOP_PX)
-    _open(driver, f"{server}/book/planar.html")
-    fields = driver.execute_script(_SEARCH_FIELDS)
+    fields = loaded.desktop("book/planar.html")["search_fields"]
     assert len(fields) == 1, fields
 
 
@@ -953,14 +947,137 @@ return Array.from(document.querySelectorAll('article.bd-article table.rikin-tabl
 @pytest.mark.book
 @pytest.mark.slow
 @pytest.mark.parametrize("page", CHAPTER_PAGES)
-def test_tables_fit_a_phone(page: str, book_html: Path, server: str, driver: object) -> None:
+def test_tables_fit_a_phone(page: str, loaded: LoadedPages) -> None:
     """At 390 px no table of results (every solution with its joints) needs scrolling
     sideways: a wide one is laid out in fewer columns."""
-    try:
-        _set_width(driver, PHONE_PX)
-        _open(driver, f"{server}/{page}")
-        wide = driver.execute_script(_TABLES_SCROLL)
-    finally:
-        _set_width(driver, DESKTOP_PX)
+    wide = loaded.phone(page)["tables"]
     assert not wide, "\n".join(f"{page}: a {w['cols']}-column table scrolls sideways at "
                                f"{PHONE_PX}px: {w['text']!r}" for w in wide)
+
+
+# ------------------------------------------------------------------ one load per view of a page
+class _Values:
+    """The results of the checks run on one load of a page, by name; a check that raised
+    raises again when its result is asked for (the other checks of the load still count)."""
+
+    def __init__(self) -> None:
+        self._values: dict[str, tuple[bool, object]] = {}
+
+    def run(self, name: str, check: object, *args: object) -> None:
+        try:
+            self._values[name] = (True, check(*args))
+        except Exception as error:  # noqa: BLE001 -- given to the test that reads it
+            self._values[name] = (False, error)
+
+    def __getitem__(self, name: str) -> object:
+        ok, value = self._values[name]
+        if not ok:
+            raise value
+        return value
+
+
+class LoadedPages:
+    """Every page opened once per view: at 1280 px (:meth:`desktop`), at 390 px
+    (:meth:`phone`) and at 1280 px in dark mode (:meth:`dark`). Each view runs every check
+    that reads it, in an order where a check that changes the page (opening the folded
+    cells, resizing the window) comes after those that only read it, and keeps the results;
+    the tests read them. A load that fails fails every test of that view."""
+
+    def __init__(self, driver: object, server: str, book_html: Path) -> None:
+        self.driver, self.server, self.book_html = driver, server, book_html
+        self._views: dict[tuple[str, str], tuple[bool, object]] = {}
+
+    def desktop(self, page: str) -> _Values:
+        return self._view(page, "desktop", self._desktop)
+
+    def phone(self, page: str) -> _Values:
+        return self._view(page, "phone", self._phone)
+
+    def dark(self, page: str) -> _Values:
+        return self._view(page, "dark", self._dark)
+
+    def _view(self, page: str, name: str, load: object) -> _Values:
+        if (page, name) not in self._views:
+            try:
+                self._views[page, name] = (True, load(page))
+            except Exception as error:  # noqa: BLE001 -- every test of the view fails with it
+                self._views[page, name] = (False, error)
+        ok, value = self._views[page, name]
+        if not ok:
+            raise value
+        return value
+
+    def _desktop(self, page: str) -> _Values:
+        """At 1280 px: what ``test_page_renders_offline`` reads (console messages from this
+        load only), then the search fields, the figures' text, the leftover markup, the
+        layout (folded cells opened), the wrapped code and the layout once the window is
+        resized to 390 px."""
+        driver, values = self.driver, _Values()
+        _set_width(driver, DESKTOP_PX)
+        driver.get_log("browser")  # drop messages of earlier pages
+        driver.get(f"{self.server}/{page}")
+        deadline = time.monotonic() + PAGE_TIMEOUT_S
+        while driver.execute_script("return document.readyState") != "complete":
+            assert time.monotonic() < deadline, f"{page} did not finish loading"
+            time.sleep(0.05)
+        values.run("offline", _offline_state, driver, self.server, self.book_html, page)
+        # the rest as after _open: MathJax done (the offline state waited for it when the
+        # page has its script), the images asked for
+        if driver.execute_script("return !!window.MathJax"):
+            driver.execute_async_script(_WAIT_MATHJAX)
+        driver.execute_script(_IMAGES)
+        values.run("search_fields", driver.execute_script, _SEARCH_FIELDS)
+        if page in COURSE_PAGES:
+            values.run("figure_text", driver.execute_async_script, _FIGURE_TEXT)
+        if page not in CHAPTER_PAGES:
+            return values
+        values.run("leftover", driver.execute_script, _LEFTOVER)
+        values.run("overflow", driver.execute_script, _OVERFLOW)
+        if page in COURSE_PAGES:
+            values.run("wrapped_code", driver.execute_script, _WRAPPED_CODE)
+        try:
+            _set_width(driver, PHONE_PX)
+            time.sleep(0.5)  # plotly and MathJax re-lay out on resize
+            values.run("overflow_resized", driver.execute_script, _OVERFLOW)
+        finally:
+            _set_width(driver, DESKTOP_PX)
+        return values
+
+    def _phone(self, page: str) -> _Values:
+        """Opened at 390 px: the leftover markup, the tables, and half a second later the
+        interactive figures' text."""
+        driver, values = self.driver, _Values()
+        try:
+            _set_width(driver, PHONE_PX)
+            _open(driver, f"{self.server}/{page}")
+            values.run("leftover", driver.execute_script, _LEFTOVER)
+            values.run("tables", driver.execute_script, _TABLES_SCROLL)
+            time.sleep(0.5)
+            values.run("clipping", driver.execute_script, _INTERACTIVE_CLIPPING)
+        finally:
+            _set_width(driver, DESKTOP_PX)
+        return values
+
+    def _dark(self, page: str) -> _Values:
+        """Opened at 1280 px in dark mode (the theme's ``mode`` in localStorage, set back to
+        light after): the page's theme and its figures' lightness."""
+        driver, values = self.driver, _Values()
+        url = f"{self.server}/{page}"
+        _set_width(driver, DESKTOP_PX)
+        if not driver.current_url.startswith(f"{self.server}/"):
+            driver.get(url)  # localStorage is the site's: be on it to set it
+        driver.execute_script("localStorage.setItem('mode', 'dark')")
+        try:
+            _open(driver, url)
+            values.run("theme", driver.execute_script,
+                       "return document.documentElement.dataset.theme")
+            time.sleep(0.5)
+            values.run("figures", _dark_figures, driver)
+        finally:
+            driver.execute_script("localStorage.setItem('mode', 'light')")
+        return values
+
+
+@pytest.fixture(scope="module")
+def loaded(driver: object, server: str, book_html: Path) -> LoadedPages:
+    return LoadedPages(driver, server, book_html)
