@@ -131,6 +131,17 @@ def server(book_html: Path) -> Iterator[str]:
 
 @pytest.fixture(scope="module")
 def driver(browser_paths: tuple[str, str]) -> Iterator[object]:
+    drv = chrome(browser_paths)
+    try:
+        yield drv
+    finally:
+        drv.quit()
+
+
+def chrome(browser_paths: tuple[str, str], page_load_strategy: str = "normal") -> object:
+    """Headless Chromium at 1280 px with the network cut off (Selenium's driver of it);
+    ``page_load_strategy`` is Selenium's (``"eager"``: a navigation is done once the page is
+    parsed, without waiting for its images and scripts)."""
     try:
         from selenium import webdriver
         from selenium.webdriver.chrome.service import Service
@@ -160,13 +171,11 @@ def driver(browser_paths: tuple[str, str]) -> Iterator[object]:
     ):
         opts.add_argument(flag)
     opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    opts.page_load_strategy = page_load_strategy
     drv = webdriver.Chrome(service=Service(executable_path=chromedriver), options=opts)
     drv.set_page_load_timeout(PAGE_TIMEOUT_S)
     drv.set_script_timeout(MATHJAX_TIMEOUT_S)
-    try:
-        yield drv
-    finally:
-        drv.quit()
+    return drv
 
 
 # ------------------------------------------------------------------ page checks
