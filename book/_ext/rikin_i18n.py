@@ -49,6 +49,7 @@ name the edition's copy, ``es/_static/exercises/<arm>.ipynb`` (book/_ext/rikin_b
 
 from __future__ import annotations
 
+import gettext
 import html
 import re
 import sys
@@ -59,6 +60,7 @@ from docutils import nodes
 from myst_nb.ext.glue.directives import PasteFigureDirective
 from myst_nb.sphinx_ import HideCodeCellNode, depart_HideCellInput, visit_HideCellInput
 from sphinx import addnodes
+from sphinx import locale as sphinx_locale
 from sphinx.application import Sphinx
 from sphinx.locale import init as init_locale
 from sphinx.transforms import SphinxTransform
@@ -89,6 +91,18 @@ FOLD_LABEL = "Toggle hidden content"
 #: sidebar buttons' tooltips, the sidebar's label for screen readers): the book's copies of
 #: those templates (``templates/``) write ``rikin_text(...)`` of them (:func:`add_switch`).
 THEME_TEXTS = ("Toggle primary sidebar", "Toggle secondary sidebar", "Main")
+#: Texts that Sphinx and the theme translate themselves, from their own catalogues
+#: (catalogue -> messages), some of them wrongly or not at all in Spanish (sphinx-book-theme
+#: 1.3: "Descarga esta pagina" without its accent; Sphinx 7.4: "Link to this heading" left
+#: English): they are site messages too, and a translated edition's catalogue translation
+#: is looked up before theirs (:func:`correct_builtin_texts`).
+BUILTIN_TEXTS: dict[str, tuple[str, ...]] = {
+    "booktheme": ("Download this page", "Download source file", "Download notebook file",
+                  "Print to PDF", "Fullscreen mode", "previous page", "next page"),
+    "sphinx": ("Link to this heading", "Link to this image", "Link to this term",
+               "Link to this table", "Link to this equation", "Link to this code",
+               "Link to this definition"),
+}
 #: Where a translated edition keeps its site texts' translations (an attribute of the app).
 SITE_STRINGS = "rikin_site_strings"
 #: The exercises' catalogues (below the book's source folder), which also translate the
@@ -289,6 +303,7 @@ def site_messages(config: Any) -> list[str]:
     on pages (the preview banner, the launch lines:
     ``rikin_site.PAGE_TEXTS``, some with ``{placeholders}``)."""
     texts = [*site_texts(config).values(), *fold_texts(config), FOLD_LABEL, *THEME_TEXTS,
+             *[m for messages in BUILTIN_TEXTS.values() for m in messages],
              *rikin_site.PAGE_TEXTS]
     return [t for t in dict.fromkeys(texts) if t]
 
@@ -346,6 +361,35 @@ def translated_config(app: Sphinx, config: Any) -> None:
     if texts["search_bar_text"]:
         config.html_theme_options = {**(config.html_theme_options or {}),
                                      "search_bar_text": texts["search_bar_text"]}
+
+
+class _Corrected(gettext.NullTranslations):
+    """A gettext catalogue that says ``strings`` (message -> translation) first, and asks
+    ``fallback`` (Sphinx's or the theme's own catalogue) for every other message."""
+
+    def __init__(self, strings: dict[str, str], fallback: gettext.NullTranslations) -> None:
+        super().__init__()
+        self.strings = strings
+        self.add_fallback(fallback)
+
+    def gettext(self, message: str) -> str:
+        return self.strings.get(message) or super().gettext(message)
+
+
+def correct_builtin_texts(app: Sphinx, *args: Any) -> None:
+    """In a translated edition, put the site catalogue's translations of
+    :data:`BUILTIN_TEXTS` before Sphinx's and the theme's own (which, lazily, look their
+    messages up when a page is written: the theme's buttons, Sphinx's ``¶`` tooltips).
+    Idempotent: a catalogue is replaced once."""
+    strings = getattr(app, SITE_STRINGS, {})
+    for catalogue, messages in BUILTIN_TEXTS.items():
+        key = ("general", catalogue)
+        current = sphinx_locale.translators.get(key, gettext.NullTranslations())
+        if isinstance(current, _Corrected):
+            continue
+        ours = {m: strings[m] for m in messages if strings.get(m, m) != m}
+        if ours:
+            sphinx_locale.translators[key] = _Corrected(ours, current)
 
 
 class TranslatedFolds(SphinxPostTransform):
@@ -577,4 +621,8 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("config-inited", add_switch_template)
     app.connect("config-inited", translated_config)
     app.connect("html-page-context", add_switch)
+    # once the builder (and so the theme) is set up, before a page is written; and again
+    # before the theme's buttons of each page, should a catalogue have been loaded since
+    app.connect("builder-inited", correct_builtin_texts)
+    app.connect("html-page-context", correct_builtin_texts, priority=100)
     return {"version": "1.0", "parallel_read_safe": True, "parallel_write_safe": True}

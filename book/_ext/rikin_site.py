@@ -18,6 +18,7 @@ Standard library only: the book extension (``rikin_book``), ``tools/make_exercis
 
 from __future__ import annotations
 
+import ast
 import hashlib
 import ipaddress
 import json
@@ -256,12 +257,18 @@ def wheel_url(base_url: str, manifest: dict) -> str:
 
 
 #: The install cell's code after its settings (RIKIN_BOOK, RIKIN_PAGE, RIKIN_NEEDED,
-#: RIKIN_EXTRAS, RIKIN_WHEEL). Plain Python that any notebook kernel runs (Colab's too):
+#: RIKIN_EXTRAS, RIKIN_WHEEL, RIKIN_SAYS). Plain Python that any notebook kernel runs (Colab's too):
 #: standard library only, every step a small function, one line of news per run.
 INSTALL_BODY = r'''
 
 class RikinSetupError(Exception):
     """This cell cannot go on; the message says what to do. Run All stops here."""
+
+
+def _rikin_say(template, **values):
+    """One of this cell's messages in the notebook's language (RIKIN_SAYS: English ->
+    the notebook's language), with ``values`` put into its {placeholders}."""
+    return RIKIN_SAYS.get(template, template).format(**values)
 
 
 def _rikin_say_only_the_message():
@@ -289,16 +296,18 @@ def _rikin_missing():
     try:
         have = md.version("rikin")
     except md.PackageNotFoundError:
-        return "rikin is not installed"
+        return _rikin_say("rikin is not installed")
     if _rikin_version_key(have) < _rikin_version_key(RIKIN_NEEDED):
-        return f"rikin {have} is older than this notebook needs ({RIKIN_NEEDED})"
+        return _rikin_say("rikin {have} is older than this notebook needs ({needed})",
+                          have=have, needed=RIKIN_NEEDED)
     for req in md.requires("rikin") or []:
         m = re.match(r"([A-Za-z0-9._-]+).*extra *== *.(\w+)", req)
         if m and m.group(2) in RIKIN_EXTRAS:
             try:
                 md.version(m.group(1))
             except md.PackageNotFoundError:
-                return f"{m.group(1)} (rikin[{m.group(2)}]) is not installed"
+                return _rikin_say("{package} (rikin[{extra}]) is not installed",
+                                  package=m.group(1), extra=m.group(2))
     return None
 
 
@@ -323,10 +332,10 @@ def _rikin_wheel(why):
         with urllib.request.urlopen(url, timeout=60) as r:
             w = json.load(r)["wheel"]
     except (OSError, ValueError, KeyError) as exc:
-        raise RikinSetupError(
-            f"{why}, and the course's book, {RIKIN_BOOK}, could not tell "
-            f"which rikin to install ({exc}). Are you online? Or download this notebook "
-            f"again from {RIKIN_PAGE}") from None
+        raise RikinSetupError(_rikin_say(
+            "{why}, and the course's book, {book}, could not tell which rikin to install "
+            "({error}). Are you online? Or download this notebook again from {page}",
+            why=why, book=RIKIN_BOOK, error=exc, page=RIKIN_PAGE)) from None
     return f"{RIKIN_BOOK}_static/dist/{w['file']}#sha256={w['sha256']}"
 
 
@@ -357,28 +366,28 @@ def _rikin_pip_news(line):
         wheel = re.search(r"([A-Za-z0-9_.]+)-(\d[\w.]*)-[^/]*\.whl", m.group(2))
         what = f"{wheel.group(1)} {wheel.group(2)}" if wheel else m.group(2).split("@")[0]
         name = re.split(r"[<>=!~;@\[]", what)[0]
-        return f"getting {name}"
+        return _rikin_say("getting {name}", name=name)
     if line.startswith("Installing collected packages:"):
-        return f"installing {len(line.split(':', 1)[1].split(','))} packages"
+        return _rikin_say("installing {n} packages", n=len(line.split(":", 1)[1].split(",")))
     return None
 
 
 def _rikin_pip_failed(code, out, wheel):
     """The one line that says why pip failed, and what to do."""
     if "DO NOT MATCH THE HASHES" in out or ("404" in out and wheel.split("#")[0] in out):
-        why = (f"this notebook is older than the book: the book now hosts another rikin. "
-               f"Download this notebook again from {RIKIN_PAGE}")
+        why = _rikin_say("this notebook is older than the book: the book now hosts another "
+                         "rikin. Download this notebook again from {page}", page=RIKIN_PAGE)
     elif any(s in out for s in ("Failed to establish a new connection", "Network is unreachable",
                                 "Name or service not known", "Temporary failure in name",
                                 "nodename nor servname", "getaddrinfo failed",
                                 "Connection refused", "timed out", "No matching distribution")):
         host = wheel.split("/")[2] if wheel.count("/") >= 2 else wheel
-        why = (f"pip could not download rikin or a package it needs (from {host} or your "
-               f"package index): are you online?")
+        why = _rikin_say("pip could not download rikin or a package it needs (from {host} "
+                         "or your package index): are you online?", host=host)
     else:
         last = [ln.strip() for ln in out.splitlines() if ln.strip()][-3:]
-        why = f"pip exit code {code}: " + " / ".join(last)
-    return RikinSetupError(f"could not install rikin: {why}")
+        why = _rikin_say("pip exit code {code}: {last}", code=code, last=" / ".join(last))
+    return RikinSetupError(_rikin_say("could not install rikin: {why}", why=why))
 
 
 def _rikin_imported_versions():
@@ -433,32 +442,35 @@ def _rikin_setup():
     if why is None:
         stale = _rikin_restart_needed({"rikin": md.version("rikin")})
         if stale:
-            raise RikinSetupError(f"rikin {md.version('rikin')} is installed, but this kernel "
-                                  f"still runs the one it imported first ({stale[0]}): restart "
-                                  "the kernel (Kernel > Restart Kernel), then run all cells.")
-        return f"rikin {md.version('rikin')} is installed"
+            raise RikinSetupError(_rikin_say(
+                "rikin {version} is installed, but this kernel still runs the one it imported "
+                "first ({stale}): restart the kernel (Kernel > Restart Kernel), then run all "
+                "cells.", version=md.version("rikin"), stale=stale[0]))
+        return _rikin_say("rikin {version} is installed", version=md.version("rikin"))
     folder = _rikin_checkout()
     if folder is not None:  # inside a checkout of the course: use it
         sys.path.insert(0, str(folder))
-        return f"rikin from the checkout at {folder}"
+        return _rikin_say("rikin from the checkout at {folder}", folder=folder)
     wheel = _rikin_wheel(why)
     had_widgets = importlib.util.find_spec("ipywidgets") is not None
     before = _rikin_imported_versions()
-    print(f"{why}: installing it from {wheel.split('#')[0]} (about a minute) ...", flush=True)
+    print(_rikin_say("{why}: installing it from {url} (about a minute) ...", why=why,
+                     url=wheel.split("#")[0]), flush=True)
     code, out = _rikin_pip(wheel)
     if code != 0:
         raise _rikin_pip_failed(code, out, wheel)
     importlib.invalidate_caches()
     changed = _rikin_restart_needed(before)
     if changed:
-        raise RikinSetupError(f"rikin {md.version('rikin')} is installed, over packages this "
-                              f"kernel had imported ({', '.join(changed)}): restart the kernel "
-                              "(Kernel > Restart Kernel), then run all cells again.")
-    news = f"rikin {md.version('rikin')} installed"
+        raise RikinSetupError(_rikin_say(
+            "rikin {version} is installed, over packages this kernel had imported "
+            "({changed}): restart the kernel (Kernel > Restart Kernel), then run all cells "
+            "again.", version=md.version("rikin"), changed=", ".join(changed)))
     if "widgets" in RIKIN_EXTRAS and not had_widgets and "google.colab" not in sys.modules:
-        news += (". The live panels need this page reloaded once (F5), then Run All again: "
-                 "until then they show still pictures")
-    return news
+        return _rikin_say("rikin {version} installed. The live panels need this page "
+                          "reloaded once (F5), then Run All again: until then they show still "
+                          "pictures", version=md.version("rikin"))
+    return _rikin_say("rikin {version} installed", version=md.version("rikin"))
 
 
 try:
@@ -477,7 +489,27 @@ INSTALL_TITLE = "Setup: install rikin if it is missing (Colab, a fresh Jupyter)"
 INSTALL_NOTE = ("Installs the rikin wheel published with this course's book, pinned by its "
                 "sha256, never a package of that name from a public index. A no-op where "
                 "rikin is already installed.")
-INSTALL_TEXTS = (INSTALL_TITLE, INSTALL_NOTE)
+
+
+def _said(body: str) -> tuple[str, ...]:
+    """The messages of the install cell's code ``body``: the literal first argument of
+    every ``_rikin_say(...)`` call, in the order written (each once)."""
+    found: list[tuple[int, int, str]] = []
+    for node in ast.walk(ast.parse(body)):
+        if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "_rikin_say":
+            first = node.args[0] if node.args else None
+            if not (isinstance(first, ast.Constant) and isinstance(first.value, str)):
+                raise SiteError(f"install cell line {node.lineno}: _rikin_say(...) needs a "
+                                "string literal (a template with named values)")
+            found.append((node.lineno, node.col_offset, first.value))
+    return tuple(dict.fromkeys(text for _, _, text in sorted(found)))
+
+
+#: What the install cell prints or raises (its :data:`INSTALL_BODY`'s ``_rikin_say``
+#: templates): messages too, so a Spanish notebook's install cell says them in Spanish
+#: (pip's own lines stay as pip writes them).
+INSTALL_MESSAGES = _said(INSTALL_BODY)
+INSTALL_TEXTS = (INSTALL_TITLE, INSTALL_NOTE, *INSTALL_MESSAGES)
 
 
 def _comment(text: str, width: int = 92) -> str:
@@ -501,7 +533,13 @@ def _install_cell_header(book: str, page: str, version: str, wheel: str | None,
         f"RIKIN_NEEDED = {version!r}\n"
         f"RIKIN_EXTRAS = {tuple(extras)!r}\n"
         f"RIKIN_WHEEL = {wheel!r}\n"
+        f"RIKIN_SAYS = {_says(texts)!r}\n"
     )
+
+
+def _says(texts: dict[str, str]) -> dict[str, str]:
+    """The install cell's messages that ``texts`` translates (English -> translation)."""
+    return {m: texts[m] for m in INSTALL_MESSAGES if texts.get(m, m) != m}
 
 
 def install_cell_source(
@@ -521,7 +559,8 @@ def install_cell_source(
     ``page`` is where a student downloads this notebook again (default: the book).
 
     ``texts`` translates the cell's title and comment (:data:`INSTALL_TEXTS`, English ->
-    the notebook's language); what the cell prints stays English.
+    the notebook's language) and what it prints
+    (:data:`INSTALL_MESSAGES`, written into the cell as ``RIKIN_SAYS``).
 
     What a student sees: one line when rikin is there; pip's progress and one line when it
     installs; otherwise one line (a ``RikinSetupError``, which stops Run All) saying what
