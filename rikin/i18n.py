@@ -110,6 +110,38 @@ _SPANISH_PHRASES = {
     "light grey: the other solutions": "gris claro: las demás soluciones",
     "purple arrow: a joint axis reversed in the twin solution":
         "flecha morada: un eje articular invertido en la solución gemela",
+    # an interactive figure whose script has not run (rikin.interactive)
+    ("Interactive figure: run this cell to draw it (the notebook's own outputs are "
+     "drawn; outputs saved in a file you did not run are not)."):
+    ("Figura interactiva: ejecuta esta celda para dibujarla (se dibujan las salidas que "
+     "el propio notebook genera; las guardadas en un archivo que no has ejecutado, no)."),
+    ("This interactive figure needs plotly.js, which rikin puts in the first figure "
+     "this page shows: it is drawn as soon as that one is; if it stays like this, "
+     "run the notebook from its first cell again (Run All)."):
+    ("Esta figura interactiva necesita plotly.js, que rikin pone en la primera figura de "
+     "esta página: se dibuja en cuanto se dibuja aquella; si sigue así, vuelve a ejecutar "
+     "el notebook desde su primera celda."),
+    # a singular result's table (rikin.tables.solutions_table): rikin's reason, quoted
+    "singular: {why}; free joints {free}": "singular: «{why}»; articulaciones libres {free}",
+    # the DH panel's text (rikin.widgets.DHPanel): classify's verdict quoted as it says it
+    "{verdict}": "«{verdict}»",
+    # the teach panel's pose (rikin.widgets.Teach)
+    "q = {q} → TCP at ({x}, {y}, {z}){units}, roll {roll}°, pitch {pitch}°, yaw {yaw}°":
+        "q = {q} → TCP en ({x}, {y}, {z}){units}, roll {roll}°, pitch {pitch}°, yaw {yaw}°",
+    # the DH panel's text (rikin.widgets.DHPanel)
+    "DH table": "Tabla DH",
+    "({convention} DH, {units}; tool at ({tool}); target joints ({target}))":
+        "(DH {convention}, {units}; herramienta en ({tool}); articulaciones objetivo ({target}))",
+    "({convention} DH, {units}; tool at ({tool}); target pose ({target}))":
+        "(DH {convention}, {units}; herramienta en ({tool}); postura objetivo ({target}))",
+    "no units": "sin unidades",
+    "{n} solution, each put back through FK: largest pose error {err}":
+        "{n} solución, comprobada con la cinemática directa: mayor error de postura {err}",
+    "{n} solutions, each put back through FK: largest pose error {err}":
+        "{n} soluciones, cada una comprobada con la cinemática directa: mayor error de "
+        "postura {err}",
+    "; the joints you typed are solution {k} ({label})":
+        "; las articulaciones que escribiste son la solución {k} ({label})",
 }
 _PHRASES: dict[str, dict[str, str]] = {"en": {}, "es": _SPANISH_PHRASES}
 

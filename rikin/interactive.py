@@ -208,13 +208,13 @@ class InteractiveFigure:
                              "modeBarButtonsToRemove": ["toImage"]})
         return (
             f'<div class="{HTML_MARKER}" id="{div}" style="width:100%;max-width:100%;'
-            f'height:{int(self.figure.layout.height or 520)}px">{NOT_DRAWN}</div>\n'
+            f'height:{int(self.figure.layout.height or 520)}px">{phrase(NOT_DRAWN)}</div>\n'
             "<script>(function () {\n"
             f'  var el = document.getElementById("{div}"), tries = 0;\n'
             "  if (!el) { return; }\n"
             "  function draw() {\n"
             "    if (!window.Plotly) {\n"
-            f"      el.textContent = {json.dumps(NO_PLOTLY)};\n"
+            f"      el.textContent = {json.dumps(phrase(NO_PLOTLY))};\n"
             f"      if (tries++ < {4 * WAIT_FOR_PLOTLY_S}) {{ setTimeout(draw, 250); }}\n"
             "      return;\n"
             "    }\n"

@@ -25,7 +25,7 @@ import numpy as np
 
 from ._validate import as_count, as_text
 from .errors import InputError
-from .i18n import branch_name, word
+from .i18n import branch_name, phrase, word
 from .ik.result import IKResult
 
 __all__ = ["Table", "dh_table", "solutions_table", "table"]
@@ -172,7 +172,8 @@ def solutions_table(result: IKResult, decimals: int = 4, caption: str | None = N
     rows = [[i + 1, branch_name(lab), *map(float, q)]
             for i, (lab, q) in enumerate(zip(result.labels, qd, strict=True))]
     if caption is None and result.singular:
-        caption = f"singular: {result.singularity}; free joints {result.free_joints}"
+        caption = phrase("singular: {why}; free joints {free}", why=result.singularity,
+                         free=result.free_joints)
     return Table(header, rows, decimals, caption)
 
 

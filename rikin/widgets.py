@@ -50,6 +50,7 @@ from ._validate import (
 from .dh import SerialArm
 from .dhtext import arm_from_table, row_tokens
 from .errors import InputError, RikinError, UnreachableError
+from .i18n import branch_name, phrase
 from .ik import classify
 from .ik.result import IKResult
 from .plot import _check_arm, _q_text
@@ -473,9 +474,10 @@ class TeachPanel:
         T = self.arm.fk(self.q)
         u = f" {self.arm.units}" if self.arm.units else ""
         rpy = r_to_rpy(T[:3, :3], degrees=True)
-        return (f"q = {_q_text(self.arm, self.q)} → TCP at "
-                f"({T[0, 3]:.4g}, {T[1, 3]:.4g}, {T[2, 3]:.4g}){u}, "
-                f"roll {rpy[0]:.2f}°, pitch {rpy[1]:.2f}°, yaw {rpy[2]:.2f}°")
+        return phrase("q = {q} → TCP at ({x}, {y}, {z}){units}, roll {roll}°, pitch {pitch}°, "
+                      "yaw {yaw}°", q=_q_text(self.arm, self.q), x=f"{T[0, 3]:.4g}",
+                      y=f"{T[1, 3]:.4g}", z=f"{T[2, 3]:.4g}", units=u, roll=f"{rpy[0]:.2f}",
+                      pitch=f"{rpy[1]:.2f}", yaw=f"{rpy[2]:.2f}")
 
     def figure(self) -> Any:
         from .plot import plot_arm
@@ -723,13 +725,16 @@ class DHPanel:
         except RikinError as exc:
             return DHState(arm, verdict, T, None, f"No solution: {exc}", typed_q=typed)
         err = _pose_error(arm, res.q, T)
-        msg = (f"{len(res)} solution{'s' if len(res) != 1 else ''}, each put back through "
-               f"FK: largest pose error {err:.0e}")
+        msg = phrase("{n} solution, each put back through FK: largest pose error {err}"
+                     if len(res) == 1 else
+                     "{n} solutions, each put back through FK: largest pose error {err}",
+                     n=len(res), err=f"{err:.0e}")
         if typed is not None:
             d = np.where(arm.revolute, np.abs(wrap_angle(res.q - typed)), np.abs(res.q - typed))
             hit = int(np.argmin(d.max(axis=1))) if len(res) else -1
             if hit >= 0 and d[hit].max() < 1e-6:
-                msg += f"; the joints you typed are solution {hit + 1} ({res.labels[hit]})"
+                msg += phrase("; the joints you typed are solution {k} ({label})", k=hit + 1,
+                              label=branch_name(res.labels[hit]))
         if res.singular:
             msg += f". Singular: {res.singularity}"
         return DHState(arm, verdict, T, res, msg + ".", typed_q=typed)
@@ -741,7 +746,8 @@ class DHPanel:
         st = self.state
         parts = []
         if st.verdict is not None:
-            parts.append(f"<p><b>classify:</b> {html.escape(str(st.verdict))}</p>")
+            verdict = phrase("{verdict}", verdict=str(st.verdict))  # rikin's words, quoted
+            parts.append(f"<p><b>classify:</b> {html.escape(verdict)}</p>")
         colour = "#b00" if st.result is None else "inherit"
         parts.append(f'<p style="color:{colour}">{html.escape(st.message)}</p>')
         if st.result is not None and len(st.result):
@@ -788,11 +794,13 @@ class DHPanel:
 
     def _text_rows(self) -> list[str]:
         inp = self.inputs
-        return [f"<p><b>DH table</b> ({html.escape(str(inp['convention']))} DH, "
-                f"{html.escape(str(inp['units']) or 'no units')}; tool at "
-                f"({html.escape(str(inp['tool']))}); target "
-                f"{'joints' if inp['mode'] == 'joints' else 'pose'} "
-                f"({html.escape(str(inp['target']))})</b></p>",
+        said = phrase("({convention} DH, {units}; tool at ({tool}); target joints ({target}))"
+                      if inp["mode"] == "joints" else
+                      "({convention} DH, {units}; tool at ({tool}); target pose ({target}))",
+                      convention=str(inp["convention"]),
+                      units=str(inp["units"]) or phrase("no units"), tool=str(inp["tool"]),
+                      target=str(inp["target"]))
+        return [f"<p><b>{html.escape(phrase('DH table'))}</b> {html.escape(said)}</p>",
                 f'<pre class="rikin-dh-table">{html.escape(str(inp["table"]).rstrip())}</pre>',
                 self.html()]
 
