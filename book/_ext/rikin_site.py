@@ -533,8 +533,33 @@ def _install_cell_header(book: str, page: str, version: str, wheel: str | None,
         f"RIKIN_NEEDED = {version!r}\n"
         f"RIKIN_EXTRAS = {tuple(extras)!r}\n"
         f"RIKIN_WHEEL = {wheel!r}\n"
-        f"RIKIN_SAYS = {_says(texts)!r}\n"
+        + _says_source(_says(texts))
     )
+
+
+def _literal_lines(text: str, indent: str, width: int = 92) -> list[str]:
+    """``text`` as Python string literals of at most about ``width`` characters, one per
+    line, that concatenate back to it (split after spaces)."""
+    chunks: list[str] = []
+    for piece in re.split(r"(?<= )", text):
+        if chunks and len(indent) + len(repr(chunks[-1] + piece)) <= width:
+            chunks[-1] += piece
+        else:
+            chunks.append(piece)
+    return [indent + repr(chunk) for chunk in chunks or [""]]
+
+
+def _says_source(says: dict[str, str]) -> str:
+    """The install cell's ``RIKIN_SAYS = {...}`` line(s), its lines short enough to read."""
+    if not says:
+        return "RIKIN_SAYS = {}\n"
+    lines = ["RIKIN_SAYS = {  # the messages below, English -> the notebook's language"]
+    for english, said in says.items():
+        lines += _literal_lines(english, "    ")
+        lines[-1] += ":"
+        lines += _literal_lines(said, "        ")
+        lines[-1] += ","
+    return "\n".join([*lines, "}"]) + "\n"
 
 
 def _says(texts: dict[str, str]) -> dict[str, str]:
