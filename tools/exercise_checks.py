@@ -68,8 +68,10 @@ def _show_only_the_message(shell, etype, value, tb, tb_offset=None):
         return
     shell.showtraceback((etype, value, tb), exception_only=True)
     if etype is NotImplementedError:
-        print(_t("({task} is not written yet: replace its raise NotImplementedError line with "
-                 "your code, run that cell, then this one.)", task=value))
+        number, _, name = str(value)[len("task "):].partition(": ")
+        print(_t("(task {number}: {name} is not written yet: replace its raise "
+                 "NotImplementedError line with your code, run that cell, then this one.)",
+                 number=number, name=name))
 
 
 try:
