@@ -48,6 +48,7 @@ def pytest_report_header(config):
 #: every module asking so is here).
 BOOK_SITE_ON_DEMAND = {"test_book_browser.py": "RIKIN_BOOK_HTML",
                        "test_book_editions.py": "RIKIN_BOOK_HTML",
+                       "test_book_spanish_text.py": "RIKIN_BOOK_HTML",
                        "test_student_download.py": "RIKIN_STUDENT_SITE"}
 
 
