@@ -108,12 +108,57 @@ def output_numbers(html_file: Path) -> list[str]:
     return numbers
 
 
+#: ipykernel 7.4's shutdown race (upstream; the newest release here): after a
+#: ``shutdown_request`` the control thread flushes stderr (``process_control``) while the
+#: main thread has already closed the IOPub thread's pipe, and tornado logs the ZMQError
+#: from the kernel process, after the notebook ran to its end (ipykernel PR 1518 catches
+#: the same race in ``_really_send``, not in ``schedule``). Only this traceback, whole.
+_KERNEL_SHUTDOWN_RACE = re.compile(
+    r"ERROR:tornado\.general:Uncaught exception in ZMQStream callback\n"
+    r"Traceback \(most recent call last\):\n"
+    r"(?:  .*\n)*?"
+    r'  File "[^"\n]*ipykernel/kernelbase\.py", line \d+, in process_control\n'
+    r"(?:  .*\n)*?"
+    r'  File "[^"\n]*ipykernel/iostream\.py", line \d+, in schedule\n'
+    r"(?:  .*\n)*?"
+    r"zmq\.error\.ZMQError: Socket operation on non-socket\n")
+
+
+def without_kernel_shutdown_race(log: str) -> str:
+    """``log`` without the kernel shutdown race's traceback (every other line kept)."""
+    return _KERNEL_SHUTDOWN_RACE.sub("", log)
+
+
+def test_only_the_kernel_shutdown_race_is_left_out_of_the_build_log() -> None:
+    frames = ('  File "/v/zmq/eventloop/zmqstream.py", line 585, in _log_error\n'
+              "    f.result()\n"
+              '  File "/v/ipykernel/kernelbase.py", line 372, in dispatch_control\n'
+              "    await self.process_control(msg)\n"
+              '  File "/v/ipykernel/kernelbase.py", line 408, in process_control\n'
+              "    sys.stderr.flush()\n"
+              '  File "/v/ipykernel/iostream.py", line 343, in schedule\n'
+              '    self._event_pipe.send(b"")\n'
+              '  File "zmq/backend/cython/_zmq.py", line 190, in _check_rc\n')
+    race = ("ERROR:tornado.general:Uncaught exception in ZMQStream callback\n"
+            "Traceback (most recent call last):\n" + frames +
+            "zmq.error.ZMQError: Socket operation on non-socket\n")
+    before, after = "book/numbers.md: Executed notebook in 2.25 seconds\n", "done\n"
+    assert without_kernel_shutdown_race(before + race + after) == before + after
+    other_error = race.replace("Socket operation on non-socket", "Operation cannot be accomplished")
+    assert "ERROR" in without_kernel_shutdown_race(before + other_error + after)
+    not_kernel = race.replace("in process_control", "in run_cell")
+    assert "ERROR" in without_kernel_shutdown_race(not_kernel)
+    warning = "book/planar.md:12: WARNING: undefined label\n"
+    assert without_kernel_shutdown_race(race + warning) == warning
+
+
 # ------------------------------------------------------------------ the built site
 @pytest.mark.book
 @pytest.mark.slow
 def test_both_editions_build_strict_with_no_warning(editions: Editions) -> None:
     assert editions.returncode == 0, f"build failed:\n{editions.log[-20000:]}"
-    assert "WARNING" not in editions.log and "ERROR" not in editions.log
+    log = without_kernel_shutdown_race(editions.log)
+    assert "WARNING" not in log and "ERROR" not in log, log[-20000:]
     for folder in ("", *EDITIONS.values()):
         for page in BOOK_PAGES:
             assert (editions.html / folder / page).is_file(), f"{folder}/{page} not built"
