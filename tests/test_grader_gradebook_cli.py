@@ -230,6 +230,16 @@ def test_a_link_to_the_solution_is_graded_zero_with_the_reason(tmp_path):
     assert "fake2r_solution" not in fb  # the target is never named nor read
 
 
+def _ctrl_c_as_in_a_terminal() -> None:
+    """SIGINT at its default in the grader, as in a terminal's foreground job.
+
+    A job a non-interactive shell starts with ``&`` (a CI script, three suites run side by
+    side) ignores SIGINT, and Python keeps an ignored SIGINT ignored: the grader then rightly
+    finishes the class (exit 0), which is not the Ctrl-C this test is about.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def test_ctrl_c_keeps_every_committed_grade_in_the_views(tmp_path):
     require_bwrap()
     cls = tmp_path / "class"
@@ -257,6 +267,7 @@ def test_ctrl_c_keeps_every_committed_grade_in_the_views(tmp_path):
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=_ctrl_c_as_in_a_terminal,
     )
     db = out / "gradebook.sqlite"
     deadline = time.monotonic() + 600
