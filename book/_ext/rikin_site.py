@@ -493,7 +493,11 @@ INSTALL_NOTE = ("Installs the rikin wheel published with this course's book, pin
 
 def _said(body: str) -> tuple[str, ...]:
     """The messages of the install cell's code ``body``: the literal first argument of
-    every ``_rikin_say(...)`` call, in the order written (each once)."""
+    every ``_rikin_say(...)`` call, in the order written (each once).
+
+    The same walk as ``rikin.booktext.cell_messages`` for one function: not shared, since
+    this module runs under the system ``python3`` too, where importing rikin (numpy) fails.
+    """
     found: list[tuple[int, int, str]] = []
     for node in ast.walk(ast.parse(body)):
         if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "_rikin_say":
