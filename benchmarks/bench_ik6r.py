@@ -45,7 +45,9 @@ joint_limits=False)`` per pose. Printed per arm:
 ``--time-only`` times the three sides on the random poses and prints the ratios, without
 comparing the solution sets (minutes instead of most of an hour on a busy machine: the
 derivation of rtb's closed form is still timed apart); ``--arms`` keeps the arms whose
-name contains one of the words given.
+name contains one of the words given; ``--breakdown`` (with ``--time-only``) then prints
+where ``arm.ik``'s time goes, stage by stage, by thread CPU time (``stage_times``), beside
+a tenth of rtb's CPU time per pose (what ``arm.ik`` would have to take for 10x).
 
 roboticstoolbox is optional (``pip install "roboticstoolbox-python[ik]"``); without it
 only rikin's figures (FK residuals, time) are printed.
@@ -388,12 +390,16 @@ def _case_note(case: Case, lost: object, reg: Tally, sing: Tally) -> str:
         f"solution rikin/rtb: {reg.none[0] + sing.none[0]}/{reg.none[1] + sing.none[1]}")
 
 
-def time_only(chosen: list[Case], poses: int, rounds: int, rng: np.random.Generator) -> None:
+def time_only(chosen: list[Case], poses: int, rounds: int, rng: np.random.Generator,
+              breakdown: bool = False) -> None:
     """``--time-only``: per arm, rikin ``arm.ik``, rtb's ``solve`` and rikin's ``ik_batch``
-    on the same random poses in alternating rounds (:func:`time_sides`), and the ratios."""
+    on the same random poses in alternating rounds (:func:`time_sides`), and the ratios;
+    with ``--breakdown``, where ``arm.ik``'s time goes (:func:`stage_times`) and rtb's
+    CPU time per pose over ten, the time ``arm.ik`` would have to take for 10x."""
     head = (f"{'arm':<26}{'rikin us':>9}{'batch us':>9}{'rtb us':>8}{'ratio':>7}{'cpu':>6}"
             f"{'batch':>7}{'derive s':>9}")
     print(head, flush=True)
+    table = []
     for case in chosen:
         T_reg = case.arm.fk(rng.uniform(-pi, pi, (poses, 6)))
         attach_rtb(case, rng)
@@ -401,6 +407,86 @@ def time_only(chosen: list[Case], poses: int, rounds: int, rng: np.random.Genera
         us = 1e6 / poses
         print(f"{case.name:<26}{t_r * us:>9.0f}{t_b * us:>9.1f}{t_t * us:>8.0f}{t_t / t_r:>7.2f}"
               f"{c_t / c_r:>6.1f}{t_t / t_b:>7.1f}{case.derive_s:>9.1f}", flush=True)
+        if breakdown:
+            table.append((case.name, c_t * us, stage_times(case.arm, T_reg, rounds)))
+    if table:
+        print_stages(table)
+
+
+#: The stages of :func:`stage_times`, in the order printed.
+STAGES = ("arm.ik", "closed form", "FK check", "checks+result", "call+declined")
+
+
+def stage_times(arm: SerialArm, Ts: np.ndarray, rounds: int) -> dict[str, float]:
+    """Thread CPU µs per pose of ``arm.ik`` and of its stages, found by timing the one-pose
+    path whole and with stages left out, in alternating rounds (best of ``rounds``, at
+    least 5), each stage in the context of the others (timed alone, a stage runs in warm
+    caches and looks up to 20% cheaper).
+
+    The stages: ``closed form``, the plain-float kernel (``PieperKernel.solve``, with the
+    pose read into lists); ``FK check``, :class:`rikin.ik.fkcheck.FKCheck` of every
+    solution; ``checks+result``, the pose's checks, the solutions' array and the
+    ``IKResult``; ``call+declined``, the calls from ``arm.ik`` down and the general solver
+    on the poses the kernel declines (``declined``: how many, ``per declined``: the µs
+    each costs). Reads rikin's private one-pose path (``rikin.ik.api._solve_regular``
+    and the kernel cached on the arm): a profile, not an interface.
+    """
+    from rikin.ik import api  # noqa: PLC0415  (only here: the private path profiled)
+
+    poses = [np.array(T) for T in Ts]
+    try:
+        arm.ik(poses[0])
+    except rikin.UnreachableError:
+        pass
+    kernel, fk_check = arm.__dict__["_single_kernel"]  # cached by the first arm.ik
+
+    def no_check(q: np.ndarray, T: np.ndarray) -> float:
+        return 0.0
+
+    declined = [T for T in poses if kernel.solve(T.tolist()) is None]
+    regular = api._solve_regular
+
+    def ik(Ts: list[np.ndarray]) -> None:
+        for T in Ts:
+            try:
+                arm.ik(T)
+            except rikin.UnreachableError:
+                pass
+
+    runs = {
+        "arm.ik": lambda: ik(poses),
+        "regular": lambda: [regular(arm, kernel, fk_check, T) for T in poses],
+        "unchecked": lambda: [regular(arm, kernel, no_check, T) for T in poses],
+        "closed form": lambda: [kernel.solve(T.tolist()) for T in poses],
+        "declined": lambda: ik(declined),
+    }
+    best = dict.fromkeys(runs, np.inf)
+    gc.collect()
+    for _ in range(max(rounds, 5)):
+        for name, fn in runs.items():
+            t0 = time.thread_time()
+            fn()
+            best[name] = min(best[name], time.thread_time() - t0)
+    us = {name: t * 1e6 / len(poses) for name, t in best.items()}
+    return {"arm.ik": us["arm.ik"], "closed form": us["closed form"],
+            "FK check": us["regular"] - us["unchecked"],
+            "checks+result": us["unchecked"] - us["closed form"],
+            "call+declined": us["arm.ik"] - us["regular"],
+            "declined": float(len(declined)),
+            "per declined": (best["declined"] * 1e6 / len(declined) if declined
+                             else float("nan"))}
+
+
+def print_stages(table: list[tuple[str, float, dict[str, float]]]) -> None:
+    """The ``--breakdown`` table: thread CPU µs per pose of each stage (and its share of
+    ``arm.ik``), the declined poses, and rtb's CPU µs per pose over 10."""
+    print("\nwhere arm.ik's time goes, thread CPU us per pose (share of arm.ik):")
+    print(f"{'arm':<26}" + "".join(f"{s:>19}" for s in STAGES)
+          + f"{'declined':>10}{'us each':>9}{'rtb cpu / 10':>13}")
+    for name, rtb_us, st in table:
+        cells = "".join(f"{st[s]:>10.1f} ({st[s] / st['arm.ik']:>4.0%})" for s in STAGES)
+        print(f"{name:<26}{cells}{st['declined']:>10.0f}{st['per declined']:>9.0f}"
+              f"{rtb_us / 10:>13.1f}", flush=True)
 
 
 def _arguments() -> argparse.Namespace:
@@ -412,6 +498,8 @@ def _arguments() -> argparse.Namespace:
     ap.add_argument("--arms", nargs="+", help="only the arms whose name contains one of these")
     ap.add_argument("--time-only", action="store_true",
                     help="time the sides on the random poses, without comparing solution sets")
+    ap.add_argument("--breakdown", action="store_true",
+                    help="with --time-only: where arm.ik's time goes, stage by stage")
     return ap.parse_args()
 
 
@@ -436,7 +524,7 @@ def main() -> None:
     chosen = [case for case in cases()
               if not args.arms or any(word in case.name for word in args.arms)]
     if args.time_only and with_rtb:
-        time_only(chosen, args.poses, args.rounds, rng)
+        time_only(chosen, args.poses, args.rounds, rng, args.breakdown)
         return
     print(head, flush=True)  # each arm's row as it is done (the run takes a while)
     for case in chosen:
