@@ -36,6 +36,7 @@ from ..dh import check_arm
 from ..errors import InputError
 from ..tolerances import SAME_SOLUTION_TOL
 from .base import RawSolutions, Singularity, TargetKind
+from .general6r_kernel import General6RKernel
 from .kernels import cross3, wrap_in_place
 from .parallel3 import reversed_model
 from .pieper import (
@@ -278,6 +279,10 @@ class General6RSolver(ChainPolish):
 
     def check(self, arm: SerialArm) -> None:  # noqa: D102 - the Solver protocol
         _ = arm
+
+    def single_kernel(self, arm: SerialArm) -> General6RKernel:
+        """The one-pose interface of ``arm.ik`` (see :mod:`rikin.ik.general6r_kernel`)."""
+        return General6RKernel(self, arm)
 
     def _to_chain(self, T_0_n: FloatArray) -> FloatArray:
         T = np.array(T_0_n, dtype=float)
