@@ -41,6 +41,8 @@ from .kernels import cross3, wrap_in_place
 from .parallel3 import reversed_model
 from .pieper import (
     ACCEPT_TOL,
+    POLISHED,
+    POLISHED_ALONE,
     ChainModel,
     ChainPolish,
     _rz4,
@@ -73,12 +75,21 @@ PENCIL_COND = 1e12
 #: The 3 angles of the grid on which a sum ``a + b cos + c sin`` is read.
 _GRID = 2 * np.pi * np.arange(3) / 3
 _BASIS_INV = np.linalg.inv(np.stack([np.ones(3), np.cos(_GRID), np.sin(_GRID)], axis=1))
+#: the same for two joints' grid ``(i, j)`` at once: coefficients ``(a, b)``
+_BASIS_INV2 = np.kron(_BASIS_INV, _BASIS_INV)
 #: ``(1, cos, sin)`` times ``1 + x^2`` as coefficients of ``(1, x, x^2)``.
 _HALF = np.array([[1.0, 0.0, 1.0], [1.0, 0.0, -1.0], [0.0, 2.0, 0.0]])
 
 #: ``_HALF`` for joints 3, 4 and 5 at once: ``(k, i, j), (a, b, c)`` entries
 #: ``_HALF[a, k] _HALF[b, i] _HALF[c, j]``
 _HALF3 = np.einsum("ak,bi,cj->kijabc", _HALF, _HALF, _HALF).reshape(27, 27)
+
+#: Newton steps before a candidate still above ``POLISHED`` takes the careful polish (a
+#: root of the eigenvalue problem reaches the pose to ~1e-13: one step, or two).
+NEWTON_STEPS = 4
+
+#: A solution is flagged singular where its Jacobian's singular values are this far apart.
+SINGULAR_RCOND = 1e-7
 
 SINGULAR = Singularity(
     "the arm is at a singular configuration (its Jacobian loses rank): solutions meet", ()
@@ -129,13 +140,24 @@ class _Elimination:
             self.P_const = self._left(
                 [self.M[0]] + [self.M[1 + (start + i - 1) % 6] for i in range(1, 6)]
             )
-        #: ``M'2^-1 Rz(-t2) M'1^-1 Rz(-t1)`` on the grid ``(3, 3, 4, 4)`` where the target
-        #: is neither factor (the right sides are this times ``W'``), else None
-        self.C_right = None
+        #: ``W'`` where it is a constant factor (``M_start^-1``), else None (``W' = W``)
+        self.Wp_const = np.linalg.inv(self.M[start]) if start else None
+        t1, t2 = np.meshgrid(_GRID, _GRID, indexing="ij")
+        #: the right sides on the grid ``(3, 3, 4, 4)`` are ``pre @ X @ post``, with ``X``
+        #: ``W'`` (start 0-3: the target is neither factor), or ``W`` (start 4: the second
+        #: factor is ``W^-1``; start 5: the first); None: the identity
+        self.pre: FloatArray | None = None
+        self.post: FloatArray | None = None
         if start <= 3:
-            t1, t2 = np.meshgrid(_GRID, _GRID, indexing="ij")
             inv1, inv2 = np.linalg.inv(self.M[start + 1]), np.linalg.inv(self.M[start + 2])
-            self.C_right = inv2 @ _rz4(-t2) @ inv1 @ _rz4(-t1)
+            self.pre = inv2 @ _rz4(-t2) @ inv1 @ _rz4(-t1)
+        elif start == 4:
+            self.post = _rz4(-t2) @ np.linalg.inv(self.M[5]) @ _rz4(-t1) @ self.Wp_const
+        else:
+            self.pre = (np.linalg.inv(self.M[1]) @ _rz4(-t2[:1]))  # (1, 3, 4, 4): over t2
+            self.post = _rz4(-t1[:, :1]) @ self.Wp_const  # (3, 1, 4, 4): over t1
+        #: ``_HALF3 @ P`` where the left sides are the arm's alone ``(27, 14)``, else None
+        self.HP = None if self.P_const is None else _HALF3 @ self.P_const.reshape(27, 14)
 
     def factors(self, W: FloatArray) -> tuple[list[FloatArray], FloatArray]:
         """The loop's factors ``M'1..M'5`` (index 1-5; constant or per pose) and ``W'``."""
@@ -143,8 +165,19 @@ class _Elimination:
             return [self.M[0]] + [self.M[i] for i in range(1, 6)], W
         ms = [self.M[0]] + [self.M[i] for i in range(1, 6)] + [np.linalg.inv(W)]
         Mp = [ms[0]] + [ms[(self.start + i - 1) % 6 + 1] for i in range(1, 6)]
-        last = ms[self.start if self.start else 6]
-        return Mp, np.linalg.inv(last) if self.start else W
+        assert self.Wp_const is not None
+        return Mp, self.Wp_const
+
+    def _right(self, Mp: list[FloatArray], Wp: FloatArray, N: int) -> FloatArray:
+        """The right sides ``R (N, 3, 3, 4, 4)`` on the grid of joints 1, 2 (see ``pre``),
+        from the loop's factors ``Mp`` and ``W'`` of ``N`` poses (:meth:`factors`)."""
+        X = np.linalg.inv(Mp[6 - self.start]) if self.start >= 4 else Wp
+        X = X[:, None, None] if X.ndim == 3 else X  # start 1-3: W' is constant
+        if self.pre is not None:
+            X = self.pre @ X
+        if self.post is not None:
+            X = X @ self.post
+        return np.broadcast_to(X, (N, 3, 3, 4, 4))
 
     @staticmethod
     def _left(Mp: list[FloatArray]) -> FloatArray:
@@ -164,24 +197,24 @@ class _Elimination:
         Mp, Wp = self.factors(W)
         P = self.P_const if self.P_const is not None else self._left(Mp)
         P = np.broadcast_to(P, (N, 3, 3, 3, 14))
-        Wl = Wp[:, None, None] if Wp.ndim == 3 else Wp
-        if self.C_right is not None:
-            R = self.C_right @ Wl
-        else:
-            t1, t2 = np.meshgrid(_GRID, _GRID, indexing="ij")
-            lead = [m[:, None, None] if m.ndim == 3 else m for m in Mp]
-            R = np.linalg.inv(lead[2]) @ _rz4(-t2) @ np.linalg.inv(lead[1]) @ _rz4(-t1) @ Wl
-        Q = _fit(np.broadcast_to(_fourteen(R), (N, 3, 3, 14)), 2)
-        Q0 = Q[:, 0, 0]
-        Q8 = Q.reshape(N, 9, 14)[:, 1:].transpose(0, 2, 1)
+        # per pose one (9, 9) @ (9, 14) product: the fit over joints 1 and 2 at once
+        Q = _BASIS_INV2 @ _fourteen(self._right(Mp, Wp, N)).reshape(N, 9, 14)
+        Q0 = Q[:, 0]
+        Q8 = Q[:, 1:].transpose(0, 2, 1)
         U, sv, Vt = np.linalg.svd(Q8, full_matrices=True)
         null = U[:, :, 8:]  # (N, 14, 6)
         inv = np.where(sv > 1e-12 * sv[:, :1], 1.0 / np.where(sv > 0, sv, 1.0), 0.0)
         Q8_pinv = np.swapaxes(Vt, -1, -2) @ (inv[..., None] * np.swapaxes(U[:, :, :8], -1, -2))
-        # per pose: (27, 14) @ (14, 6), then the half-angle basis change (27, 27) @ (27, 6)
-        E = P.reshape(N, 27, 14) @ null  # rows (a, b, c): (1, cos, sin) of joints 3, 4, 5
-        E[:, 0] -= (Q0[:, None] @ null)[:, 0]
-        D = (_HALF3 @ E).reshape(N, 3, 3, 3, 6).transpose(0, 1, 4, 2, 3)  # (N, 3, 6, 3, 3)
+        # (P - Q0 in the constant row) @ null, rows (a, b, c): (1, cos, sin) of joints 3-5,
+        # in the half-angle basis: per pose (27, 14) @ (14, 6) and (27, 27) @ (27, 6)
+        Q0null = Q0[:, None] @ null  # (N, 1, 6)
+        if self.HP is not None:
+            E = self.HP @ null - _HALF3[:, :1] * Q0null
+        else:
+            E = P.reshape(N, 27, 14) @ null
+            E[:, :1] -= Q0null
+            E = _HALF3 @ E
+        D = E.reshape(N, 3, 3, 3, 6).transpose(0, 1, 4, 2, 3)  # (N, 3, 6, 3, 3)
         S = np.zeros((N, 3, 12, 12))
         S[:, :, :6, :9] = D.reshape(N, 3, 6, 9)
         S[:, :, 6:, 3:] = D.reshape(N, 3, 6, 9)
@@ -260,6 +293,8 @@ class General6RSolver(ChainPolish):
     def __init__(self, arm: SerialArm) -> None:
         check_arm(arm)
         model, self.unit = _unit_model(chain_model(arm))
+        #: the pose error's weights: position over the arm's size, rotation
+        self._weights = np.array([1 / model.scale] * 3 + [1.0] * 3)
         self.offsets = model.offsets
         self.slots = tuple(Branch() for _ in range(SLOTS))
         for start, reverse in _FORMULATIONS:
@@ -292,56 +327,98 @@ class General6RSolver(ChainPolish):
         return self.M0_inv @ T @ self.M6_inv
 
     def _candidates(self, W: FloatArray) -> tuple[FloatArray, np.ndarray]:
-        """Unpolished ``th' (N, 16, 6)`` (shifted joints, the chain's order) and which
-        slots hold one."""
+        """Unpolished ``th' (N, 16, 6)`` (shifted joints, the chain's order; 0 in the
+        slots without one) and which slots hold one: the real roots only."""
         N = W.shape[0]
         S, P, Q8_pinv, Q0, Mp, Wp = self.elim.matrices(W)
         th3, imag, v = _eig_quadratic(S)
         order = np.argsort(imag, axis=1, kind="stable")[:, :SLOTS]
-        th3 = np.take_along_axis(th3, order, 1)
         ok = np.take_along_axis(imag, order, 1) <= IMAG_TOL
-        v = np.take_along_axis(v, order[..., None, None], 1)  # (N, 16, 4, 3)
-        th4 = _half_angle(v[:, :, :3, :].reshape(N, SLOTS, 9), v[:, :, 1:, :].reshape(N, SLOTS, 9))
-        th5 = _half_angle(v[:, :, :, :2].reshape(N, SLOTS, 8), v[:, :, :, 1:].reshape(N, SLOTS, 8))
+        pose, slot = np.nonzero(ok)  # one row per real root from here on
+        root = order[pose, slot]
+        t3, v = th3[pose, root], v[pose, root]  # (K,), (K, 4, 3)
+        K = len(t3)
+        t4 = _half_angle(v[:, :3, :].reshape(K, 9), v[:, 1:, :].reshape(K, 9))
+        t5 = _half_angle(v[:, :, :2].reshape(K, 8), v[:, :, 1:].reshape(K, 8))
         # joints 1, 2 from the 14 equations: Q8 m12 = P(th3, th4, th5) - Q0
-        b3, b4, b5 = (np.stack([np.ones_like(t), np.cos(t), np.sin(t)], -1)
-                      for t in (th3, th4, th5))
-        m345 = (b3[..., :, None, None] * b4[..., None, :, None] * b5[..., None, None, :])
-        # per pose one (16, 27) @ (27, 14) and one (16, 14) @ (14, 8) product
-        lhs = m345.reshape(N, SLOTS, 27) @ P.reshape(-1, 27, 14) - Q0[:, None]
-        m12 = lhs @ np.swapaxes(Q8_pinv, -1, -2)  # (1,c2,s2,c1,..)[1:]
-        th1 = np.arctan2(m12[..., 5], m12[..., 2])
-        th2 = np.arctan2(m12[..., 1], m12[..., 0])
-        lead = [m[:, None] if m.ndim == 3 else m for m in Mp]
-        F = (_rz4(th1) @ lead[1] @ _rz4(th2) @ lead[2] @ _rz4(th3) @ lead[3] @ _rz4(th4)
-             @ lead[4] @ _rz4(th5) @ lead[5])
-        Wl = Wp[:, None] if Wp.ndim == 3 else Wp
-        R6 = np.swapaxes(F[..., :3, :3], -1, -2) @ Wl[..., :3, :3]
-        th6 = np.arctan2(R6[..., 1, 0], R6[..., 0, 0])
-        loop = np.stack([th1, th2, th3, th4, th5, th6], axis=-1)
-        th = np.empty_like(loop)
-        th[..., self.elim.joint] = loop
+        t345 = np.stack([t3, t4, t5], axis=-1)
+        b = np.ones((K, 3, 3))
+        b[:, :, 1], b[:, :, 2] = np.cos(t345), np.sin(t345)
+        m345 = b[:, 0, :, None, None] * b[:, 1, None, :, None] * b[:, 2, None, None, :]
+        # per root one (1, 27) @ (27, 14) and one (1, 14) @ (14, 8) product
+        Pk = P[pose] if P.shape[0] == N else P[0]
+        lhs = m345.reshape(K, 1, 27) @ Pk.reshape(-1, 27, 14) - Q0[pose, None]
+        m12 = (lhs @ np.swapaxes(Q8_pinv[pose], -1, -2))[:, 0]  # (1,c2,s2,c1,..)[1:]
+        t1 = np.arctan2(m12[:, 5], m12[:, 2])
+        t2 = np.arctan2(m12[:, 1], m12[:, 0])
+        Rz = _rz4(np.stack([t1, t2, t3, t4, t5], axis=-1))
+        F = Rz[:, 0]
+        for i in range(1, 6):
+            F = F @ (Mp[i][pose] if Mp[i].ndim == 3 else Mp[i])
+            if i < 5:
+                F = F @ Rz[:, i]
+        Wk = Wp[pose] if Wp.ndim == 3 else Wp
+        R6 = np.swapaxes(F[:, :3, :3], -1, -2) @ Wk[..., :3, :3]
+        t6 = np.arctan2(R6[:, 1, 0], R6[:, 0, 0])
+        th = np.zeros((N, SLOTS, 6))
+        th[pose[:, None], slot[:, None], self.elim.joint] = np.stack([t1, t2, t3, t4, t5, t6], -1)
         return th, ok
 
     def _polished(self, W: FloatArray) -> tuple[FloatArray, np.ndarray, np.ndarray]:
         """Polished, distinct solutions ``th' (N, 16, 6)``, which are valid, which singular."""
         th, ok = self._candidates(W)
         goal = self.model.M[0] @ W @ self.model.M[6]
-        goal = np.broadcast_to(goal[:, None], th.shape[:-1] + (4, 4))
-        th = np.where(ok[..., None], th, 0.0)
-        th[ok], T = self._polish(th[ok], goal[ok], np.zeros(int(ok.sum()), bool))
+        pose, slot = np.nonzero(ok)
+        th[pose, slot], T, z, o = self._newton(th[pose, slot], goal[pose])
         res = np.full(ok.shape, np.inf)
-        res[ok] = self._residual_of(T, goal[ok])
+        res[pose, slot] = self._residual_of(T, goal[pose])
         valid = ok & (res <= ACCEPT_TOL)
         _distinct(th, valid, res)
         sing = np.zeros(valid.shape, dtype=bool)
-        if valid.any():
-            F, z, o = self._fk_frames(th[valid])
-            p = F[:, None, :3, 3]
-            J = np.concatenate([cross3(z, p - o), z], axis=-1)
-            sv = np.linalg.svd(J, compute_uv=False)
-            sing[valid] = sv[:, -1] <= 1e-7 * sv[:, 0]
+        keep = valid[pose, slot]
+        if keep.any():
+            p = T[keep, None, :3, 3]
+            J = np.concatenate([cross3(z[keep], p - o[keep]), z[keep]], axis=-1)
+            sing[pose[keep], slot[keep]] = _singular(J)
         return th, valid, sing
+
+    def _newton(self, th: FloatArray, goal: FloatArray) -> tuple[FloatArray, ...]:
+        """Candidates ``th (m, 6)`` of the flange poses ``goal (m, 4, 4)`` polished: Newton
+        steps on the whole pose (the 6 x 6 Jacobian solved, each step kept only where it
+        lowers the error) until the error is at rounding level (``POLISHED``), then the
+        careful polish (:meth:`ChainPolish._polish`: least squares without the directions
+        below rounding, shortened steps) for any left above ``POLISHED_ALONE`` (a root
+        near a fold, a candidate that is no solution). Returns the joints and their flange
+        poses, joint axes and origins (the last Jacobian's)."""
+        w = self._weights
+        T, z, o = self._fk_frames(th)
+        e = self._pose_error(T, goal) * w
+        err = np.abs(e).max(-1)
+        busy = np.flatnonzero(err > POLISHED)
+        for _ in range(NEWTON_STEPS):
+            if not busy.size:
+                break
+            J = np.concatenate([cross3(z[busy], T[busy, None, :3, 3] - o[busy]), z[busy]], -1)
+            try:
+                with np.errstate(all="ignore"):
+                    step = np.linalg.solve(np.swapaxes(J, -1, -2) * w[:, None],
+                                           e[busy, :, None])[..., 0]
+            except np.linalg.LinAlgError:  # an exactly singular Jacobian: the careful way
+                break
+            cand = th[busy] + step
+            Tc, zc, oc = self._fk_frames(cand)
+            ec = self._pose_error(Tc, goal[busy]) * w
+            errc = np.abs(ec).max(-1)
+            better = errc < err[busy]
+            b = busy[better]
+            th[b], T[b], z[b], o[b], e[b], err[b] = (
+                x[better] for x in (cand, Tc, zc, oc, ec, errc))
+            busy = busy[better & (errc > POLISHED)]
+        hard = np.flatnonzero(err > POLISHED_ALONE)
+        if hard.size:
+            th[hard], T[hard] = self._polish(th[hard], goal[hard], np.zeros(hard.size, bool))
+            _, z[hard], o[hard] = self._fk_frames(th[hard])
+        return th, T, z, o
 
     def solve(
         self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None, labels: bool = True
@@ -397,6 +474,21 @@ def _distinct(th: FloatArray, valid: np.ndarray, res: FloatArray) -> None:
         if res[r, b] < res[r, a]:
             th[r, a], res[r, a] = th[r, b], res[r, b]
         valid[r, b] = False
+
+
+def _singular(J: FloatArray) -> np.ndarray:
+    """Whether each Jacobian ``J (m, 6, 6)`` has singular values ``SINGULAR_RCOND`` apart.
+    The SVD only where ``|det J|`` does not rule it out: the smallest singular value is at
+    least ``|det J| (5 / |J|_F^2)^(5/2)`` (the other five's product is at most that
+    power), the largest at most ``|J|_F``."""
+    F2 = (J * J).sum(axis=(-1, -2))
+    sure = np.abs(np.linalg.det(J)) * 5.0**2.5 > 2 * SINGULAR_RCOND * F2**3
+    out = np.zeros(len(J), dtype=bool)
+    check = np.flatnonzero(~sure)
+    if check.size:
+        sv = np.linalg.svd(J[check], compute_uv=False)
+        out[check] = sv[:, -1] <= SINGULAR_RCOND * sv[:, 0]
+    return out
 
 
 def _works(solver: General6RSolver) -> bool:

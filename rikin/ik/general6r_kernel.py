@@ -67,8 +67,10 @@ class General6RKernel:
 def _first_of_each(q: FloatArray) -> list[int]:
     """The rows of ``q (k, 6)`` to keep: the first of each group equal modulo 2 pi to
     ``SAME_SOLUTION_TOL`` (as :func:`rikin.ik.api.solve` keeps them)."""
-    same = (np.abs(_wrap_angle(q[:, None, :] - q[None, :, :])).max(axis=-1)
-            <= SAME_SOLUTION_TOL).tolist()
+    same_ = np.abs(_wrap_angle(q[:, None, :] - q[None, :, :])).max(axis=-1) <= SAME_SOLUTION_TOL
+    if np.count_nonzero(same_) == len(q):  # each row equal to itself alone: keep all
+        return list(range(len(q)))
+    same = same_.tolist()
     kept: list[int] = []
     for i in range(len(q)):
         if not any(same[i][j] for j in kept):
