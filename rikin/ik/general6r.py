@@ -20,9 +20,11 @@ again times ``x4``, 12 equations linear in the 12 monomials ``x4^i x5^j`` (``i <
 2``) with a matrix quadratic in ``x3``: ``(S0 + x3 S1 + x3^2 S2) v = 0``. Its 24 eigenvalues
 (a companion matrix) hold every ``th3``: up to 16 real ones, and 8 at ``+-i`` (Manocha and
 Canny 1994). Each eigenvector gives ``th4, th5``; the 14 equations give ``th1, th2``; the
-pose gives ``th6``. Every candidate is polished by Gauss-Newton on the whole pose and kept
-only if it reaches the target. To keep every joint's half-angle tangent finite at the
-joint values people type (0, pi), the solver works on joints turned by fixed odd angles.
+pose gives ``th6``. Only the real roots go on from the eigenvalues; each is polished by
+Newton steps on the whole pose (the careful Gauss-Newton of :class:`ChainPolish` where
+they stall) and kept only if it reaches the target. To keep every joint's half-angle
+tangent finite at the joint values people type (0, pi), the solver works on joints turned
+by fixed odd angles.
 """
 
 from __future__ import annotations
@@ -141,21 +143,22 @@ class _Elimination:
                 [self.M[0]] + [self.M[1 + (start + i - 1) % 6] for i in range(1, 6)]
             )
         #: ``W'`` where it is a constant factor (``M_start^-1``), else None (``W' = W``)
-        self.Wp_const = np.linalg.inv(self.M[start]) if start else None
+        Wp = np.linalg.inv(self.M[start])
+        self.Wp_const = Wp if start else None
         t1, t2 = np.meshgrid(_GRID, _GRID, indexing="ij")
         #: the right sides on the grid ``(3, 3, 4, 4)`` are ``pre @ X @ post``, with ``X``
-        #: ``W'`` (start 0-3: the target is neither factor), or ``W`` (start 4: the second
-        #: factor is ``W^-1``; start 5: the first); None: the identity
+        #: ``W'`` (start 0-3: the target is neither factor), or the inverse of the factor
+        #: ``W^-1`` (the second at start 4, the first at start 5); None: the identity
         self.pre: FloatArray | None = None
         self.post: FloatArray | None = None
         if start <= 3:
             inv1, inv2 = np.linalg.inv(self.M[start + 1]), np.linalg.inv(self.M[start + 2])
             self.pre = inv2 @ _rz4(-t2) @ inv1 @ _rz4(-t1)
         elif start == 4:
-            self.post = _rz4(-t2) @ np.linalg.inv(self.M[5]) @ _rz4(-t1) @ self.Wp_const
+            self.post = _rz4(-t2) @ np.linalg.inv(self.M[5]) @ _rz4(-t1) @ Wp
         else:
             self.pre = (np.linalg.inv(self.M[1]) @ _rz4(-t2[:1]))  # (1, 3, 4, 4): over t2
-            self.post = _rz4(-t1[:, :1]) @ self.Wp_const  # (3, 1, 4, 4): over t1
+            self.post = _rz4(-t1[:, :1]) @ Wp  # (3, 1, 4, 4): over t1
         #: ``_HALF3 @ P`` where the left sides are the arm's alone ``(27, 14)``, else None
         self.HP = None if self.P_const is None else _HALF3 @ self.P_const.reshape(27, 14)
 
