@@ -1277,6 +1277,12 @@ NOT_FUZZED = {
     "rikin.ik.general6r.General6RSolver.check": "solver protocol, as Pieper6RSolver.check",
     "rikin.ik.general6r.General6RSolver.solve": "solver protocol, as Pieper6RSolver.check",
     "rikin.ik.general6r.General6RSolver.explain": "solver protocol, as Pieper6RSolver.check",
+    "rikin.ik.general6r.General6RSolver.single_kernel": "solver protocol, as "
+    "Pieper6RSolver.check",
+    "rikin.ik.general6r_kernel.General6RKernel": "the one-pose kernel rikin.ik.solve builds "
+    "from a solver it made (fuzzed through SerialArm.ik of a general 6R typed as a table)",
+    "rikin.ik.general6r_kernel.General6RKernel.solve": "one-pose kernel on the validated "
+    "pose, as General6RKernel",
     "rikin.symbolic.LessonArm": "a result record lesson_arm() builds",
     "rikin.interactive.InteractiveFigure": "wraps the plotly figure arm_figure() & co. build",
     "rikin.ik.pieper.Pieper6RSolver.check": "solver protocol: rikin.ik.solve calls it on "
