@@ -376,13 +376,14 @@ class General6RSolver(ChainPolish):
         res = np.full(ok.shape, np.inf)
         res[pose, slot] = self._residual_of(T, goal[pose])
         valid = ok & (res <= ACCEPT_TOL)
-        _distinct(th, valid, res)
+        row = np.zeros(ok.shape, dtype=int)  # the slot's row of T, z, o
+        row[pose, slot] = np.arange(len(pose))
+        _distinct(th, valid, res, row)
         sing = np.zeros(valid.shape, dtype=bool)
-        keep = valid[pose, slot]
-        if keep.any():
-            p = T[keep, None, :3, 3]
-            J = np.concatenate([cross3(z[keep], p - o[keep]), z[keep]], axis=-1)
-            sing[pose[keep], slot[keep]] = _singular(J)
+        if valid.any():
+            k = row[valid]
+            J = np.concatenate([cross3(z[k], T[k, None, :3, 3] - o[k]), z[k]], axis=-1)
+            sing[valid] = _singular(J)
         return th, valid, sing
 
     def _newton(self, th: FloatArray, goal: FloatArray) -> tuple[FloatArray, ...]:
@@ -465,9 +466,10 @@ _DEGENERATE = (
 _LATER = np.triu(np.ones((SLOTS, SLOTS), dtype=bool), 1)
 
 
-def _distinct(th: FloatArray, valid: np.ndarray, res: FloatArray) -> None:
+def _distinct(th: FloatArray, valid: np.ndarray, res: FloatArray, row: np.ndarray) -> None:
     """Keep one of each group of valid slots ``(N, k)`` that are the same solution: the
-    first slot of the group, holding the group's best polished joints (in place)."""
+    first slot of the group, holding the group's best polished joints, residual and
+    ``row`` (in place)."""
     gap = np.abs(wrap_in_place(th[:, :, None] - th[:, None, :])).max(-1)  # (N, k, k)
     same = valid[:, :, None] & valid[:, None, :] & (gap <= 1e3 * SAME_SOLUTION_TOL)
     rows, i, j = np.nonzero(same & _LATER[: th.shape[1], : th.shape[1]])
@@ -475,7 +477,7 @@ def _distinct(th: FloatArray, valid: np.ndarray, res: FloatArray) -> None:
         if not valid[r, b] or not valid[r, a]:
             continue  # already merged into an earlier slot
         if res[r, b] < res[r, a]:
-            th[r, a], res[r, a] = th[r, b], res[r, b]
+            th[r, a], res[r, a], row[r, a] = th[r, b], res[r, b], row[r, b]
         valid[r, b] = False
 
 
