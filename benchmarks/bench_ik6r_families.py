@@ -24,9 +24,9 @@ the machine's load hits all sides alike):
 * ``cpu ik``, ``cpu x sph``: ``arm.ik``'s CPU time per pose and its ratio to the Puma's
   (steadier than the wall clock on a machine shared with other work);
 * with ``--baseline CHECKOUT``: the same times of the rikin in another checkout (run in
-  a subprocess, in turn with this one, round by round), and ``base/ik``, ``base/batch``,
-  ``base/cpu ik``: its times over this checkout's (2 = this one twice as fast), and its
-  ``cpu x sph``.
+  a subprocess, in turn with this one, round by round), its ``arm.ik`` CPU time per pose
+  (``base cpu ik``), and ``base/ik``, ``base/batch``, ``base/cpu ik``: its times over this
+  checkout's (2 = this one twice as fast), and its ``cpu x sph``.
 
     python benchmarks/bench_ik6r_families.py             # 300 poses per arm
     python benchmarks/bench_ik6r_families.py --poses 30 --batch-poses 30  # a smoke run
@@ -204,7 +204,7 @@ def print_table(rows: list[dict], base: list[dict] | None) -> None:
             f"{'cpu e/b':>7} {'x sph':>6} {'cpu ik':>8} {'cpu x sph':>9}")
     if base is not None:
         head += (f" {'base ik':>9} {'base batch':>10} {'base/ik':>8} {'base/batch':>10} "
-                 f"{'base/cpu ik':>11} {'base cpu x sph':>14}")
+                 f"{'base cpu ik':>11} {'base/cpu ik':>11} {'base cpu x sph':>14}")
     print(head)
     sph, sph_cpu = rows[0]["ik"], rows[0]["ik_cpu"]
     for n, row in enumerate(rows):
@@ -218,7 +218,7 @@ def print_table(rows: list[dict], base: list[dict] | None) -> None:
             b = base[n]
             line += (f" {_us(b['ik'], 9)} {_us(b['batch'], 10)} "
                      f"{_ratio(b['ik'], row['ik'], 8)} {_ratio(b['batch'], row['batch'], 10)} "
-                     f"{_ratio(b['ik_cpu'], row['ik_cpu'], 11)} "
+                     f"{_us(b['ik_cpu'], 11)} {_ratio(b['ik_cpu'], row['ik_cpu'], 11)} "
                      f"{b['ik_cpu'] / base[0]['ik_cpu']:14.1f}")
         print(line)
 
