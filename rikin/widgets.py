@@ -51,7 +51,7 @@ from .dh import SerialArm
 from .dhtext import arm_from_table, row_tokens
 from .errors import InputError, RikinError, UnreachableError
 from .i18n import branch_name, phrase
-from .ik import classify
+from .ik import classify, ik_numerical
 from .ik.result import IKResult
 from .plot import _check_arm, _q_text
 from .transforms import homogeneous, r_to_rpy, rotz, rpy_to_r, wrap_angle
@@ -683,8 +683,6 @@ class DHPanel:
 
     def compute(self) -> DHState:
         """Read the table, classify the arm, solve the target: every step's outcome in words."""
-        from .ik import ik_numerical
-
         inp = self.inputs
         try:
             if inp["mode"] not in self.MODES:
@@ -710,21 +708,14 @@ class DHPanel:
         except RikinError as exc:
             return DHState(arm, verdict, None, None, f"The target cannot be read: {exc}")
         if not verdict.closed_form:
-            num = ik_numerical(arm, T, rng=0)
-            how = ("it found one solution" if num.success else f"it did not converge "
-                   f"({num.reason})")
-            return DHState(arm, verdict, T, None,
-                           f"No closed form: {verdict.reason}. rikin.ik.ik_numerical "
-                           f"(Levenberg-Marquardt from a seeded start): {how}; "
-                           "ik_numerical_multistart finds more, with no guarantee of all.",
-                           numerical=num, typed_q=typed)
+            return _numerical_state(arm, verdict, T, typed)
         try:
             res = arm.ik(T)
         except UnreachableError as exc:
             return DHState(arm, verdict, T, None, f"Unreachable: {exc}", typed_q=typed)
         except RikinError as exc:
             return DHState(arm, verdict, T, None, f"No solution: {exc}", typed_q=typed)
-        err = _pose_error(arm, res.q, T)
+        err = _pose_error(arm, res.q, res.target, rotation=_sets_rotation(arm, verdict))
         msg = phrase("{n} solution, each put back through FK: largest pose error {err}"
                      if len(res) == 1 else
                      "{n} solutions, each put back through FK: largest pose error {err}",
@@ -883,12 +874,43 @@ class DHPanel:
         _display_panel(self)
 
 
-def _pose_error(arm: SerialArm, Q: FloatArray, T: FloatArray) -> float:
-    """Largest FK error of solutions ``Q`` against ``T``: position / arm size, rotation."""
+def _numerical_state(arm: SerialArm, verdict: Any, T: FloatArray,
+                     typed: FloatArray | None) -> DHState:
+    """The panel's state for an arm without a closed form: the reason, and one solution of
+    :func:`rikin.ik.ik_numerical` (the TCP position only for an arm of fewer than six
+    joints, which cannot match a whole pose), or why it could not try."""
+    why = f"No closed form: {verdict.reason}."
+    mask = None if arm.n >= 6 else (1, 1, 1, 0, 0, 0)
+    try:
+        num = ik_numerical(arm, T, rng=0, mask=mask)
+    except RikinError as exc:
+        return DHState(arm, verdict, T, None, f"{why} rikin.ik.ik_numerical cannot take this "
+                       f"arm: {exc}", typed_q=typed)
+    how = ("it found one solution" if num.success else f"it did not converge "
+           f"({num.reason})")
+    what = "" if mask is None else ", for the TCP position"
+    return DHState(arm, verdict, T, None,
+                   f"{why} rikin.ik.ik_numerical (Levenberg-Marquardt from a seeded start"
+                   f"{what}): {how}; ik_numerical_multistart finds more, with no guarantee "
+                   "of all.", numerical=num, typed_q=typed)
+
+
+def _sets_rotation(arm: SerialArm, verdict: Any) -> bool:
+    """Whether the arm's IK solves for the target's orientation (an arm of five or six
+    joints; a planar 3R's tool angle), not only for its TCP position (a positioning arm
+    of three joints, a planar 2R: the orientation then follows from the joints)."""
+    return arm.n >= 5 or str(verdict.family).startswith("planar 3R")
+
+
+def _pose_error(arm: SerialArm, Q: FloatArray, T: FloatArray, rotation: bool = True) -> float:
+    """Largest FK error of solutions ``Q`` against the pose ``T`` they solve: position /
+    arm size, and the rotation (max abs entry) when ``rotation``."""
     if not len(Q):
         return 0.0
     F = arm.fk(Q)
     pos = np.linalg.norm(F[..., :3, 3] - T[:3, 3], axis=-1) / arm.scale
+    if not rotation:
+        return float(pos.max())
     rot = np.abs(F[..., :3, :3] - T[:3, :3]).max(axis=(-1, -2))
     return float(max(pos.max(), rot.max()))
 

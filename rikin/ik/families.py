@@ -112,6 +112,8 @@ def family_of(arm: SerialArm) -> Family | str | None:
     cached = dh.__dict__.get("_course_family", False)
     if cached is False:
         cached = _recognise(dh)
+        if isinstance(cached, str):
+            cached += _rounded_angles(dh)
         object.__setattr__(dh, "_course_family", cached)
     return cached
 
@@ -139,6 +141,32 @@ def _closest(ax: ZeroAxes, i: int, j: int) -> tuple[FloatArray, FloatArray, floa
     s2 = (float(d2 @ w0) - b * float(d1 @ w0)) / denom
     a, c = p1 + s1 * d1, p2 + s2 * d2
     return a, c, float(np.linalg.norm(a - c))
+
+
+#: A table's angle (twist, revolute offset, prismatic theta) this far or less from a
+#: multiple of 90 deg, but further than GEOMETRY_TOL, was most likely a right angle typed
+#: rounded: 1.571 for pi/2 or 3.142 for pi (3 decimals leave up to 5e-4 rad, 3.14 leaves
+#: 1.6e-3). A lean of 0.3 deg (5.2e-3 rad) is a lean.
+ROUNDED_RIGHT_ANGLE = 2e-3
+
+
+def _rounded_angles(arm: SerialArm) -> str:
+    """The table's angles that look like a right angle typed rounded, as a clause to add to
+    the reason an arm is in no family (``""`` when there are none)."""
+    found = []
+    for row, link in enumerate(arm.links, start=1):
+        fields = (("alpha", link.alpha), ("offset" if link.is_revolute else "theta",
+                                           link.offset if link.is_revolute else link.theta))
+        for field, value in fields:
+            quarters = round(float(value) / (math.pi / 2))
+            off = abs(float(value) - quarters * math.pi / 2)
+            if GEOMETRY_TOL < off <= ROUNDED_RIGHT_ANGLE:
+                found.append(f"row {row}'s {field} = {float(value):g} is {off:.1g} rad from "
+                             f"{quarters * 90} deg")
+    if not found:
+        return ""
+    return (f" ({', '.join(found)}: if the table means that right angle, type it exactly, "
+            "e.g. numpy.pi / 2 or numpy.pi, not a rounded number, which makes another arm)")
 
 
 # ------------------------------------------------------------------ recognition
