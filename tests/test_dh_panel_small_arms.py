@@ -53,3 +53,21 @@ def test_an_arm_of_fewer_than_six_joints_outside_every_family_gets_a_status(tabl
         F = st.arm.fk(st.numerical.q)
         assert np.abs(F[:3, 3] - st.target[:3, 3]).max() < 1e-6
     panel.html()  # and the panel can show it
+
+
+@pytest.mark.parametrize("row, shown", [
+    ("R 0.4 0 1.571 0", "1.571"), ("R 0.4 0 1.5708 0", "1.5708"),
+    ("R 0.4 0 -3.1416 0", "-3.1416")])
+def test_a_right_angle_typed_in_radians_in_the_degree_cells_is_named(row, shown):
+    st = widgets.dh_panel(table=f"{row}\nR 0 0.3 0 0\nR 0 0.3 0 0", target="10 20 30").state
+    assert st.message.startswith("No closed form:"), st.message
+    assert f"row 1's alpha {shown}" in st.message and "type 90" in st.message, st.message
+
+
+def test_the_panels_own_examples_and_a_real_small_twist_get_no_radians_hint():
+    # 1.5 deg is a twist someone means; the examples solve
+    st = widgets.dh_panel(table="R 0.4 0 1.5 0\nR 0 0.3 0 0\nR 0 0.3 0 0",
+                          target="10 20 30").state
+    assert "type 90" not in st.message
+    for example in widgets.EXAMPLES.values():
+        assert widgets.dh_panel(**example).state.result is not None
