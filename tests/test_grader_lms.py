@@ -776,3 +776,19 @@ def test_an_extensions_file_saved_from_a_spreadsheet_is_read(tmp_path, sep, enc)
     assert [(r[0], r[1], r[2]) for r in rows] == [
         ("Ana Ruiz", parse_time("2026-10-27 12:00"), "medical; see note")
     ] and notes == []
+
+
+def test_a_blackboard_attempt_of_text_only_keeps_the_attempts_time(tmp_path):
+    """An attempt with no file (only text typed into Blackboard) is refused with the
+    reason, at the time its name gives: never the file's time (an unzip's, which made a
+    student who handed in on time some days late in grades.csv)."""
+    bb = tmp_path / "bb"
+    _bb_record(bb, "li_wei", "2026-11-20-22-59-00", "Wei Li", files=())
+    _bb_record(bb, "sob", "2026-11-20-22-58-00", "Sean OBrien")
+    for p in bb.iterdir():  # the unzip's time, some days after the attempts
+        os.utime(p, (time.mktime((2026, 12, 6, 17, 0, 0, 0, 0, -1)),) * 2)
+    subs, _ = discover([bb], NB)
+    li = next(s for s in subs if s.lms_id == "li_wei")
+    assert li.refused.startswith("the attempt has no file")
+    assert time.localtime(li.submitted_at)[:6] == (2026, 11, 20, 22, 59, 0)
+    assert li.time_source == "download name"

@@ -683,7 +683,9 @@ def _download(p: Path, files: list[Path], other: list[Path], notes: list[str], r
     for rec in d.attempts:  # an attempt with no file: the student handed in only text
         if rec.files:
             continue
-        parsed = lms.Parsed(lms.BLACKBOARD, rec.name, rec.username)
+        t = lms.local_time(rec.attempt, "%Y-%m-%d-%H-%M-%S")  # the attempt's, not the file's
+        parsed = lms.Parsed(lms.BLACKBOARD, rec.name, rec.username, (t or 0.0,), t,
+                            time_source="download name" if t else "")
         why = "the attempt has no file" + (" (only text typed into Blackboard)" if rec.text else "")
         textonly.append(
             _Found(
@@ -691,6 +693,9 @@ def _download(p: Path, files: list[Path], other: list[Path], notes: list[str], r
                 _lms_id(parsed),
                 p / rec.record,
                 parsed,
+                parsed.order,
+                parsed.submitted_at,
+                parsed.time_source,
                 name=rec.name,
                 refused=why,
                 other=True,
