@@ -298,3 +298,37 @@ def test_an_earlier_attempt_regraded_alone_does_not_replace_the_newest(
         )
         scores = [h["score"] for h in gb.history("fake2r", sid)]
     assert 0.0 in scores and scores[-1] == 0.0
+
+
+@pytest.mark.parametrize("layout", ["folders", "nbgrader"])
+def test_a_notebook_in_a_plain_student_folder_regraded_alone_keeps_its_student(
+    tmp_path, monkeypatch, layout
+):
+    """A class of one folder per student (or nbgrader's submitted/<student>/<assignment>/):
+    the student's notebook passed alone, as the guide says to regrade one student, is that
+    student, whether typed as in the class run or by its absolute path; never a new
+    student named after the file ("scara", beside the old row)."""
+    monkeypatch.setattr(api, "_run_pool", Q.fake_pool)
+    monkeypatch.chdir(tmp_path)
+    base = Path("course/submitted") if layout == "nbgrader" else Path("class")
+    inner = "scara" if layout == "nbgrader" else ""
+    for who, frac in (("alice", 1.0), ("bob", 0.5)):
+        nb = json.loads(Q.SOLUTION.read_bytes())
+        nb["metadata"]["qa27"] = {"who": who, "attempt": 0, "frac": frac}
+        path = base / who / inner / "scara.ipynb"
+        path.parent.mkdir(parents=True)
+        path.write_text(json.dumps(nb))
+    kw = dict(unsafe_no_sandbox=True, quiet=True)
+    api.grade(str(ASSIGNMENT), [base], Path("out"), **kw)
+    before = {r["student"]: r for r in _rows(Path("out"))}
+    assert set(before) == {"alice", "bob"}
+    bob = base / "bob" / inner / "scara.ipynb"
+    nb = json.loads(bob.read_text())
+    nb["metadata"]["qa27"]["frac"] = 1.0  # bob's notebook, fixed
+    bob.write_text(json.dumps(nb))
+    for typed in (bob, bob.resolve()):
+        api.grade(str(ASSIGNMENT), [typed], Path("out"), regrade=True, **kw)
+        after = {r["student"]: r for r in _rows(Path("out"))}
+        assert set(after) == {"alice", "bob"}, "a new student, or one lost"
+        assert after["alice"] == before["alice"]
+        assert float(after["bob"]["score"]) > float(before["bob"]["score"])

@@ -29,7 +29,7 @@ from . import repair
 from ._version import __version__
 from .assignment import Assignment, load_assignment
 from .gradebook import Gradebook, GradebookDamaged
-from .intake import ids_of_class, match_roster, stored_roster, time_notes
+from .intake import ids_of_class, keep_folder_students, match_roster, stored_roster, time_notes
 from .lmsfiles import MISSING_BLANK, MISSING_ZERO
 from .notebook import OUTPUT_MARK, Submission, SubmissionsError, discover, shown
 from .outputs import atomic_write
@@ -269,6 +269,7 @@ def _grade(
         ros = load_roster(s.roster) if s.roster is not None else None
         entries = ros.entries if ros is not None else stored_roster(gb_path, a.exercise)
         subs, notes = discover(paths, a.notebook, reader, entries)
+        notes += keep_folder_students(subs, gb_path, a.exercise)
         notes += _match(subs, ros, entries)
         rules = Rules(
             parse_time(s.due) if s.due else None, s.late_per_day, s.late_cap, s.grace_minutes

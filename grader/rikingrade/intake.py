@@ -14,7 +14,7 @@ import sqlite3
 from pathlib import Path
 
 from .lms import person_key
-from .notebook import Submission
+from .notebook import Submission, shown, student_id
 from .policy import UNRELIABLE_TIME, show_time
 from .roster import MOODLE_WORKSHEET, Person, RosterEntry, bare, match_people
 
@@ -45,6 +45,60 @@ def stored_roster(path: Path, assignment: str) -> list[RosterEntry]:
 
     fields = RosterEntry.__dataclass_fields__
     return [RosterEntry(**{k: v for k, v in json.loads(r[0]).items() if k in fields}) for r in rows]
+
+
+def _stored_files(path: Path, assignment: str) -> dict[str, tuple[str, str, list[str]]]:
+    """Each student the gradebook ``path`` holds for ``assignment``: (their ``lms``, their
+    name, the paths of their files as recorded); {} if none."""
+    if not Path(path).is_file():
+        return {}
+    try:
+        conn = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+        try:
+            rows = conn.execute(
+                "SELECT s.student, st.lms, st.name, s.path FROM submissions s "
+                "JOIN students st ON st.id = s.student WHERE s.assignment = ?",
+                (assignment,),
+            ).fetchall()
+        finally:
+            conn.close()
+    except sqlite3.Error:
+        return {}
+    out: dict[str, tuple[str, str, list[str]]] = {}
+    for sid, lms, name, where in rows:
+        out.setdefault(sid, (lms, name, []))[2].append(where)
+    return out
+
+
+def keep_folder_students(subs: list[Submission], path: Path, assignment: str) -> list[str]:
+    """A notebook passed alone that the class's run found in a student's own folder (one
+    folder per student, nbgrader's ``<student>/<assignment>/``) is that student again,
+    wherever the command is typed from: the student whose id the folder gives and whose
+    files the gradebook ``path`` holds at the same place below that folder (else the file
+    is a student of its own, named after it). The notes say who was kept."""
+    stored = (
+        _stored_files(path, assignment) if any(s.named and s.lms == "file" for s in subs) else {}
+    )
+    notes = []
+    for s in subs:
+        if not (s.named and s.lms == "file"):
+            continue
+        parts = Path(s.path).parts
+        for up in (1, 2):  # <student>/<file>, or <student>/<assignment>/<file>
+            if len(parts) <= up:
+                break
+            sid = student_id(parts[-up - 1])
+            lms, name, paths = stored.get(sid, ("", "", []))
+            if sid != s.student and any(
+                Path(p).parts[-up - 1 :] == parts[-up - 1 :] for p in paths
+            ):
+                notes.append(
+                    f"{s.shown_path}: {shown(parts[-up - 1])}'s notebook, graded as "
+                    f"{sid} as when the class was graded"
+                )
+                s.student, s.lms, s.name = sid, lms, name or s.name
+                break
+    return notes
 
 
 def _fill(s: Submission, e: RosterEntry) -> None:
