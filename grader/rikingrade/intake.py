@@ -93,8 +93,8 @@ def keep_folder_students(subs: list[Submission], path: Path, assignment: str) ->
                 Path(p).parts[-up - 1 :] == parts[-up - 1 :] for p in paths
             ):
                 notes.append(
-                    f"{s.shown_path}: {shown(parts[-up - 1])}'s notebook, graded as "
-                    f"{sid} as when the class was graded"
+                    f"{s.shown_path}: graded as {sid}, the student of the folder "
+                    f"{shown(parts[-up - 1])} when the class was graded"
                 )
                 s.student, s.lms, s.name = sid, lms, name or s.name
                 break
