@@ -17,7 +17,14 @@ student code with plain Unix permissions:
   network namespace is used as well where one can be made);
 - ``kill(-1)`` as that uid ends every process it owns, daemonised grandchildren included
   (the zygote does it between submissions; the grader, through the launcher, when the
-  zygote itself is gone), and files it left in the world-writable directories are removed;
+  zygote itself is gone);
+- the machine's world-writable directories (``SHARED_WRITABLE``: /tmp, /var/tmp, /dev/shm,
+  ...) are not private here, so before the zygote forks for a notebook the grader ends
+  that uid's processes and removes what the uid owns there (:func:`sweep_files`, from
+  ``Sandbox.spawn``): each notebook of a worker finds them as the first one did, as
+  bubblewrap's wiped /scratch is (children's TMPDIR and HOME are the private scratch);
+  notebooks run *at the same time* by other workers (other uids) can still see files
+  there that a notebook made readable to all, until its own worker sweeps them;
   the ``rikin-grade`` command makes itself the subreaper of what it starts
   (:func:`adopt_orphans`), so a process orphaned when a zygote dies is adopted and reaped
   by the grader, not left a zombie of a container's init that reaps late or never
@@ -29,7 +36,9 @@ student code with plain Unix permissions:
   writable (not in most containers: there the process count bounds memory, see cgroup.py).
 
 What it does not hide: the rest of the machine's world-readable files (``/etc/passwd``,
-the Python installation). On Gradescope those hold nothing of the course.
+the Python installation), and the shared directories above from notebooks graded at the
+same moment by other workers. On Gradescope (one submission per container) those hold
+nothing of the course.
 """
 
 from __future__ import annotations

@@ -196,12 +196,14 @@ class Sandbox:
         self.launcher_notes: dict[str, Any] = {}
         self.group: MemoryGroup | None = None  # the sandbox's memory cgroup (root only)
         self.warmed = 0  # the start whose zygote compiled a notebook's cells ahead
+        self.forked = False  # uid mode: a child ran since the shared folders were swept
         self.base = 0  # bytes the group holds once the zygote is ready
 
     # ------------------------------------------------------------------ lifecycle
     def start(self) -> None:
         self.close()
         self.starts += 1
+        self.forked = False  # uid mode: the lease swept the shared folders (UidLease.acquire)
         ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_SEQPACKET)
         argv, env, pass_fds = self._command(theirs.fileno())
         stderr = open(self.stderr_path, "wb")
@@ -464,6 +466,8 @@ class Sandbox:
                 self.start()
             if warm and self.warmed != self.starts:
                 self.warm(warm)
+            if self.forked and self.lease is not None and not self._clear_shared():
+                continue
             ours, theirs = socket.socketpair(socket.AF_UNIX, socket.SOCK_STREAM)
             try:
                 reply = self._ctl({"op": "fork", "limits": self._limits(limits)}, [theirs.fileno()])
@@ -475,11 +479,37 @@ class Sandbox:
             finally:
                 theirs.close()
             if reply.get("ok"):
+                self.forked = True
                 return Child(ours, int(reply["pid"]))
             ours.close()
             log.warning("zygote refused to fork: %s", reply)
             self.close()
         raise SandboxUnavailable("could not start a notebook process in the sandbox")
+
+    def _clear_shared(self) -> bool:
+        """uid mode: end every process of the sandbox's uid but the zygote, then remove what
+        that uid left in the machine's world-writable folders (/tmp, /dev/shm, ...).
+
+        Done before each fork of the zygote, so every notebook (and every fresh start of a
+        notebook's cells) finds those folders as the first one did, as /scratch is wiped
+        for it: nothing written by the notebook graded before it on this worker, and no room
+        of /dev/shm taken by it. Processes first, so nothing writes again after the sweep;
+        only files the uid owns are removed. The zygote keeps no file there (its scratch and
+        matplotlib folder are private). False when the zygote did not answer: it was then
+        closed (which sweeps as well) and a fresh one must be started.
+        """
+        assert self.lease is not None
+        try:
+            ok = bool(self._ctl({"op": "kill"}).get("ok"))
+        except (OSError, ValueError, ChildDied, ProtocolError) as exc:
+            log.info("zygote did not answer kill (%s); restarting the sandbox", exc)
+            ok = False
+        if not ok:
+            self.close()
+            return False
+        uidmode.sweep_files(self.lease.uid)
+        self.forked = False
+        return True
 
     def warm(self, cells: list[str]) -> None:
         """Have the zygote parse and compile ``cells`` once for every child it forks.
