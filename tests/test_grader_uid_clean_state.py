@@ -58,7 +58,7 @@ def _notebook(name: str, tag: str, shared: str) -> bytes:
         "        f.write('add = lambda a, b: a + b')\n"
         "    os.chmod(f'{d}/{TAG}-answers', 0o644)\n"
         "with open(f'/dev/shm/{TAG}-shm', 'wb') as f:\n"
-        "    f.write(b'shm' + bytes(16 * 2**20))  # 16 MiB of the machine's memory\n"
+        "    f.write(b'shm' + bytes(2**20))  # 1 MiB of the machine's memory\n"
         "os.chmod(f'/dev/shm/{TAG}-shm', 0o644)\n"
         "locked = f'/tmp/{TAG}-locked'\n"
         "os.makedirs(locked + '/inner', exist_ok=True)\n"
@@ -128,8 +128,10 @@ def test_no_submission_sees_what_the_one_before_left_in_the_shared_folders(gs): 
             rows = db.execute("SELECT student, score, result FROM results").fetchall()
         for student, score, result in rows:
             scores[student] = score
-            text = "\n".join(c["output"] for c in json.loads(result)["cells"])
+            cells = json.loads(result)["cells"]
+            text = "\n".join(c["output"] for c in cells)
             said[student] = [ln for ln in text.splitlines() if ln[:5] in ("FOUND", "LEFT ")]
+            said[student] += [c["message"] for c in cells if c.get("message")]
         assert sorted(scores) == sorted(NAMES), (scores, r.stderr[-3000:])
         # each one did leave its files (so a leak could be seen) ...
         for name in NAMES:
