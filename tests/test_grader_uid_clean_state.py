@@ -133,12 +133,12 @@ def test_no_submission_sees_what_the_one_before_left_in_the_shared_folders(gs): 
             said[student] = [ln for ln in text.splitlines() if ln[:5] in ("FOUND", "LEFT ")]
             said[student] += [c["message"] for c in cells if c.get("message")]
         assert sorted(scores) == sorted(NAMES), (scores, r.stderr[-3000:])
-        # each one did leave its files (so a leak could be seen) ...
-        for name in NAMES:
-            assert any(f"{tag}-locked" in ln for ln in said[name] if "LEFT" in ln), said
-        # ... and none found anything of the one before it
+        # none found anything of the one before it ...
         assert scores == {n: 5 for n in NAMES}, said
         assert all("FOUND []" in " ".join(said[n]) for n in NAMES), said
+        # ... though each one did leave its files (so a leak could be seen)
+        for name in NAMES:
+            assert any(f"{tag}-locked" in ln for ln in said[name] if "LEFT" in ln), said
         # nothing that is not the sandbox's was removed; nothing of it is left afterwards
         assert os.path.isdir(shared) and open(theirs).read().startswith("root's")
         assert not [p for p in os.listdir("/tmp") if p.startswith(tag) and "-ww-" not in p]
