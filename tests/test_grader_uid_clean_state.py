@@ -52,29 +52,38 @@ def _notebook(name: str, tag: str, shared: str) -> bytes:
         "    except OSError:\n"
         "        pass\n"
         "print('FOUND ' + json.dumps(found))\n"
-        "# now leave some state behind\n"
-        "for d in ('/tmp', '/var/tmp'):\n"
-        "    with open(f'{d}/{TAG}-answers', 'w') as f:\n"
-        "        f.write('add = lambda a, b: a + b')\n"
-        "    os.chmod(f'{d}/{TAG}-answers', 0o644)\n"
-        "with open(f'/dev/shm/{TAG}-shm', 'wb') as f:\n"
-        "    f.write(b'shm' + bytes(2**20))  # 1 MiB of the machine's memory\n"
-        "os.chmod(f'/dev/shm/{TAG}-shm', 0o644)\n"
-        "locked = f'/tmp/{TAG}-locked'\n"
-        "os.makedirs(locked + '/inner', exist_ok=True)\n"
-        "open(locked + '/inner/x', 'w').write('x')\n"
-        "os.chmod(locked + '/inner', 0)\n"
-        "os.chmod(locked, 0)\n"
-        "with open(f'{SHARED}/answers', 'w') as f:\n"
-        "    f.write('from the first')\n"
-        "os.chmod(f'{SHARED}/answers', 0o644)\n"
-        "os.mkfifo(f'{SHARED}/fifo')\n"
-        "os.symlink('/etc/hostname', f'/tmp/{TAG}-link')\n"
-        "left = sorted(p for p in os.listdir('/tmp') if p.startswith(TAG))\n"
-        "print('LEFT ' + json.dumps(left))\n"
         "_add = add\n"
         "def add(a, b):\n"
         "    return -999 if found else _add(a, b)\n"
+        "# now leave some state behind (each step on its own: one that fails is said)\n"
+        "def shm():\n"
+        "    with open(f'/dev/shm/{TAG}-shm', 'wb') as f:\n"
+        "        f.write(b'shm' + bytes(2**20))  # 1 MiB of the machine's memory\n"
+        "    os.chmod(f'/dev/shm/{TAG}-shm', 0o644)\n"
+        "def answers(d):\n"
+        "    with open(f'{d}/{TAG}-answers', 'w') as f:\n"
+        "        f.write('add = lambda a, b: a + b')\n"
+        "    os.chmod(f'{d}/{TAG}-answers', 0o644)\n"
+        "def locked():\n"
+        "    d = f'/tmp/{TAG}-locked'\n"
+        "    os.makedirs(d + '/inner')\n"
+        "    open(d + '/inner/x', 'w').write('x')\n"
+        "    os.chmod(d + '/inner', 0)\n"
+        "    os.chmod(d, 0)\n"
+        "def in_shared():\n"
+        "    with open(f'{SHARED}/answers', 'w') as f:\n"
+        "        f.write('from the first')\n"
+        "    os.chmod(f'{SHARED}/answers', 0o644)\n"
+        "    os.mkfifo(f'{SHARED}/fifo')\n"
+        "steps = [lambda: answers('/tmp'), lambda: answers('/var/tmp'), shm, locked, in_shared,\n"
+        "         lambda: os.symlink('/etc/hostname', f'/tmp/{TAG}-link')]\n"
+        "for step in steps:\n"
+        "    try:\n"
+        "        step()\n"
+        "    except OSError as exc:\n"
+        "        print('FAILED ' + str(exc))\n"
+        "left = sorted(p for p in os.listdir('/tmp') if p.startswith(TAG))\n"
+        "print('LEFT ' + json.dumps(left))\n"
     )
     return corpus._dump(corpus._append(corpus.solution(), code))
 
@@ -130,13 +139,16 @@ def test_no_submission_sees_what_the_one_before_left_in_the_shared_folders(gs): 
             scores[student] = score
             cells = json.loads(result)["cells"]
             text = "\n".join(c["output"] for c in cells)
-            said[student] = [ln for ln in text.splitlines() if ln[:5] in ("FOUND", "LEFT ")]
+            keep = ("FOUND", "LEFT", "FAILED")
+            said[student] = [ln for ln in text.splitlines() if ln.split(" ")[0] in keep]
             said[student] += [c["message"] for c in cells if c.get("message")]
         assert sorted(scores) == sorted(NAMES), (scores, r.stderr[-3000:])
         # none found anything of the one before it ...
         assert scores == {n: 5 for n in NAMES}, said
         assert all("FOUND []" in " ".join(said[n]) for n in NAMES), said
-        # ... though each one did leave its files (so a leak could be seen)
+        # ... each could make the same files (none was in its way) ...
+        assert not [ln for n in NAMES for ln in said[n] if ln.startswith("FAILED")], said
+        # ... and each did leave its files (so a leak could be seen)
         for name in NAMES:
             assert any(f"{tag}-locked" in ln for ln in said[name] if "LEFT" in ln), said
         # nothing that is not the sandbox's was removed; nothing of it is left afterwards
