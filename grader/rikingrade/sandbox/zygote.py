@@ -9,6 +9,7 @@ stopped or killed it) the whole sandbox is killed and a fresh one started.
 
 from __future__ import annotations
 
+import atexit
 import json
 import logging
 import os
@@ -21,6 +22,7 @@ import sys
 import tempfile
 import threading
 import time
+import weakref
 from pathlib import Path
 from typing import Any
 
@@ -57,6 +59,31 @@ WARM_BYTES = 60_000  # bytes of cells sent to a zygote to compile ahead (one mes
 SANDBOX_STOPPED = (
     "the sandbox itself was stopped (the notebook killed or stopped the grader's helper)"
 )
+
+
+#: uid mode: the sandboxes holding a lease, for :func:`_sweep_at_exit`
+_LEASED: weakref.WeakSet[Sandbox] = weakref.WeakSet()
+
+
+def _sweep_at_exit() -> None:
+    """uid mode: end the processes of every uid still leased and remove its files.
+
+    A grader interrupted (Ctrl-C) leaves its daemon worker threads without running their
+    ``finally: sandbox.close()``; the zygote dies with the grader, but what the notebook
+    being graded wrote in /tmp or /dev/shm would stay there until that uid is leased
+    again, readable by another grader's notebooks meanwhile.
+    """
+    for sandbox in list(_LEASED):
+        lease = sandbox.lease
+        if lease is not None:
+            try:
+                uidmode.reap(lease.uid)
+                uidmode.sweep_files(lease.uid)
+            except Exception as exc:  # at exit: say it, never stop the others' cleanup
+                log.warning("could not clean up after sandbox uid %d: %s", lease.uid, exc)
+
+
+atexit.register(_sweep_at_exit)
 
 
 class ChildDied(Exception):
@@ -333,6 +360,7 @@ class Sandbox:
         """No namespaces: the launcher drops to this zygote's own uid and execs it."""
         cfg = self.config
         self.lease = uidmode.UidLease.acquire()
+        _LEASED.add(self)
         uid = self.lease.uid
         self.scratch = uidmode.private_scratch(self.workdir, uid)
         mpl = self.scratch / ".mpl"
