@@ -109,7 +109,7 @@ def _fill(s: Submission, e: RosterEntry) -> None:
     s.roster_key = e.key
     if s.lms == "moodle" and e.kind == MOODLE_WORKSHEET and e.submitted_at:
         s.submitted_at, s.time_source = e.submitted_at, "Moodle grading worksheet"
-    if s.lms in ("canvas", "moodle", "blackboard", "brightspace"):
+    if s.lms in ("canvas", "moodle", "blackboard", "brightspace", "gradescope"):
         return
     # No LMS in the download names (plain folders): the roster's ids are the LMS's.
     if e.canvas_id:
@@ -128,8 +128,12 @@ def match_roster(
     """Match each submission to the roster (see the module); notes on what did not match
     and (``missing_note``) on who on the roster has no submission among ``subs``."""
     people = [
-        Person(s.student, s.lms, s.lms_id, s.download_name or s.name, s.student) for s in subs
+        Person(s.student, s.lms, s.lms_id, s.download_name or s.name, s.student)
+        for s in subs
     ]
+    for person, s in zip(people, subs):
+        if s.lms == "gradescope":  # its record gives both: the roster matches either
+            person.ids = tuple(x for x in (s.sis_id, s.email) if x)
     found = match_people(people, roster)
     notes: list[str] = []
     used: set[str] = set()

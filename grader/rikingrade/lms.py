@@ -25,6 +25,14 @@ Brightspace  ``<n>-<n> - <First Last> - <Mon d, yyyy hmm AM> - <file>`` (files) 
              ``... - <Mon d, yyyy h:mm AM>`` (a folder per submission), and ``index.html``,
              a table of who handed in which file when. Neither number is documented as the
              user's: students are told apart by name, and namesakes by the roster.
+Gradescope   "Export Submissions": ``assignment_<id>_export/`` with a folder
+             ``submission_<id>/`` per submission (the student's files as uploaded) and
+             ``submission_metadata.yml``, a YAML map of each folder's name to its record in
+             Ruby symbol keys (``:submitters:``, a list of ``:name:``, ``:sid:``, ``:email:``:
+             several for a group; ``:created_at:`` with its zone, ``2026-11-20 22:50:12.3
+             +00:00``; ``:score:``; ``:history:``, the earlier submissions, which the export
+             holds no files of). The folder's number is Gradescope's submission id, not a
+             student's: who it is comes from the record only.
 nbgrader     ``submitted/<student>/<assignment>/<file>`` with ``timestamp.txt``.
 
 Times without a zone are the grading machine's local time, like ``--due``.
@@ -37,7 +45,7 @@ import time
 import unicodedata
 import urllib.parse
 from dataclasses import dataclass, field
-from datetime import datetime
+from datetime import date, datetime, timedelta, timezone
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -54,12 +62,14 @@ CANVAS = "canvas"
 MOODLE = "moodle"
 BLACKBOARD = "blackboard"
 BRIGHTSPACE = "brightspace"
+GRADESCOPE = "gradescope"
 NBGRADER = "nbgrader"
 FOLDER = "folder"  # a folder per student, id = folder name
 FILE = "file"  # a loose notebook, id = file name
 
 #: Files an LMS writes about the submissions, read and never graded.
 BRIGHTSPACE_INDEX = "index.html"
+GRADESCOPE_METADATA = "submission_metadata.yml"
 
 _DIGITS = re.compile(r"^\d+$")
 _CANVAS_ANON = re.compile(r"^(?:(?P<late>LATE|late)_)?anon_(?P<anon>[A-Za-z0-9]+)_(?P<rest>.+)$")
@@ -98,6 +108,8 @@ class Parsed:
     kind: str = "file"
     time_source: str = ""
     unsure: str = ""  # why the name alone does not say who handed it in
+    email: str = ""  # as the LMS's record gives it (Gradescope)
+    sis_id: str = ""  # the student id the LMS's record gives (Gradescope's SID)
 
     @property
     def key(self) -> str:
@@ -552,3 +564,123 @@ class Download:
         if row.when is not None:
             p.submitted_at, p.time_source = row.when, "Brightspace index.html"
             p.order = (row.when, *p.order[1:])
+
+
+# ----------------------------------------------------------------------------- Gradescope
+class GradescopeError(ValueError):
+    """A ``submission_metadata.yml`` that cannot be read; the message says why."""
+
+
+@dataclass
+class Submitter:
+    """One student of a Gradescope submission (a group's submission has several)."""
+
+    name: str
+    sid: str
+    email: str
+
+
+@dataclass
+class GradescopeEntry:
+    """One ``submission_<id>`` of Gradescope's export, as ``submission_metadata.yml`` has it."""
+
+    folder: str  # submission_<id>
+    submitters: list[Submitter]
+    created_at: float | None  # seconds since the epoch
+    created_text: str  # as written
+    earlier: list[str] = field(default_factory=list)  # :history: times, as written
+
+
+_GS_TIME = re.compile(
+    r"^(\d{4}-\d{2}-\d{2})[ T](\d{2}):(\d{2}):(\d{2})(?:\.(\d+))?\s*(Z|UTC|[+-]\d{2}:?\d{2})?$"
+)
+
+
+def gradescope_time(value: object) -> float | None:
+    """``:created_at:`` as seconds since the epoch: Ruby's ``2026-11-20 22:50:12.345678000
+    +00:00`` (a string, or the datetime YAML makes of it); no zone is local time."""
+    if isinstance(value, datetime):
+        dt = value
+    elif isinstance(value, date):
+        dt = datetime(value.year, value.month, value.day)
+    else:
+        m = _GS_TIME.match(" ".join(str(value or "").split()))
+        if not m:
+            return None
+        frac = (m[5] or "0")[:6].ljust(6, "0")
+        try:
+            dt = datetime.fromisoformat(f"{m[1]}T{m[2]}:{m[3]}:{m[4]}.{frac}")
+        except ValueError:
+            return None
+        zone = m[6]
+        if zone in ("Z", "UTC"):
+            dt = dt.replace(tzinfo=timezone.utc)
+        elif zone:
+            sign = -1 if zone[0] == "-" else 1
+            hh, mm = int(zone[1:3]), int(zone[-2:])
+            dt = dt.replace(tzinfo=timezone(sign * timedelta(hours=hh, minutes=mm)))
+    if dt.tzinfo is None:
+        return time.mktime(dt.timetuple()) + dt.microsecond / 1e6
+    return dt.timestamp()
+
+
+def _field(record: dict, key: str) -> object:
+    """A record's value under Gradescope's symbol key (``:name``), or its plain spelling."""
+    return record.get(f":{key}", record.get(key))
+
+
+def _text_of(value: object) -> str:
+    return "" if value is None else str(value).strip()
+
+
+def _submitters(folder: str, raw: object, notes: list[str]) -> list[Submitter]:
+    if not isinstance(raw, list):
+        notes.append(f"{GRADESCOPE_METADATA}: {folder} has no list of :submitters:")
+        return []
+    out = []
+    for one in raw:
+        if not isinstance(one, dict):
+            notes.append(f"{GRADESCOPE_METADATA}: {folder}: a submitter that is not a record")
+            continue
+        s = Submitter(*(_text_of(_field(one, k)) for k in ("name", "sid", "email")))
+        if not (s.email or s.sid or s.name):
+            notes.append(f"{GRADESCOPE_METADATA}: {folder}: a submitter with no name, sid or email")
+            continue
+        out.append(s)
+    return out
+
+
+def read_gradescope_metadata(text: str) -> tuple[dict[str, GradescopeEntry], list[str]]:
+    """The records of Gradescope's ``submission_metadata.yml`` (folder name -> record), and
+    notes on records that cannot be used (left out, each said).
+
+    Raises
+    ------
+    GradescopeError
+        Not YAML, or not a map of submission folders to records.
+    """
+    import yaml
+
+    try:
+        data = yaml.safe_load(text)
+    except yaml.YAMLError as exc:
+        raise GradescopeError(f"not YAML that can be read ({exc})") from None
+    if not isinstance(data, dict):
+        raise GradescopeError("not a map of submission_<id> folders to their records")
+    out: dict[str, GradescopeEntry] = {}
+    notes: list[str] = []
+    for folder, record in data.items():
+        folder = str(folder)
+        if not isinstance(record, dict):
+            notes.append(f"{GRADESCOPE_METADATA}: {folder} has no record of who submitted it")
+            continue
+        people = _submitters(folder, _field(record, "submitters"), notes)
+        created = _field(record, "created_at")
+        history = _field(record, "history")
+        earlier = [
+            _text_of(_field(h, "created_at")) for h in history or () if isinstance(h, dict)
+        ]
+        out[folder] = GradescopeEntry(
+            folder, people, gradescope_time(created), _text_of(created), earlier
+        )
+    return out, notes

@@ -722,6 +722,9 @@ def _class(p: Path, expected: str, notes: list[str], roster=None) -> list[_Found
         return [_from_folder(d, expected, notes, nbgrader=True) for d in dirs] + refused
     from . import lms
 
+    if any(o.name == lms.GRADESCOPE_METADATA for o in other):
+        return _gradescope_export(p, expected, notes, files + other, dirs) + refused
+
     student_dirs = []
     empty_dirs = []
     for d in dirs:
@@ -777,6 +780,59 @@ def _class(p: Path, expected: str, notes: list[str], roster=None) -> list[_Found
     for d in student_dirs + empty_dirs:
         found.append(_from_folder(d, expected, notes))
     return found
+
+
+def _gradescope_export(
+    p: Path, expected: str, notes: list[str], files: list[Path], dirs: list[Path]
+) -> list[_Found]:
+    """Gradescope's "Export Submissions" folder ``p``: a submission per folder its
+    ``submission_metadata.yml`` lists, one student per submitter (a group's members share
+    the notebook), at the record's ``:created_at:``. A folder the record does not list, or a
+    record with no folder, is kept and said, never dropped; the record is never graded."""
+    from . import lms
+
+    meta = p / lms.GRADESCOPE_METADATA
+    text = lms._read_text(meta)
+    try:
+        entries, problems = lms.read_gradescope_metadata(text if text is not None else "")
+    except lms.GradescopeError as exc:
+        raise SubmissionsError(
+            f"{shown(meta)}: Gradescope's record of who handed in each submission folder "
+            f"is {exc}: download the export again"
+        ) from None
+    notes += problems
+    folders = {os.fsdecode(d.name): d for d in dirs}
+    found: list[_Found] = []
+    for name, entry in entries.items():
+        d = folders.pop(name, None)
+        for s in entry.submitters or [lms.Submitter(name, "", "")]:
+            parsed = lms.Parsed(
+                lms.GRADESCOPE, s.name or s.email or s.sid, s.email or s.sid,
+                (entry.created_at or 0.0,), entry.created_at,
+                time_source=f"Gradescope {lms.GRADESCOPE_METADATA}" if entry.created_at else "",
+                email=s.email, sis_id=s.sid,
+            )  # fmt: skip
+            if d is None:
+                why = (f"{lms.GRADESCOPE_METADATA} lists {shown(name)} for them, but the export "
+                       "has no such folder: nothing of theirs to grade")  # fmt: skip
+                found.append(_found_parsed(parsed, meta, why))
+                continue
+            f = _from_folder(d, expected, notes)
+            found.append(_found_parsed(parsed, f.path, f.refused))
+            found[-1].other = f.other
+        if entry.submitters and d is not None and len(entry.submitters) > 1:
+            notes.append(f"{shown(name)}: a group of {len(entry.submitters)} ("
+                         + ", ".join(x.name or x.email for x in entry.submitters)
+                         + "): each gets the grade of the one notebook")  # fmt: skip
+        if entry.earlier and d is not None:
+            notes.append(f"{shown(name)}: submitted {len(entry.earlier) + 1} times on Gradescope; "
+                         f"the export holds the active one ({entry.created_text}), graded")  # fmt: skip
+    for name, d in sorted(folders.items()):
+        notes.append(f"{shown(name)}: a folder of the export that {lms.GRADESCOPE_METADATA} "
+                     "does not list: graded under the folder's name, matched to nobody")  # fmt: skip
+        found.append(_from_folder(d, expected, notes))
+    loose = [f for f in files if f.name != lms.GRADESCOPE_METADATA]
+    return found + [_from_file(f) for f in loose]
 
 
 def _mtime(p: Path) -> float:
@@ -1006,4 +1062,6 @@ def _submission(f: _Found, earlier: list[Submission]) -> Submission:
         named=f.named,
         file_id=getattr(parsed, "file_id", ""),
         download_name=f.name,
+        email=getattr(parsed, "email", ""),
+        sis_id=getattr(parsed, "sis_id", ""),
     )

@@ -18,10 +18,13 @@ Blackboard   Grade Center download: ``Last Name, First Name, Username, Student I
 Brightspace  grades export: ``OrgDefinedId, Username, Last Name, First Name, Email, <item>
              Points Grade <Numeric MaxPoints:10>, ..., End-of-Line Indicator`` (ids written
              ``#123``).
+Gradescope   grades export (the course's, or one assignment's): ``First Name, Last Name``
+             (or ``Name``), ``SID, Email, Sections, <assignment>, <assignment> - Max
+             Points, <assignment> - Submission Time, <assignment> - Lateness (H:M:S)``.
 Any CSV      with columns id, name, email, SIS id, section, login (any case).
 
 A submission is matched on the id its LMS gives (Canvas user id, Moodle participant id,
-Blackboard username) when the roster has that id; otherwise on the name (accents, case,
+Blackboard username, Gradescope SID or e-mail) when the roster has that id; otherwise on the name (accents, case,
 spaces and punctuation ignored, first and last in either order). Two roster rows that fit,
 or two students that fit one row, are an ambiguity: reported by name, matched to nobody.
 """
@@ -42,6 +45,7 @@ MOODLE_WORKSHEET = "moodle-worksheet"
 MOODLE_GRADEBOOK = "moodle"
 BLACKBOARD_ROSTER = "blackboard"
 BRIGHTSPACE_ROSTER = "brightspace"
+GRADESCOPE_ROSTER = "gradescope"
 PLAIN = "csv"
 
 #: Which LMS each roster kind belongs to.
@@ -51,6 +55,7 @@ LMS_OF = {
     MOODLE_GRADEBOOK: "moodle",
     BLACKBOARD_ROSTER: "blackboard",
     BRIGHTSPACE_ROSTER: "brightspace",
+    GRADESCOPE_ROSTER: "gradescope",
     PLAIN: "",
 }
 
@@ -182,6 +187,8 @@ def _kind(header: list[str]) -> str:
     h = {c.strip().lower() for c in header}
     if "orgdefinedid" in h or "end-of-line indicator" in h:
         return BRIGHTSPACE_ROSTER
+    if {"sid", "email"} <= h:
+        return GRADESCOPE_ROSTER
     if "identifier" in h and "full name" in h:
         return MOODLE_WORKSHEET
     if {"last name", "first name", "username"} <= h:
@@ -232,6 +239,14 @@ _LMS_COLUMNS = {
         "username": "username",
         "sis_id": "student id",
     },
+    GRADESCOPE_ROSTER: {
+        "first": "first name",
+        "last": "last name",
+        "name": "name",
+        "sis_id": "sid",
+        "email": "email",
+        "section": "sections",
+    },
     BRIGHTSPACE_ROSTER: {
         "org_id": "orgdefinedid",
         "username": "username",
@@ -275,6 +290,8 @@ def load_roster(path: str | Path) -> Roster:
         roster.columns = [
             h for i, h in enumerate(header) if pat and pat.match(h) and i not in col.values()
         ]
+        if kind == GRADESCOPE_ROSTER:  # <assignment> beside <assignment> - Max Points
+            roster.columns = [h for h in header if f"{h} - Max Points" in header]
     for line, r in enumerate(rows[1:], start=2):
         e = _entry(kind, col, r, line)
         if e is None:
@@ -392,6 +409,7 @@ class Person:
     lms_id: str
     name: str
     student: str = ""
+    ids: tuple[str, ...] = ()  # the LMS's other ids of them (Gradescope: SID and e-mail)
 
 
 @dataclass
@@ -411,6 +429,7 @@ _LMS_IDS = {
     "moodle": ("moodle_id",),
     "blackboard": ("username",),
     "brightspace": ("org_id", "username"),
+    "gradescope": ("sis_id", "email"),
 }
 _ANY_IDS = ("id", "sis_id", "login", "username", "canvas_id", "moodle_id", "org_id")
 
@@ -427,14 +446,14 @@ def _by_id(p: Person, entries: list[RosterEntry]) -> tuple[bool, list[RosterEntr
     id). A Blackboard username, or a plain folder's name, also matches an e-mail's user part."""
     own = _LMS_IDS.get(p.lms, ())
     has = bool(p.lms_id) and any(_id_of(e, f) for e in entries for f in own)
-    wanted = {p.lms_id} if p.lms in _LMS_IDS else {p.lms_id, p.student}
+    wanted = {p.lms_id, *p.ids} if p.lms in _LMS_IDS else {p.lms_id, p.student}
     wanted -= {""}
     if not wanted:
         return False, []
-    fields = own + ("id",) if p.lms in ("canvas", "moodle") else own or _ANY_IDS
+    fields = own + ("id",) if p.lms in ("canvas", "moodle", "gradescope") else own or _ANY_IDS
     if p.lms == "blackboard":
         fields = ("username", "login", "id")
-    mail = p.lms not in ("canvas", "moodle", "brightspace")
+    mail = p.lms not in ("canvas", "moodle", "brightspace", "gradescope")
     hits = [
         e
         for e in entries
