@@ -715,6 +715,7 @@ _LMS_TITLES = {
     "moodle": "Moodle import",
     "blackboard": "Blackboard import",
     "brightspace": "Brightspace import",
+    "gradescope": "Gradescope grades (its export's columns)",
     "canvas_feedback": "Canvas feedback import (Re-upload submissions)",
     "moodle_feedback": "Moodle feedback import (feedback files zip)",
 }

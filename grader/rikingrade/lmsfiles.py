@@ -18,6 +18,9 @@ Blackboard   Grade Center "Upload": ``Last Name, First Name, Username, <column>`
 Brightspace  grades import: ``OrgDefinedId, Username, Last Name, First Name, Email,
              <item> Points Grade, End-of-Line Indicator`` with ids written as exported
              (``#123``) and ``#`` in the last column.
+Gradescope   the columns of its own grades export: ``First Name, Last Name, SID, Email,
+             <assignment>``; a student is the SID and e-mail Gradescope gave (its export's
+             row, or ``submission_metadata.yml``), copied as they are.
 
 Feedback in bulk (a zip each):
 
@@ -55,6 +58,7 @@ MOODLE_COLUMNS = [
 BLACKBOARD_COLUMNS = ["Last Name", "First Name", "Username"]
 BRIGHTSPACE_COLUMNS = ["OrgDefinedId", "Username", "Last Name", "First Name", "Email"]
 EOL = "End-of-Line Indicator"
+GRADESCOPE_COLUMNS = ["First Name", "Last Name", "SID", "Email"]
 
 
 def _cell(text: Any) -> str:
@@ -240,3 +244,23 @@ def feedback_zip(
         else:
             skipped.append(r["student"])
     return _zip(files), skipped
+
+
+def gradescope_csv(
+    rows: list[dict], column: str, missing=(), policy: str = MISSING_BLANK
+) -> tuple[str, list[str]]:
+    """Grades in the columns of Gradescope's grades export (``column``: the assignment's
+    header there), and the students left out (neither SID nor e-mail)."""
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\r\n")
+    w.writerow([*GRADESCOPE_COLUMNS, column])
+    skipped = []
+    for r in [*rows, *missing]:
+        sid, email = r.get("sis_id") or "", r.get("email") or ""
+        if not sid and not email:
+            skipped.append(r.get("student") or r.get("name") or "?")
+            continue
+        first, last = _first_last(r)
+        grade = "" if r.get("excused") else _grade(r, policy)
+        w.writerow([_cell(first), _cell(last), _cell(sid), _cell(email), grade])
+    return buf.getvalue(), skipped

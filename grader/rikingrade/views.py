@@ -11,6 +11,7 @@ In the output folder, for the assignment graded (``<a>`` its exercise name)::
     moodle-<a>.csv        Moodle grading worksheet upload  } download names and roster): see
     blackboard-<a>.csv    Blackboard Grade Center upload   } :mod:`rikingrade.lmsfiles`
     brightspace-<a>.csv   Brightspace grades import        }
+    gradescope-<a>.csv    Gradescope grades (its export)   }
     canvas-feedback-<a>.zip, moodle-feedback-<a>.zip     feedback files for their bulk upload
     report/<a>.html/.png/.json           the class report of the newest run
     report/<a>-run<N>.html/.png/.json    the class report as it was after run N
@@ -51,7 +52,7 @@ EXCUSED = "excused"
 #: What ``extra_data.rikin`` of a results file holds (see :mod:`rikingrade.repair`).
 RECORD_VERSION = 2
 RECORD_ENCODING = "json+zlib+base64"
-LMS_NAMES = ("canvas", "moodle", "blackboard", "brightspace")
+LMS_NAMES = ("canvas", "moodle", "blackboard", "brightspace", "gradescope")
 
 
 def rules_of(gb: Gradebook, assignment: str) -> Rules:
@@ -465,6 +466,7 @@ def _lms_files(gb, assignment, exercise, out, rows, info) -> dict[str, list]:
             zeros,
             policy,
         ),
+        "gradescope": lambda: lmsfiles.gradescope_csv(keep, column or exercise, zeros, policy),
     }
     left: dict[str, list] = {"not_on_roster": withdrawn, **gone}
     for name in LMS_NAMES:
