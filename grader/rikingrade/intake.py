@@ -128,10 +128,9 @@ def match_roster(
     """Match each submission to the roster (see the module); notes on what did not match
     and (``missing_note``) on who on the roster has no submission among ``subs``."""
     people = [
-        Person(s.student, s.lms, s.lms_id, s.download_name or s.name, s.student)
-        for s in subs
+        Person(s.student, s.lms, s.lms_id, s.download_name or s.name, s.student) for s in subs
     ]
-    for person, s in zip(people, subs):
+    for person, s in zip(people, subs, strict=True):
         if s.lms == "gradescope":  # its record gives both: the roster matches either
             person.ids = tuple(x for x in (s.sis_id, s.email) if x)
     found = match_people(people, roster)

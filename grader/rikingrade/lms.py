@@ -677,9 +677,7 @@ def read_gradescope_metadata(text: str) -> tuple[dict[str, GradescopeEntry], lis
         people = _submitters(folder, _field(record, "submitters"), notes)
         created = _field(record, "created_at")
         history = _field(record, "history")
-        earlier = [
-            _text_of(_field(h, "created_at")) for h in history or () if isinstance(h, dict)
-        ]
+        earlier = [_text_of(_field(h, "created_at")) for h in history or () if isinstance(h, dict)]
         out[folder] = GradescopeEntry(
             folder, people, gradescope_time(created), _text_of(created), earlier
         )

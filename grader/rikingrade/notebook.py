@@ -807,29 +807,41 @@ def _gradescope_export(
         d = folders.pop(name, None)
         for s in entry.submitters or [lms.Submitter(name, "", "")]:
             parsed = lms.Parsed(
-                lms.GRADESCOPE, s.name or s.email or s.sid, s.email or s.sid,
-                (entry.created_at or 0.0,), entry.created_at,
+                lms.GRADESCOPE,
+                s.name or s.email or s.sid,
+                s.email or s.sid,
+                (entry.created_at or 0.0,),
+                entry.created_at,
                 time_source=f"Gradescope {lms.GRADESCOPE_METADATA}" if entry.created_at else "",
-                email=s.email, sis_id=s.sid,
-            )  # fmt: skip
+                email=s.email,
+                sis_id=s.sid,
+            )
             if d is None:
-                why = (f"{lms.GRADESCOPE_METADATA} lists {shown(name)} for them, but the export "
-                       "has no such folder: nothing of theirs to grade")  # fmt: skip
+                why = (
+                    f"{lms.GRADESCOPE_METADATA} lists {shown(name)} for them, but the export "
+                    "has no such folder: nothing of theirs to grade"
+                )
                 found.append(_found_parsed(parsed, meta, why))
                 continue
             f = _from_folder(d, expected, notes)
             found.append(_found_parsed(parsed, f.path, f.refused))
             found[-1].other = f.other
-        if entry.submitters and d is not None and len(entry.submitters) > 1:
-            notes.append(f"{shown(name)}: a group of {len(entry.submitters)} ("
-                         + ", ".join(x.name or x.email for x in entry.submitters)
-                         + "): each gets the grade of the one notebook")  # fmt: skip
-        if entry.earlier and d is not None:
-            notes.append(f"{shown(name)}: submitted {len(entry.earlier) + 1} times on Gradescope; "
-                         f"the export holds the active one ({entry.created_text}), graded")  # fmt: skip
+        if d is not None and len(entry.submitters) > 1:
+            who = ", ".join(x.name or x.email for x in entry.submitters)
+            notes.append(
+                f"{shown(name)}: a group of {len(entry.submitters)} ({who}): each gets the "
+                "grade of the one notebook"
+            )
+        if d is not None and entry.earlier:
+            notes.append(
+                f"{shown(name)}: submitted {len(entry.earlier) + 1} times on Gradescope; the "
+                f"export holds the active one ({entry.created_text}), graded"
+            )
     for name, d in sorted(folders.items()):
-        notes.append(f"{shown(name)}: a folder of the export that {lms.GRADESCOPE_METADATA} "
-                     "does not list: graded under the folder's name, matched to nobody")  # fmt: skip
+        notes.append(
+            f"{shown(name)}: a folder of the export that {lms.GRADESCOPE_METADATA} does not "
+            "list: graded under the folder's name, matched to nobody"
+        )
         found.append(_from_folder(d, expected, notes))
     loose = [f for f in files if f.name != lms.GRADESCOPE_METADATA]
     return found + [_from_file(f) for f in loose]

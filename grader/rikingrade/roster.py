@@ -24,9 +24,10 @@ Gradescope   grades export (the course's, or one assignment's): ``First Name, La
 Any CSV      with columns id, name, email, SIS id, section, login (any case).
 
 A submission is matched on the id its LMS gives (Canvas user id, Moodle participant id,
-Blackboard username, Gradescope SID or e-mail) when the roster has that id; otherwise on the name (accents, case,
-spaces and punctuation ignored, first and last in either order). Two roster rows that fit,
-or two students that fit one row, are an ambiguity: reported by name, matched to nobody.
+Blackboard username, Gradescope SID or e-mail) when the roster has that id; otherwise on the
+name (accents, case, spaces and punctuation ignored, first and last in either order). Two
+roster rows that fit, or two students that fit one row, are an ambiguity: reported by name,
+matched to nobody.
 """
 
 from __future__ import annotations
