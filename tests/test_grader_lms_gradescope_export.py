@@ -171,6 +171,21 @@ def test_a_gradescope_export_is_graded_by_its_metadata(tmp_path):
     }
 
 
+def test_a_group_notebook_regraded_alone_keeps_its_members(tmp_path):
+    """One notebook of the export passed alone is its submitters again, under their ids."""
+    require_bwrap()
+    root, roster = _export(tmp_path)
+    out = tmp_path / "out"
+    assert _grade(root, roster, out).returncode in (0, 1)
+    before = list(csv.DictReader(io.StringIO((out / "grades.csv").read_text(encoding="utf-8"))))
+    r = _grade(root / "submission_102" / "fake2r.ipynb", roster, out)
+    assert r.returncode in (0, 1), r.stdout + r.stderr
+    after = list(csv.DictReader(io.StringIO((out / "grades.csv").read_text(encoding="utf-8"))))
+    assert sorted(x["student"] for x in after) == sorted(x["student"] for x in before)
+    group = [x for x in after if x["name"] in (BO[0], CY[0])]
+    assert len(group) == 2 and all(float(x["score"]) == pytest.approx(3.0) for x in group)
+
+
 def test_an_unreadable_metadata_file_is_refused_with_the_reason(tmp_path):
     root, roster = _export(tmp_path)
     (root / "submission_metadata.yml").write_text("submission_101: [unclosed\n")

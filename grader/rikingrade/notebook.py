@@ -783,12 +783,18 @@ def _class(p: Path, expected: str, notes: list[str], roster=None) -> list[_Found
 
 
 def _gradescope_export(
-    p: Path, expected: str, notes: list[str], files: list[Path], dirs: list[Path]
+    p: Path,
+    expected: str,
+    notes: list[str],
+    files: list[Path],
+    dirs: list[Path],
+    only: str | None = None,
 ) -> list[_Found]:
     """Gradescope's "Export Submissions" folder ``p``: a submission per folder its
     ``submission_metadata.yml`` lists, one student per submitter (a group's members share
     the notebook), at the record's ``:created_at:``. A folder the record does not list, or a
-    record with no folder, is kept and said, never dropped; the record is never graded."""
+    record with no folder, is kept and said, never dropped; the record is never graded.
+    ``only``: the one folder of ``p`` wanted (a notebook regraded alone)."""
     from . import lms
 
     meta = p / lms.GRADESCOPE_METADATA
@@ -801,6 +807,8 @@ def _gradescope_export(
             f"is {exc}: download the export again"
         ) from None
     notes += problems
+    if only is not None:
+        entries = {k: v for k, v in entries.items() if k == only}
     folders = {os.fsdecode(d.name): d for d in dirs}
     found: list[_Found] = []
     for name, entry in entries.items():
@@ -897,6 +905,12 @@ def discover(
             f = _from_file(p, _beside(p, roster))
             if f.parsed is None:  # a notebook in a Moodle or Brightspace student folder
                 f = _in_student_folder(p) or f
+            alone = _in_gradescope_export(p, expected, notes) if f.parsed is None else []
+            for g in alone:
+                g.root, g.named = p.parent, True
+            if alone:
+                found += alone
+                continue
             f.root, f.named = p.parent, True
             found.append(f)
         elif p.is_dir():
@@ -937,6 +951,21 @@ def _in_student_folder(p: Path) -> _Found | None:
         return None
     why = not_a_notebook(shown(p.name), parsed.kind) if parsed.kind != "file" else ""
     return _found_parsed(parsed, p, why)
+
+
+def _in_gradescope_export(p: Path, expected: str, notes: list[str]) -> list[_Found]:
+    """The notebook ``p`` given alone, in a ``submission_<id>/`` folder of a Gradescope
+    export: its submitters, as when the export is graded ([] if it is not in one)."""
+    from . import lms
+
+    export = p.parent.parent
+    if not (export / lms.GRADESCOPE_METADATA).is_file():
+        return []
+    name = os.fsdecode(p.parent.name)
+    found = _gradescope_export(export, expected, notes, [], [p.parent], only=name)
+    for f in found:
+        f.path = p
+    return found
 
 
 def _beside(p: Path, roster):
