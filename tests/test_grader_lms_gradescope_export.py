@@ -194,3 +194,26 @@ def test_an_unreadable_metadata_file_is_refused_with_the_reason(tmp_path):
     assert "submission_metadata.yml" in r.stdout + r.stderr
     assert "not YAML" in r.stdout + r.stderr
     shutil.rmtree(tmp_path / "out", ignore_errors=True)
+
+
+def test_metadata_times_and_ids_are_read_as_gradescope_writes_them():
+    from rikingrade import lms
+
+    text = (
+        "---\n"
+        "submission_1:\n  :submitters:\n  - :name: A B\n    :sid: 1001\n    :email: a@x.edu\n"
+        "  :created_at: '2026-11-20 14:50:12.345678000 -08:00'\n  :history: []\n"
+        "submission_2:\n  :submitters:\n  - :name: C D\n    :sid: \n    :email: c@x.edu\n"
+        "  :created_at: 2026-11-20 22:50:12.345678000 +00:00\n"
+        "submission_3:\n  :score: 1.0\n"
+    )
+    entries, notes = lms.read_gradescope_metadata(text)
+    want = datetime(2026, 11, 20, 22, 50, 12, 345678, tzinfo=timezone.utc).timestamp()
+    assert entries["submission_1"].created_at == pytest.approx(want)  # quoted: a string
+    assert entries["submission_2"].created_at == pytest.approx(want)  # YAML's timestamp
+    assert entries["submission_1"].submitters == [lms.Submitter("A B", "1001", "a@x.edu")]
+    assert entries["submission_2"].submitters == [lms.Submitter("C D", "", "c@x.edu")]
+    assert entries["submission_3"].submitters == []
+    assert any("submission_3 has no list of :submitters:" in n for n in notes)
+    with pytest.raises(lms.GradescopeError):
+        lms.read_gradescope_metadata("- just\n- a list\n")
