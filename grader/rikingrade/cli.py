@@ -116,7 +116,8 @@ GRADE_OPTIONS: list[tuple[str, str]] = [
         "roster",
         "the class's roster as the LMS exports it (Canvas gradebook export, Moodle grading "
         "worksheet or gradebook export, Blackboard Grade Center download, Brightspace grades "
-        "export) or a CSV with id, name, email, SIS id, section: submissions are matched on "
+        "export, Gradescope Download Grades) or a CSV with id, name, email, SIS id, "
+        "section: submissions are matched on "
         "the LMS's id, else by name (ambiguities are reported, never guessed); the LMS files "
         "use its ids, leave out students not on it and list those missing; kept for later runs",
     ),
@@ -198,7 +199,8 @@ def grade_parser() -> argparse.ArgumentParser:
         metavar="SUBMISSIONS",
         nargs="+",
         help=".ipynb files or class folders as LMS give them: Canvas, Moodle, Blackboard, "
-        "Brightspace downloads (names parsed; the newest attempt counts), an nbgrader "
+        "Brightspace downloads (names parsed; the newest attempt counts), Gradescope's "
+        "Export Submissions (its submission_metadata.yml read), an nbgrader "
         "submitted/ tree, a notebook or a folder per student",
     )
     p.add_argument(
