@@ -19,6 +19,10 @@ of each template instead, read from that catalogue by :class:`BookText`. English
 where there is no catalogue, no entry, or an empty or fuzzy one. rikin's own words (branch
 names, ``rikin.tables``' headers) are translated by :mod:`rikin.i18n`, not here.
 
+A chapter's notebook downloaded alone has no ``locales`` folder beside it: the book puts
+the translations its cells use into its (folded) install cell, which hands them to
+:func:`add_translations`; a :class:`BookText` whose catalogue is missing reads those.
+
 Examples
 --------
 >>> from rikin.booktext import BookText
@@ -35,9 +39,9 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 
 from .errors import InputError
-from .i18n import language
+from .i18n import LANGUAGES, language
 
-__all__ = ["BookText", "cell_messages", "page_messages", "read_catalogue"]
+__all__ = ["BookText", "add_translations", "cell_messages", "page_messages", "read_catalogue"]
 
 #: The catalogue of one language below a book's ``locales`` folder.
 CATALOGUE = "{lang}/LC_MESSAGES/cells.po"
@@ -52,6 +56,43 @@ WORD = re.compile(r"[A-Za-z]{2,}")
 PLACEHOLDER = re.compile(r"(?<!\{)\{([^{}]*)\}(?!\})")
 #: A code cell of a MyST notebook page: its options and source.
 CODE_CELL = re.compile(r"^```\{code-cell\}[^\n]*\n(.*?)^```", re.S | re.M)
+
+#: Translations handed over without a catalogue (:func:`add_translations`): language ->
+#: English template -> translation.
+_GIVEN: dict[str, dict[str, str]] = {}
+
+
+def add_translations(lang: str, texts: dict[str, str]) -> None:
+    """Translations of cell texts into ``lang`` for every :class:`BookText` that finds no
+    catalogue of ``lang`` (a notebook downloaded from the book, run outside it).
+
+    Parameters
+    ----------
+    lang : str
+        A language of :data:`rikin.i18n.LANGUAGES` other than English.
+    texts : dict of str to str
+        English template -> its translation (the same ``{placeholders}``).
+
+    Examples
+    --------
+    >>> add_translations("es", {"the gap is {gap:.1e}": "la diferencia es {gap:.1e}"})
+    >>> from rikin.i18n import set_language
+    >>> set_language("es")
+    >>> BookText("no-such-folder").tr("the gap is {gap:.1e}", gap=1.5e-12)
+    'la diferencia es 1.5e-12'
+    >>> set_language("en")
+    """
+    if lang not in LANGUAGES or lang == "en":
+        raise InputError(f"lang must be one of {[x for x in LANGUAGES if x != 'en']}, "
+                         f"got {lang!r:.80}")
+    if not isinstance(texts, dict) or not all(
+            isinstance(k, str) and isinstance(v, str) for k, v in texts.items()):
+        raise InputError("texts must be a dict of English template -> translation (str -> str)")
+    for english, said in texts.items():
+        if _placeholders(said) != _placeholders(english):
+            raise InputError(f"the translation of {english!r:.80} has other "
+                             f"{{placeholders}}: {said!r:.80}")
+    _GIVEN.setdefault(lang, {}).update(texts)
 
 
 class BookText:
@@ -78,11 +119,16 @@ class BookText:
 
     def translations(self, lang: str | None = None) -> dict[str, str]:
         """English template -> translation, for ``lang`` (default: the current language);
-        empty for English or when the language has no catalogue."""
+        empty for English; where the language has no catalogue, those given by
+        :func:`add_translations` (empty if none)."""
         lang = language() if lang is None else lang
+        if lang == "en":
+            return {}
         if lang not in self._read:
             path = self.locales / CATALOGUE.format(lang=lang)
-            self._read[lang] = read_catalogue(path) if lang != "en" and path.is_file() else {}
+            if not path.is_file():
+                return _GIVEN.get(lang, {})
+            self._read[lang] = read_catalogue(path)
         return self._read[lang]
 
     def tr(self, template: str, **values: object) -> str:

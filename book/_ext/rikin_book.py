@@ -160,13 +160,44 @@ def build_rikin_dists(app: Sphinx) -> None:
                 manifest["wheel"]["file"], manifest["wheel"]["sha256"], base)
 
 
-def _install_cell(app: Sphinx, extras: tuple[str, ...] = (),
-                  page: str | None = None) -> nbformat.NotebookNode:
+def _install_cell(app: Sphinx, extras: tuple[str, ...] = (), page: str | None = None,
+                  cell_texts: dict[str, str] | None = None) -> nbformat.NotebookNode:
+    """The book's install cell in the edition's language; with ``cell_texts`` (a chapter's
+    notebook in another edition than English) it also sets rikin's language and hands
+    over those translations of the chapter's cell texts (``rikin_site.install_cell``)."""
     info = app.env.rikin_install
     texts = {m: rikin_i18n.site_text(app, m) for m in rikin_site.INSTALL_TEXTS}
+    language = None if cell_texts is None else rikin_i18n.edition(app.config.language)
     cell = rikin_site.install_cell(info["book"], info["version"], info["wheel"], extras=extras,
-                                   extra_tags=("remove-cell",), page=page, texts=texts)
+                                   extra_tags=("remove-cell",), page=page, texts=texts,
+                                   language=language, cell_texts=cell_texts)
     return nbformat.from_dict(cell)
+
+
+def chapter_cell_texts(app: Sphinx, pagename: str,
+                       nb: nbformat.NotebookNode) -> dict[str, str] | None:
+    """The translations, in the edition's language, of the texts the chapter's code cells
+    print through ``BookText("locales").tr`` (``rikin.booktext.cell_messages``: ``ok``,
+    ``tr`` and ``show_table`` headers), read from the catalogue beside the page
+    (``locales/<lang>/LC_MESSAGES/cells.po``): only those, so a downloaded notebook
+    carries its own. None in the English edition."""
+    lang = rikin_i18n.edition(app.config.language)
+    if lang == "en":
+        return None
+    from rikin.booktext import CATALOGUE, cell_messages, read_catalogue
+    from rikin.errors import InputError
+
+    path = Path(app.env.doc2path(pagename)).parent / "locales" / CATALOGUE.format(lang=lang)
+    catalogue = read_catalogue(path) if path.is_file() else {}
+    used: dict[str, None] = {}
+    for i, cell in enumerate(nb.cells):
+        if cell.cell_type != "code":
+            continue
+        try:
+            used.update(dict.fromkeys(m for _, m in cell_messages(cell.source)))
+        except (InputError, SyntaxError) as exc:
+            raise ExtensionError(f"{pagename}: code cell {i}: {exc}") from None
+    return {m: catalogue[m] for m in used if m in catalogue}
 
 
 class BookLinks:
@@ -318,9 +349,11 @@ def publish_notebook(
         nb.metadata.pop(key, None)
     translate_notebook(nb, rikin_i18n.page_lookup(app, pagename),
                        rikin_i18n.edition(app.config.language))
+    cell_texts = chapter_cell_texts(app, pagename, nb)
     jupyter_markdown(nb, BookLinks(app, pagename))
     page = BookLinks(app, pagename).url(pagename)
-    nb.cells.insert(0, _install_cell(app, rikin_site.CHAPTER_EXTRAS, page=page))
+    nb.cells.insert(0, _install_cell(app, rikin_site.CHAPTER_EXTRAS, page=page,
+                                     cell_texts=cell_texts))
     out = Path(app.outdir) / "_sources" / f"{pagename}.ipynb"
     out.parent.mkdir(parents=True, exist_ok=True)
     nbformat.write(_with_ids(nb), out)

@@ -553,17 +553,43 @@ def _literal_lines(text: str, indent: str, width: int = 92) -> list[str]:
     return [indent + repr(chunk) for chunk in chunks or [""]]
 
 
-def _says_source(says: dict[str, str]) -> str:
-    """The install cell's ``RIKIN_SAYS = {...}`` line(s), its lines short enough to read."""
+def _says_source(says: dict[str, str], name: str = "RIKIN_SAYS",
+                 what: str = "the messages below") -> str:
+    """The install cell's ``RIKIN_SAYS = {...}`` line(s) (or another ``name``'s), its
+    lines short enough to read."""
     if not says:
-        return "RIKIN_SAYS = {}\n"
-    lines = ["RIKIN_SAYS = {  # the messages below, English -> the notebook's language"]
+        return f"{name} = {{}}\n"
+    lines = [f"{name} = {{  # {what}, English -> the notebook's language"]
     for english, said in says.items():
         lines += _literal_lines(english, "    ")
         lines[-1] += ":"
         lines += _literal_lines(said, "        ")
         lines[-1] += ","
     return "\n".join([*lines, "}"]) + "\n"
+
+
+#: The install cell's end in a notebook of another language than English (after
+#: :data:`INSTALL_BODY`, so only once rikin is there): rikin prints in the notebook's
+#: language (its tables, branch names, live panels), and the chapter's cells' own texts
+#: (``BookText("locales").tr``, whose catalogue is not beside a downloaded notebook) are
+#: translated by the ones the book wrote into this cell (``RIKIN_CELL_TEXTS``).
+INSTALL_LANGUAGE_TAIL = """
+import rikin.booktext  # noqa: E402
+import rikin.i18n  # noqa: E402
+
+rikin.i18n.set_language(RIKIN_LANGUAGE)
+rikin.booktext.add_translations(RIKIN_LANGUAGE, RIKIN_CELL_TEXTS)
+"""
+
+
+def _language_source(language: str, cell_texts: dict[str, str]) -> str:
+    """The settings :data:`INSTALL_LANGUAGE_TAIL` reads: ``RIKIN_LANGUAGE`` and
+    ``RIKIN_CELL_TEXTS``."""
+    if not re.fullmatch(r"[a-z]{2}", language) or language == "en":
+        raise SiteError(f"an install cell's language is a two-letter code other than 'en', "
+                        f"got {language!r:.80}")
+    return (f"RIKIN_LANGUAGE = {language!r}\n"
+            + _says_source(cell_texts, "RIKIN_CELL_TEXTS", "what the cells print"))
 
 
 def _says(texts: dict[str, str]) -> dict[str, str]:
@@ -574,6 +600,7 @@ def _says(texts: dict[str, str]) -> dict[str, str]:
 def install_cell_source(
     book: str, version: str, wheel: str | None = None, extras: tuple[str, ...] = (),
     page: str | None = None, texts: dict[str, str] | None = None,
+    language: str | None = None, cell_texts: dict[str, str] | None = None,
 ) -> str:
     """The install cell's code: needs rikin >= ``version``, published by the book at ``book``.
 
@@ -591,18 +618,30 @@ def install_cell_source(
     the notebook's language) and what it prints
     (:data:`INSTALL_MESSAGES`, written into the cell as ``RIKIN_SAYS``).
 
+    ``language`` (a notebook in another language than English; None: English, or a
+    notebook that sets rikin's language itself, as the exercises do) makes the cell end by
+    setting rikin's language to it and handing ``cell_texts`` (the English templates the
+    notebook's cells translate with ``rikin.booktext.BookText`` -> ``language``) to
+    ``rikin.booktext.add_translations`` (:data:`INSTALL_LANGUAGE_TAIL`), so the notebook
+    prints in its language where no catalogue is beside it.
+
     What a student sees: one line when rikin is there; pip's progress and one line when it
     installs; otherwise one line (a ``RikinSetupError``, which stops Run All) saying what
     to do: restart the kernel (pip changed a package this kernel had imported), download
     the notebook again (the book hosts another wheel now), or go online.
     """
-    return _install_cell_header(book, page or book, version, wheel, extras,
-                                texts or {}) + INSTALL_BODY
+    head = _install_cell_header(book, page or book, version, wheel, extras, texts or {})
+    if language is None:
+        return head + INSTALL_BODY
+    return (head + _language_source(language, cell_texts or {}) + INSTALL_BODY
+            + INSTALL_LANGUAGE_TAIL)
 
 
 def install_cell(book: str, version: str, wheel: str | None = None,
                  extras: tuple[str, ...] = (), extra_tags: tuple[str, ...] = (),
-                 page: str | None = None, texts: dict[str, str] | None = None) -> dict[str, Any]:
+                 page: str | None = None, texts: dict[str, str] | None = None,
+                 language: str | None = None,
+                 cell_texts: dict[str, str] | None = None) -> dict[str, Any]:
     """The install cell as an nbformat 4 code cell (a plain dict), its code folded away.
 
     Colab shows it as a form titled by its ``#@title`` line; Jupyter folds its source.
@@ -617,5 +656,6 @@ def install_cell(book: str, version: str, wheel: str | None = None,
             "tags": [INSTALL_TAG, *extra_tags],
         },
         "outputs": [],
-        "source": install_cell_source(book, version, wheel, extras, page, texts),
+        "source": install_cell_source(book, version, wheel, extras, page, texts, language,
+                                      cell_texts),
     }
