@@ -47,6 +47,7 @@ def pytest_report_header(config):
 #: environment variable names a site built before (tests/test_session_order.py checks that
 #: every module asking so is here).
 BOOK_SITE_ON_DEMAND = {"test_book_browser.py": "RIKIN_BOOK_HTML",
+                       "test_book_download_language.py": "RIKIN_BOOK_HTML",
                        "test_book_editions.py": "RIKIN_BOOK_HTML",
                        "test_book_spanish_text.py": "RIKIN_BOOK_HTML",
                        "test_student_download.py": "RIKIN_STUDENT_SITE"}

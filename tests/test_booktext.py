@@ -144,3 +144,38 @@ def test_the_book_pages_print_no_f_string_check() -> None:
         code = "\n".join(m.group(1) for m in rikin.booktext.CODE_CELL.finditer(text))
         assert '"✓ ' not in code.replace('Markdown("✓ " + tr(', ""), (
             f"{page.name}: a ✓ line not written with ok(...)")
+
+
+# ------------------------------------------------ translations handed over (a downloaded notebook)
+@pytest.fixture
+def given(monkeypatch):
+    """An empty registry of handed-over translations, restored after the test."""
+    monkeypatch.setattr(rikin.booktext, "_GIVEN", {})
+
+
+def test_handed_over_translations_are_read_where_no_catalogue_is(tmp_path: Path, spanish,
+                                                                  given) -> None:
+    alone = BookText(tmp_path / "locales")  # a downloaded notebook's folder: no catalogue
+    rikin.booktext.add_translations("es", {"joint {n}": "articulación {n}"})
+    assert alone.tr("joint {n}", n=3) == "articulación 3"
+    assert alone.header(["#", "joint {n}"]) == ["#", "articulación {n}"]
+    assert alone.tr("elbow") == "elbow"  # not handed over: English
+
+
+def test_a_catalogue_beside_the_page_wins_and_english_is_untouched(locales: Path, monkeypatch,
+                                                                   given) -> None:
+    rikin.booktext.add_translations("es", {"joint": "eslabón"})
+    monkeypatch.setenv("RIKIN_LANG", "es")
+    assert BookText(locales).tr("joint") == "articulación"
+    monkeypatch.setenv("RIKIN_LANG", "en")
+    assert BookText(locales.parent / "nowhere").tr("joint") == "joint"
+
+
+@pytest.mark.parametrize("lang, texts", [
+    ("en", {"joint": "joint"}), ("xx", {"joint": "x"}), (None, {"joint": "x"}),
+    ("es", ["joint"]), ("es", {"joint": 3}), ("es", {"gap {g}": "diferencia {h}"}),
+])
+def test_bad_handed_over_translations_are_refused(lang, texts, given) -> None:
+    with pytest.raises(InputError):
+        rikin.booktext.add_translations(lang, texts)
+    assert rikin.booktext._GIVEN == {}

@@ -214,3 +214,32 @@ def test_a_stop_shows_as_its_message_in_ipython(book: Book, tmp_path: Path,
     finally:
         shell.set_custom_exc((), None)
         InteractiveShell.clear_instance()
+
+
+def test_a_notebook_in_another_language_sets_it_and_hands_over_its_cell_texts(
+        tmp_path: Path) -> None:
+    """A chapter's notebook of the Spanish edition, run alone (rikin installed, no
+    ``locales`` beside it, no RIKIN_LANG): after its install cell, rikin prints in Spanish
+    and the cells' ``BookText("locales").tr`` says the texts the cell handed over."""
+    import importlib.metadata as md
+
+    cell = rikin_site.install_cell_source(
+        "http://book.example/es/", md.version("rikin"), None, (), page=PAGE,
+        language="es", cell_texts={"✓ the gap is {gap:.0e}": "✓ la diferencia es {gap:.0e}"})
+    after = ("\nfrom rikin.booktext import BookText\n"
+             "print(BookText('locales').tr('✓ the gap is {gap:.0e}', gap=2e-16))\n"
+             "print(rikin.i18n.branch_name('front/up/no-flip'))\n")
+    env = {k: v for k, v in os.environ.items() if k != "RIKIN_LANG"}
+    proc = subprocess.run([sys.executable, "-c", cell + after], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert proc.stdout.splitlines()[-2:] == ["✓ la diferencia es 2e-16",
+                                             "delante/arriba/sin voltear"], proc.stdout
+    english = rikin_site.install_cell_source("http://book.example/", "0.1", None, (), page=PAGE)
+    assert "set_language" not in english and "RIKIN_CELL_TEXTS" not in english
+
+
+def test_an_install_cell_language_is_checked() -> None:
+    for bad in ("en", "spanish", ""):
+        with pytest.raises(rikin_site.SiteError):
+            rikin_site.install_cell_source("http://book.example/", "0.1", language=bad)
