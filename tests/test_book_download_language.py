@@ -123,10 +123,10 @@ def _lines(shown_: list[tuple[int, str]]) -> set[str]:
 
 
 def _differences(ran: list[tuple[int, str]], page: list[tuple[int, str]]) -> str:
-    if len(ran) != len(page):
-        return f"{len(ran)} outputs run alone, {len(page)} on the page"
-    return "\n".join(f"cell {i}:\n  alone: {a[:300]!r}\n  page:  {b[:300]!r}"
-                     for (i, a), (_, b) in zip(ran, page, strict=True) if a != b)[:6000]
+    counts = f"{len(ran)} outputs run alone, {len(page)} on the page\n"
+    return counts + "\n".join(f"cell {i}:\n  alone: {a[:300]!r}\n  page:  {b[:300]!r}"
+                               for (i, a), (_, b) in zip(ran, page, strict=False)
+                               if a != b)[:6000]
 
 
 @pytest.mark.book
@@ -138,8 +138,7 @@ def test_a_spanish_chapter_downloaded_alone_prints_what_the_spanish_page_shows(
     page = shown(nbformat.read(spanish, as_version=4))
     page_en = shown(nbformat.read(english, as_version=4))
     translated = {line for line in _lines(page_en) - _lines(page) if ENGLISH.search(line)}
-    assert any(line.startswith("✓") for line in translated), \
-        f"{chapter}: the Spanish page translates no ✓ line of the English one"
+    assert translated, f"{chapter}: the Spanish page translates no line of the English one"
 
     ran = shown(_run_alone(spanish, tmp_path / "student"))
 
@@ -163,4 +162,4 @@ def test_an_english_chapter_downloaded_alone_still_prints_english(
 
     assert ran == page, f"{chapter}: run alone, it shows what the page does not:\n" \
         + _differences(ran, page)
-    assert any(line.startswith("✓") and ENGLISH.search(line) for line in _lines(ran))
+    assert any(ENGLISH.search(line) for line in _lines(ran)), f"{chapter}: no English printed"
