@@ -40,6 +40,8 @@ CHAPTERS = ("book/own_arm", "book/planar")
 #: English words no Spanish line has: a line of the English page with one of them, and
 #: not on the Spanish page, is English the Spanish page translates.
 ENGLISH = re.compile(r"\b(?:the|and|with|of|is|are|from|each|every|branch|joint)\b")
+#: The MIME types of an output myst-nb's ``glue`` keeps for the page to show elsewhere.
+GLUED = "application/papermill.record/"
 #: Run a notebook (argv[1]) in the current folder as Jupyter would; save it as argv[2].
 DRIVER = """
 import sys
@@ -95,8 +97,9 @@ def _html_text(html: str) -> str:
 
 
 def shown(nb: nbformat.NotebookNode) -> list[tuple[int, str]]:
-    """(code cell, text) of every output after the install cell; consecutive prints of a
-    cell to one stream are one text (how a kernel cuts them into messages is timing)."""
+    """(code cell, text) of every output after the install cell that a front end shows;
+    consecutive prints of a cell to one stream are one text (how a kernel cuts them into
+    messages is timing)."""
     out: list[tuple[int, str]] = []
     for i, cell in enumerate(nb.cells):
         tags = cell.get("metadata", {}).get("tags", [])
@@ -107,8 +110,10 @@ def shown(nb: nbformat.NotebookNode) -> list[tuple[int, str]]:
             if o.output_type == "stream" and o.get("name") == last_stream:
                 out[-1] = (i, out[-1][1] + o.get("text", ""))
                 continue
-            last_stream = o.get("name") if o.output_type == "stream" else None
             data = o.get("data", {})
+            if data and all(k.startswith(GLUED) for k in data):
+                continue  # kept for the page (myst-nb's glue), shown by no front end
+            last_stream = o.get("name") if o.output_type == "stream" else None
             text = o.get("text", "") or "\n".join(
                 [data.get("text/plain", ""), data.get("text/markdown", ""),
                  _html_text(data.get("text/html", ""))])
