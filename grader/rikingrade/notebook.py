@@ -19,6 +19,7 @@ import stat
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from . import handedfiles
 from .i18n import notebook_language
 from .safetext import printable
 from .studentfiles import REFUSED, TOO_LARGE, ReadFailed, StudentFiles, default_files
@@ -101,6 +102,10 @@ class Submission:
     #: the roster row it matched (``roster.RosterEntry.key``), or why none:
     #: ``ambiguous:<name>`` (several fit) or ``absent`` (not on the roster)
     roster_key: str = ""
+    #: the student's other files, given to the cells (see :mod:`rikingrade.handedfiles`):
+    #: (name in the working folder, path)
+    handed: list[tuple[str, Path]] = field(default_factory=list)
+    _digests: list[str] | None = field(default=None, repr=False, compare=False)
 
     def read_bytes(self, cap: int = MAX_NOTEBOOK_BYTES) -> bytes:
         """The file's bytes, read without privileges it should not need (see
@@ -115,14 +120,28 @@ class Submission:
         files = self.files or default_files()
         return files.read(self.root or self.path.parent, self.path, cap, links=self.named)
 
+    def read_handed(self, file_cap: int = handedfiles.MAX_FILE_BYTES) -> handedfiles.Handed:
+        """The files handed in beside the notebook, read as :meth:`read_bytes` does."""
+        return handedfiles.read(
+            self.files or default_files(), self.root or self.path.parent, self.handed, file_cap
+        )
+
+    def _identity(self, notebook_sha: str) -> str:
+        """The submission's sha256 from the notebook's: with its other files when it has
+        some (:func:`rikingrade.handedfiles.identity`)."""
+        if self._digests is None:
+            self._digests = self.read_handed().digests if self.handed else []
+        return handedfiles.identity(notebook_sha, self._digests)
+
     def hash(self) -> str:
-        """The sha256 of the file (of the refusal, for a file that is not read).
+        """The sha256 of the file (of the refusal, for a file that is not read), and of the
+        files handed in beside it when there are some.
 
         A file the grader refuses to read gets ``refused`` set here, with the reason.
         """
         if not self.sha256 and not self.refused:
             try:
-                self.sha256 = hashlib.sha256(self.read_bytes()).hexdigest()
+                self.sha256 = self._identity(hashlib.sha256(self.read_bytes()).hexdigest())
             except ReadFailed as exc:
                 if exc.kind == REFUSED:
                     self.refused = exc.why
@@ -153,7 +172,7 @@ class Submission:
                 self.refused = exc.why
                 raise FileRefused(f"not read: {exc.why}") from None
             raise NotebookError(f"cannot read the file: {exc.why}") from None
-        sha = hashlib.sha256(raw).hexdigest()
+        sha = self._identity(hashlib.sha256(raw).hexdigest())
         if self.sha256 and sha != self.sha256:
             log.warning("%s: %s changed since it was found", self.student, self.shown_path)
         self.sha256 = sha
@@ -529,6 +548,8 @@ class _Found:
     root: Path | None = None  # the submissions folder given (files are read relative to it)
     named: bool = False  # the instructor named this file itself
     other: bool = False  # not a notebook: graded (0, with why) only if the student has none
+    #: the student's other files for the cells: (name in the working folder, path)
+    handed: list[tuple[str, Path]] = field(default_factory=list)
 
 
 def _examples(paths: list, n: int = 4) -> str:
@@ -620,9 +641,10 @@ def _from_folder(d: Path, expected: str, notes: list[str], nbgrader: bool = Fals
     if note:
         notes.append(f"{shown(d.name)}: {note}")
     parsed = None if nbgrader else lms.parse_folder(os.fsdecode(d.name))
+    handed = handedfiles.beside(nb) if not (refused or other) else []
     if parsed is not None:
         if parsed.kind != "file" and not refused:
-            refused, other = not_a_notebook(shown(nb.name), parsed.kind), True
+            refused, other, handed = not_a_notebook(shown(nb.name), parsed.kind), True, []
         return _Found(
             parsed.key,
             _lms_id(parsed),
@@ -634,11 +656,13 @@ def _from_folder(d: Path, expected: str, notes: list[str], nbgrader: bool = Fals
             parsed.name,
             refused,
             other=other,
+            handed=handed,
         )
     sid = student_id(os.fsdecode(d.name))
     kind = "nbgrader" if nbgrader else "folder"
     return _Found(
-        f"{kind}:{sid}", sid, nb, None, (), when, source, shown(d.name), refused, other=other
+        f"{kind}:{sid}", sid, nb, None, (), when, source, shown(d.name), refused, other=other,
+        handed=handed,
     )
 
 
@@ -904,7 +928,10 @@ def discover(
                 p = Path(os.path.realpath(p))
             f = _from_file(p, _beside(p, roster))
             if f.parsed is None:  # a notebook in a Moodle or Brightspace student folder
-                f = _in_student_folder(p) or f
+                inside = _in_student_folder(p)
+                if inside is not None:
+                    f = inside
+                    f.handed = handedfiles.beside(p) if not f.refused else []
             alone = _in_gradescope_export(p, expected, notes) if f.parsed is None else []
             for g in alone:
                 g.root, g.named = p.parent, True
@@ -1035,10 +1062,17 @@ def _one_student(key: str, group: list[_Found], notes: list[str]) -> list[Submis
                 notes.append(f"{best.student}: also handed in {shown(f.path.name)}: {f.refused}")
         notes.append(f"{shown(best.path)}: not graded: {best.refused}")
         return [_submission(best, [])]
+    given = _given_files(others)
     for f in others:
-        notes.append(
-            f"{nbs[0].student}: also handed in {shown(f.path.name)}, not graded: {f.refused}"
-        )
+        if f.path in given:
+            notes.append(
+                f"{nbs[0].student}: also handed in {shown(f.path.name)}: given to the "
+                f"notebook's cells as {shown(given[f.path])}"
+            )
+        else:
+            notes.append(
+                f"{nbs[0].student}: also handed in {shown(f.path.name)}, not graded: {f.refused}"
+            )
     group = nbs
     for f in group:
         if key.startswith("unknown:"):
@@ -1057,6 +1091,8 @@ def _one_student(key: str, group: list[_Found], notes: list[str]) -> list[Submis
             out.append(_submission(f, []))
         return out
     newest = group[-1]
+    if given and not newest.handed:  # a flat download: the files the LMS gives this student
+        newest.handed = [(name, path) for path, name in given.items()]
     if len(group) > 1:
         notes.append(
             f"{newest.student}: {len(group)} attempts; the newest ({shown(newest.path.name)}) "
@@ -1070,6 +1106,17 @@ def _one_student(key: str, group: list[_Found], notes: list[str]) -> list[Submis
             )
         )
     return [_submission(newest, [_submission(f, []) for f in group[:-1]])]
+
+
+def _given_files(others: list[_Found]) -> dict[Path, str]:
+    """The files of a flat LMS download that a student handed in beside their notebook:
+    path -> the name the student gave it (the newest attempt of one name wins)."""
+    by_name: dict[str, _Found] = {}
+    for f in sorted(others, key=lambda f: (f.order, f.submitted_at or 0.0, os.fsencode(f.path))):
+        orig = getattr(f.parsed, "orig", "")
+        if f.parsed is not None and f.parsed.kind == "file" and orig and "/" not in orig:
+            by_name[orig] = f
+    return {f.path: name for name, f in by_name.items()}
 
 
 def _unique_ids(subs: list[Submission], notes: list[str]) -> None:
@@ -1105,4 +1152,5 @@ def _submission(f: _Found, earlier: list[Submission]) -> Submission:
         download_name=f.name,
         email=getattr(parsed, "email", ""),
         sis_id=getattr(parsed, "sis_id", ""),
+        handed=list(f.handed),
     )

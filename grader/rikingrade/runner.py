@@ -24,6 +24,7 @@ what one submission may leave in the results (cell reports, output, problems) is
 
 from __future__ import annotations
 
+import base64
 import difflib
 import logging
 import math
@@ -163,6 +164,10 @@ class SubmissionRunner:
             result.elapsed = time.monotonic() - t0
             return result
         run = _Run(self, nb)
+        if sub.handed:
+            mb = self.opt.limits.max_file_mb
+            handed = sub.read_handed(mb * 1024 * 1024) if mb else sub.read_handed()
+            run.files, run.file_notes = handed.files, handed.notes
         result.language = nb.language
         try:
             with use(nb.language):
@@ -214,6 +219,10 @@ class _Run:
         self.templates_ok = True  # False once a template failed to fork a worker
         self.cell_seconds = 0.0
         self.limits = CallLimits()  # the functions' times, and where they ran out
+        #: the student's files for the cells' working folder (name, bytes), and why any
+        #: file handed in beside the notebook was not given (see rikingrade.handedfiles)
+        self.files: list[tuple[str, bytes]] = []
+        self.file_notes: list[str] = []
         opt, tests = runner.opt, runner.assignment.tests
         #: seconds per call of an answer function, also from a cell that runs
         self.call_limit = (
@@ -359,6 +368,7 @@ class _Run:
             "want": list(self.r.assignment.functions),
             "limit": self.call_limit,
             "leash": self.limits.leash(self.call_limit),
+            "files": [[name, base64.b64encode(data).decode()] for name, data in self.files],
         }
 
     def _cells_done(self, child: Child, msg: dict) -> bool:
@@ -670,7 +680,7 @@ class _Run:
         """What the student reads about the notebook: its warnings, failing cells (capped),
         missing functions, functions that ran out of time, and why grading stopped."""
         a = self.r.assignment
-        problems = list(self.nb.warnings)[:10]
+        problems = list(self.nb.warnings)[:10] + self.file_notes[:10]
         if not self.nb.cells:
             problems.append(t("the notebook has no code cells"))
         cell_lines = cell_problems(self.cells, self.nb.cells)

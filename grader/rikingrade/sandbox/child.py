@@ -1172,6 +1172,8 @@ class Runner:
                 with _CleanBuiltins():
                     self._limits(msg)
             if op == "exec":
+                with _CleanBuiltins():
+                    _write_files(msg.get("files"))
                 self.output_limit = int(msg.get("output_limit", self.output_limit))
                 self.output_left = int(msg.get("output_total", self.output_left))
                 self.run_cells(msg["cells"], msg.get("want") or ())
@@ -1235,6 +1237,28 @@ class Runner:
         except OSError:
             pass
         self.chan.send({"event": "forked", "ok": True})
+
+
+def _write_files(files):
+    """The student's own files (``[name, base64]``: what they handed in beside the
+    notebook) into the working folder, before the first cell runs, as a kernel started in
+    the notebook's folder finds them. Names are relative (the grader checked them); an
+    entry already there (a link the student cannot have made yet) is not replaced."""
+    import base64
+
+    for item in files if isinstance(files, list) else ():
+        try:
+            name, data = item
+            parts = name.split("/")
+            if name.startswith("/") or any(p in ("", ".", "..") for p in parts):
+                continue
+            if len(parts) > 1:
+                os.makedirs(os.path.join(*parts[:-1]), exist_ok=True)
+            fd = os.open(name, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644)
+            with os.fdopen(fd, "wb") as f:
+                f.write(base64.b64decode(data))
+        except (OSError, ValueError, TypeError, AttributeError):
+            continue
 
 
 def set_limits(limits):
