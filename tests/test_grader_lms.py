@@ -648,7 +648,7 @@ def test_namesakes_are_never_matched_on_a_guess():
 def test_every_file_of_a_class_is_graded_or_refused_with_the_reason(tmp_path):
     c = tmp_path / "canvas"
     touch(c / "ngamy_1001_5001_scara.ipynb")
-    touch(c / "ngamy_1001_5002_helper.py")  # beside a notebook: named in a note
+    touch(c / "ngamy_1001_5002_helper.py")  # beside a notebook: given to its cells, noted
     touch(c / "smithjohn_1000_5000_scara.zip")
     touch(c / "lefevrefrancois_LATE_1002_text.html")
     touch(c / "rossimarco_1003_link.html")
@@ -667,7 +667,13 @@ def test_every_file_of_a_class_is_graded_or_refused_with_the_reason(tmp_path):
         "anon_Xy7Qz": "",
     }
     text = "\n".join(notes)
-    assert "ngamy_1001: also handed in ngamy_1001_5002_helper.py, not graded" in text
+    assert (
+        "ngamy_1001: also handed in ngamy_1001_5002_helper.py: given to the notebook's cells "
+        "as helper.py" in text
+    )
+    assert [n for n, _ in next(s for s in subs if s.student == "ngamy_1001").handed] == [
+        "helper.py"
+    ]
     assert ".DS_Store: a system file, skipped" in text
     late = next(s for s in subs if s.student == "lefevrefrancois_1002")
     assert late.late and late.lms_id == "1002"

@@ -44,7 +44,8 @@ def _notebook(path: Path, marker_module: str = "helper") -> None:
     ]
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_code_cell(c) for c in cells]
-    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
     path.write_text(nbformat.writes(nb), encoding="utf-8")
 
 
@@ -113,6 +114,20 @@ def test_a_changed_helper_file_is_a_changed_submission(tmp_path):
     again = _grade([cls], tmp_path / "out2", gradebook=str(db)).by_student()["alice"]
     assert again.sha256 != first.sha256
     assert again.score < first.score  # regraded with the new helper, not skipped
+
+
+def test_a_notebook_passed_alone_from_its_folder_keeps_its_files(tmp_path, monkeypatch):
+    """Regraded alone (the notebook's path, as the guide says), a student of a folder per
+    student has the same files, so the same identity: unchanged, it is not run again."""
+    require_bwrap()
+    monkeypatch.chdir(tmp_path)
+    _student_folder(Path("class/alice"), "alice")
+    _student_folder(Path("class/bob"), "bob")
+    db = str(tmp_path / "gradebook.sqlite")
+    first = _grade([Path("class")], Path("out"), gradebook=db).by_student()["alice"]
+    report = _grade([Path("class/alice/fake2r.ipynb")], Path("out"), gradebook=db)
+    assert report.summary["resumed"] == 1
+    assert report.by_student()["alice"].sha256 == first.sha256
 
 
 def _canvas(folder: Path, name: str, uid: int, fid: int, orig: str, data: bytes) -> None:

@@ -13,6 +13,7 @@ from __future__ import annotations
 import sqlite3
 from pathlib import Path
 
+from . import handedfiles
 from .lms import person_key
 from .notebook import Submission, shown, student_id
 from .policy import UNRELIABLE_TIME, show_time
@@ -75,7 +76,8 @@ def keep_folder_students(subs: list[Submission], path: Path, assignment: str) ->
     folder per student, nbgrader's ``<student>/<assignment>/``) is that student again,
     wherever the command is typed from: the student whose id the folder gives and whose
     files the gradebook ``path`` holds at the same place below that folder (else the file
-    is a student of its own, named after it). The notes say who was kept."""
+    is a student of its own, named after it), with the files beside it in that folder
+    (:mod:`rikingrade.handedfiles`). The notes say who was kept."""
     stored = (
         _stored_files(path, assignment) if any(s.named and s.lms == "file" for s in subs) else {}
     )
@@ -97,6 +99,8 @@ def keep_folder_students(subs: list[Submission], path: Path, assignment: str) ->
                     f"{shown(parts[-up - 1])} when the class was graded"
                 )
                 s.student, s.lms, s.name = sid, lms, name or s.name
+                # the student's folder: their files beside the notebook, as in the class run
+                s.handed = handedfiles.beside(s.path)
                 break
     return notes
 
