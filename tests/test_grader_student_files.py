@@ -151,11 +151,17 @@ def test_a_flat_download_gives_each_student_only_their_own_helper(tmp_path):
         "doejane_1002": ["helper.py", "lengths.json"],
         "ngamy_1001": ["helper.py", "lengths.json"],
     }, notes
-    report = _grade([flat], tmp_path / "out")
+    db = str(tmp_path / "gradebook.sqlite")
+    report = _grade([flat], tmp_path / "out", gradebook=db)
     for who in ("ngamy", "doejane"):
         res = next(r for r in report.results if r.student.startswith(who))
         cells = {c.number: c for c in res.cells}
         assert cells[1].status == "ok" and cells[2].output == f"{who}\n", res.cells
+    # one student's notebook given alone: the same files, so unchanged (not run again)
+    (alone,), _ = discover([flat / "ngamy_1001_5000_fake2r.ipynb"], "fake2r.ipynb")
+    assert sorted(n for n, _ in alone.handed) == ["helper.py", "lengths.json"]
+    again = _grade([flat / "ngamy_1001_5000_fake2r.ipynb"], tmp_path / "out", gradebook=db)
+    assert again.summary["resumed"] == 1
 
 
 def test_a_link_and_an_oversize_file_are_refused_with_a_reason(tmp_path):

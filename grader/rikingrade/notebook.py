@@ -932,6 +932,8 @@ def discover(
                 if inside is not None:
                     f = inside
                     f.handed = handedfiles.beside(p) if not f.refused else []
+            elif not f.refused:  # a flat download: the same student's files beside it
+                f.handed = _flat_siblings(p, f)
             alone = _in_gradescope_export(p, expected, notes) if f.parsed is None else []
             for g in alone:
                 g.root, g.named = p.parent, True
@@ -1117,6 +1119,17 @@ def _given_files(others: list[_Found]) -> dict[Path, str]:
         if f.parsed is not None and f.parsed.kind == "file" and orig and "/" not in orig:
             by_name[orig] = f
     return {f.path: name for name, f in by_name.items()}
+
+
+def _flat_siblings(p: Path, f: _Found) -> list[tuple[str, Path]]:
+    """The files beside the notebook ``p`` of a flat LMS download (given alone) that the
+    LMS's names give to the same student as ``f``: the files of the class's run."""
+    others = []
+    for o in _scan(p.parent, [])[2]:
+        g = _from_file(o)
+        if g.key == f.key and g.other:
+            others.append(g)
+    return [(name, path) for path, name in _given_files(others).items()]
 
 
 def _unique_ids(subs: list[Submission], notes: list[str]) -> None:
