@@ -217,3 +217,15 @@ def test_metadata_times_and_ids_are_read_as_gradescope_writes_them():
     assert any("submission_3 has no list of :submitters:" in n for n in notes)
     with pytest.raises(lms.GradescopeError):
         lms.read_gradescope_metadata("- just\n- a list\n")
+
+
+def test_the_files_beside_an_exported_notebook_are_given_to_its_cells(tmp_path):
+    from rikingrade.notebook import discover
+
+    root, _ = _export(tmp_path)
+    subs, _ = discover([root], "fake2r.ipynb")
+    handed = {s.email: [name for name, _ in s.handed] for s in subs if s.email}
+    assert handed["ed@x.edu"] == ["helpers.py"]  # submission_104: a notebook and helpers.py
+    assert not [e for e, names in handed.items() if names and e != "ed@x.edu"], handed
+    alone, _ = discover([root / "submission_104" / "fake2r.ipynb"], "fake2r.ipynb")
+    assert [[name for name, _ in s.handed] for s in alone] == [["helpers.py"]]

@@ -857,7 +857,7 @@ def _gradescope_export(
                 continue
             f = _from_folder(d, expected, notes)
             found.append(_found_parsed(parsed, f.path, f.refused))
-            found[-1].other = f.other
+            found[-1].other, found[-1].handed = f.other, list(f.handed)
         if d is not None and len(entry.submitters) > 1:
             who = ", ".join(x.name or x.email for x in entry.submitters)
             notes.append(
