@@ -659,7 +659,7 @@ def read_gradescope_metadata(text: str) -> tuple[dict[str, GradescopeEntry], lis
     GradescopeError
         Not YAML, or not a map of submission folders to records.
     """
-    import yaml
+    import yaml  # type: ignore[import-untyped]  # PyYAML ships no type hints
 
     try:
         data = yaml.safe_load(text)
@@ -677,7 +677,11 @@ def read_gradescope_metadata(text: str) -> tuple[dict[str, GradescopeEntry], lis
         people = _submitters(folder, _field(record, "submitters"), notes)
         created = _field(record, "created_at")
         history = _field(record, "history")
-        earlier = [_text_of(_field(h, "created_at")) for h in history or () if isinstance(h, dict)]
+        earlier = [
+            _text_of(_field(h, "created_at"))
+            for h in (history if isinstance(history, list) else [])
+            if isinstance(h, dict)
+        ]
         out[folder] = GradescopeEntry(
             folder, people, gradescope_time(created), _text_of(created), earlier
         )

@@ -1116,7 +1116,7 @@ def _given_files(others: list[_Found]) -> dict[Path, str]:
     by_name: dict[str, _Found] = {}
     for f in sorted(others, key=lambda f: (f.order, f.submitted_at or 0.0, os.fsencode(f.path))):
         orig = getattr(f.parsed, "orig", "")
-        if f.parsed is not None and f.parsed.kind == "file" and orig and "/" not in orig:
+        if getattr(f.parsed, "kind", None) == "file" and orig and "/" not in orig:
             by_name[orig] = f
     return {f.path: name for name, f in by_name.items()}
 
