@@ -1331,6 +1331,10 @@ NOT_FUZZED = {
     "translations) on the book's own sources and catalogues; tested in tests/test_booktext.py",
     "rikin.booktext.page_messages": "as cell_messages",
     "rikin.booktext.read_catalogue": "as cell_messages",
+    "rikin.booktext.add_translations": "called by the folded install cell of a chapter "
+    "downloaded from a translated edition, with the page's catalogue entries (book/_ext); "
+    "its refusals of a bad language, non-str texts and other placeholders are tested in "
+    "tests/test_booktext.py",
     "rikin.dh.link_transform": "documented kernel on validated input, FK's and the IK "
     "solvers' inner loop; users call SerialArm.fk (fuzzed)",
 }

@@ -886,6 +886,31 @@ def _mtime(p: Path) -> float:
         return 0.0
 
 
+def _given_notebook(
+    p: Path, expected: str, notes: list[str], roster: list | None
+) -> list[_Found]:
+    """The student (or a Gradescope group's students) of one notebook given alone: read
+    as in its class, from the LMS's name, the student's folder or the export around it,
+    with the files handed in beside it."""
+    if p.suffix.lower() != ".ipynb":
+        raise SubmissionsError(f"{shown(p)}: not a notebook (.ipynb) file")
+    if p.is_symlink() or _refusal(p):
+        # A path the instructor typed may be a link; read what it points to as is.
+        p = Path(os.path.realpath(p))
+    f = _from_file(p, _beside(p, roster))
+    if f.parsed is None:  # a notebook in a Moodle or Brightspace student folder
+        inside = _in_student_folder(p)
+        if inside is not None:
+            f = inside
+            f.handed = handedfiles.beside(p) if not f.refused else []
+    elif not f.refused:  # a flat download: the same student's files beside it
+        f.handed = _flat_siblings(p, f)
+    alone = _in_gradescope_export(p, expected, notes) if f.parsed is None else []
+    for g in alone or [f]:
+        g.root, g.named = p.parent, True
+    return alone or [f]
+
+
 def discover(
     paths: list[Path | str],
     expected: str,
@@ -921,27 +946,7 @@ def discover(
         if not os.path.lexists(p):
             raise SubmissionsError(f"{shown(p)}: no such file or folder")
         if p.is_file():
-            if p.suffix.lower() != ".ipynb":
-                raise SubmissionsError(f"{shown(p)}: not a notebook (.ipynb) file")
-            if p.is_symlink() or _refusal(p):
-                # A path the instructor typed may be a link; read what it points to as is.
-                p = Path(os.path.realpath(p))
-            f = _from_file(p, _beside(p, roster))
-            if f.parsed is None:  # a notebook in a Moodle or Brightspace student folder
-                inside = _in_student_folder(p)
-                if inside is not None:
-                    f = inside
-                    f.handed = handedfiles.beside(p) if not f.refused else []
-            elif not f.refused:  # a flat download: the same student's files beside it
-                f.handed = _flat_siblings(p, f)
-            alone = _in_gradescope_export(p, expected, notes) if f.parsed is None else []
-            for g in alone:
-                g.root, g.named = p.parent, True
-            if alone:
-                found += alone
-                continue
-            f.root, f.named = p.parent, True
-            found.append(f)
+            found += _given_notebook(p, expected, notes, roster)
         elif p.is_dir():
             for f in _class(p, expected, notes, roster):
                 f.root = p
