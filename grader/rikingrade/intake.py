@@ -25,23 +25,30 @@ SAME_TIME_FILES = 5
 SAME_TIME_SECONDS = 5.0
 
 
-def stored_roster(path: Path, assignment: str) -> list[RosterEntry]:
-    """The roster the gradebook ``path`` keeps for ``assignment`` ([] if none, or if the
-    file cannot be read: opening it says why)."""
+def _read_only(path: Path, sql: str, args: tuple) -> list[tuple]:
+    """The rows of ``sql`` in the gradebook ``path`` opened read-only; [] when there is no
+    such file or SQLite cannot read it (opening it for grading says why)."""
     if not Path(path).is_file():
         return []
     try:
         conn = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
         try:
-            rows = conn.execute(
-                "SELECT entry FROM roster WHERE assignment = ? AND import_id = "
-                "(SELECT MAX(import_id) FROM roster WHERE assignment = ?) ORDER BY id",
-                (assignment, assignment),
-            ).fetchall()
+            return conn.execute(sql, args).fetchall()
         finally:
             conn.close()
     except sqlite3.Error:
         return []
+
+
+def stored_roster(path: Path, assignment: str) -> list[RosterEntry]:
+    """The roster the gradebook ``path`` keeps for ``assignment`` ([] if none, or if the
+    file cannot be read: opening it says why)."""
+    rows = _read_only(
+        path,
+        "SELECT entry FROM roster WHERE assignment = ? AND import_id = "
+        "(SELECT MAX(import_id) FROM roster WHERE assignment = ?) ORDER BY id",
+        (assignment, assignment),
+    )
     import json
 
     fields = RosterEntry.__dataclass_fields__
@@ -51,20 +58,12 @@ def stored_roster(path: Path, assignment: str) -> list[RosterEntry]:
 def _stored_files(path: Path, assignment: str) -> dict[str, tuple[str, str, list[str]]]:
     """Each student the gradebook ``path`` holds for ``assignment``: (their ``lms``, their
     name, the paths of their files as recorded); {} if none."""
-    if not Path(path).is_file():
-        return {}
-    try:
-        conn = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
-        try:
-            rows = conn.execute(
-                "SELECT s.student, st.lms, st.name, s.path FROM submissions s "
-                "JOIN students st ON st.id = s.student WHERE s.assignment = ?",
-                (assignment,),
-            ).fetchall()
-        finally:
-            conn.close()
-    except sqlite3.Error:
-        return {}
+    rows = _read_only(
+        path,
+        "SELECT s.student, st.lms, st.name, s.path FROM submissions s "
+        "JOIN students st ON st.id = s.student WHERE s.assignment = ?",
+        (assignment,),
+    )
     out: dict[str, tuple[str, str, list[str]]] = {}
     for sid, lms, name, where in rows:
         out.setdefault(sid, (lms, name, []))[2].append(where)
