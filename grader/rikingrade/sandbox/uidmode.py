@@ -266,16 +266,52 @@ def sweep_files(uid: int, roots: tuple[str, ...] = SHARED_WRITABLE) -> int:
     return removed
 
 
+#: Folders below a left folder are given their bits back down to this depth (deeper ones
+#: are left as they are: root's rmtree needs no bits, so this is only a courtesy).
+REMOVABLE_DEPTH = 64
+_DIR_NOFOLLOW = os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC
+
+
+def _subfolders(fd: int) -> list[str]:
+    """The names of the folders in the open folder ``fd`` (links are not folders here)."""
+    with os.scandir(fd) as it:
+        return [e.name for e in it if e.is_dir(follow_symlinks=False)]
+
+
 def _make_removable(path: str) -> None:
-    """A sandbox may leave chmod 000 folders: give the owner (us, root) the bits back."""
-    for dirpath, dirnames, _files in os.walk(path):
-        for name in dirnames:
-            p = os.path.join(dirpath, name)
-            try:
-                if not os.path.islink(p):
-                    os.chmod(p, 0o700)
-            except OSError:
-                pass
+    """A sandbox may leave chmod 000 folders: give the owner (us, root) the bits back.
+
+    Never through a link: ``path`` and every folder below it are opened with ``O_NOFOLLOW``
+    (each relative to its parent's descriptor) and changed through that descriptor
+    (``fchmod``), so a link, or a folder swapped for a link after it was listed, is neither
+    changed nor entered: a student's link cannot make the grader chmod anything outside.
+    Only the folders on the current path are open at once (at most ``REMOVABLE_DEPTH``).
+    """
+    try:
+        top = os.open(path, _DIR_NOFOLLOW)
+    except OSError:
+        return  # a link (ELOOP, ENOTDIR) or gone: nothing of the sandbox's to change
+    stack: list[tuple[int, list[str]]] = []
+    try:
+        os.fchmod(top, 0o700)
+        stack.append((top, _subfolders(top)))
+    except OSError:
+        os.close(top)
+    while stack:
+        fd, names = stack[-1]
+        if not names or len(stack) > REMOVABLE_DEPTH:
+            os.close(fd)
+            stack.pop()
+            continue
+        try:
+            child = os.open(names.pop(), _DIR_NOFOLLOW, dir_fd=fd)
+        except OSError:
+            continue  # swapped for a link or a file, or gone
+        try:
+            os.fchmod(child, 0o700)
+            stack.append((child, _subfolders(child)))
+        except OSError:
+            os.close(child)
 
 
 def private_scratch(parent: Path, uid: int) -> Path:
