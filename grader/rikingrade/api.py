@@ -15,6 +15,7 @@ sandboxes (:func:`_run`, :mod:`rikingrade.pool`), each result *recorded* as it c
 from __future__ import annotations
 
 import hashlib
+import inspect
 import json
 import logging
 import sys
@@ -25,7 +26,7 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
-from . import repair
+from . import handedfiles, repair
 from ._version import __version__
 from .assignment import Assignment, load_assignment
 from .gradebook import Gradebook, GradebookDamaged
@@ -48,7 +49,14 @@ from .sandbox.config import DESCRIBE, package_dir, resolve_mode
 from .studentfiles import StudentFiles
 from .views import export, student_view, write_student
 
-__all__ = ["DEFAULT_SEED", "GradeReport", "GradeSettings", "check_sandbox", "grade"]
+__all__ = [
+    "DEFAULT_SEED",
+    "GradeReport",
+    "GradeSettings",
+    "check_sandbox",
+    "grade",
+    "grade_upload",
+]
 
 log = logging.getLogger("rikingrade")
 
@@ -248,13 +256,45 @@ def grade(
     return _grade(assignment, submissions, out, settings)
 
 
+def grade_upload(
+    assignment: str | Path, notebook: Path, upload: Path, out: str | Path, **options: Any
+) -> GradeReport:
+    """Grade one uploaded notebook as :func:`grade` does, with the files handed in beside it.
+
+    ``notebook`` is the grader's own copy of the upload's notebook ``upload`` (Gradescope's
+    ``/autograder/submission/...``); the files below ``upload``'s folder are given to the
+    cells as a student folder's are (:mod:`rikingrade.handedfiles`: read from the upload
+    by the safe reader, with the same limits; a file not given is a line of feedback).
+    ``options`` are :func:`grade`'s keyword arguments (its defaults for the others).
+    """
+    sig = inspect.signature(grade).parameters
+    given = {n: p.default for n, p in sig.items() if p.kind is p.KEYWORD_ONLY}
+    unknown = set(options) - set(given)
+    if unknown:
+        raise TypeError(f"grade_upload() got unexpected options: {sorted(unknown)}")
+    given.update(options)
+    settings = GradeSettings(**{f.name: given[f.name] for f in fields(GradeSettings)})
+    return _grade(assignment, [notebook], out, settings, beside=Path(upload))
+
+
+def _hand_in_beside(subs: list[Submission], upload: Path) -> None:
+    """Give the submission found (the copy of ``upload``) the files beside ``upload``, read
+    relative to its folder; its identity is computed again with them."""
+    for sub in subs:
+        sub.handed = handedfiles.beside(upload)
+        sub.root = upload.parent
+        sub.sha256, sub._digests = "", None
+
+
 def _grade(
     assignment: str | Path,
     submissions: Sequence[str | Path] | str | Path,
     out: str | Path,
     s: GradeSettings,
+    beside: Path | None = None,
 ) -> GradeReport:
-    """The pipeline of :func:`grade` (the module's docstring walks through it)."""
+    """The pipeline of :func:`grade` (the module's docstring walks through it); ``beside``:
+    see :func:`grade_upload`."""
     t0 = time.monotonic()
     out = Path(out).resolve()
     out.mkdir(parents=True, exist_ok=True)
@@ -269,6 +309,8 @@ def _grade(
         ros = load_roster(s.roster) if s.roster is not None else None
         entries = ros.entries if ros is not None else stored_roster(gb_path, a.exercise)
         subs, notes = discover(paths, a.notebook, reader, entries)
+        if beside is not None:
+            _hand_in_beside(subs, beside)
         notes += keep_folder_students(subs, gb_path, a.exercise)
         notes += _match(subs, ros, entries)
         rules = Rules(
@@ -476,8 +518,9 @@ class _GradebookRun:
 def _plan(
     a: Assignment, subs: list[Submission], key: str, run: _GradebookRun, regrade: bool
 ) -> tuple[dict[str, SubmissionResult], list[Submission], int]:
-    """Who is graded how: a refused file scores 0 with why (recorded now); a file graded
-    before with the same ``key`` keeps its result (unless ``regrade``); the rest is to run.
+    """Who is graded how: a refused file scores 0 with why (recorded now, once per file:
+    run again, even with ``regrade``, it keeps its result); a file graded before with the
+    same ``key`` keeps its result (unless ``regrade``); the rest is to run.
 
     Returns
     -------
@@ -492,17 +535,18 @@ def _plan(
     todo: list[Submission] = []
     resumed = 0
     for s in subs:
-        if s.refused:
+        # A refusal (a file not read, or read and not a notebook) follows from the file
+        # alone: one result per file, kept even by a regrade (a changed file is a new one).
+        prev = run.cached(s)
+        if prev is not None and (prev.refused or not (regrade or s.refused)):
+            run.reuse(s, prev)
+            results[s.student] = prev
+            resumed += not s.refused
+        elif s.refused:
             res = _refused(a, s, key)
             run.commit(s, res)
             log_result(res)
             results[s.student] = res
-            continue
-        prev = None if regrade else run.cached(s)
-        if prev is not None:
-            run.reuse(s, prev)
-            results[s.student] = prev
-            resumed += 1
         else:
             todo.append(s)
     return results, todo, resumed

@@ -149,10 +149,26 @@ class Submission:
                     text = f"{exc.kind}\0{exc.size}\0{shown(self.path)}"
                     self.sha256 = hashlib.sha256(text.encode()).hexdigest()
         if not self.sha256 and self.refused:
-            link = os.readlink(self.path) if os.path.islink(self.path) else ""
-            text = f"refused\0{self.refused}\0{shown(self.path)}\0{shown(link)}"
-            self.sha256 = hashlib.sha256(text.encode()).hexdigest()
+            self.sha256 = self._refused_identity()
         return self.sha256
+
+    def _refused_identity(self) -> str:
+        """The sha256 of a refused file: of the refusal, the path and a link's target, and
+        of the file's bytes when they can be read (a .zip or a script handed in instead of
+        a notebook), so that the same file is one submission and a changed file a new one."""
+        try:
+            st = os.lstat(self.path)
+        except OSError:
+            st = None
+        link = os.readlink(self.path) if st and stat.S_ISLNK(st.st_mode) else ""
+        content = ""
+        if st and stat.S_ISREG(st.st_mode):
+            try:
+                content = hashlib.sha256(self.read_bytes()).hexdigest()
+            except ReadFailed as exc:
+                content = f"{exc.kind}\0{exc.size}"
+        text = f"refused\0{self.refused}\0{shown(self.path)}\0{shown(link)}\0{content}"
+        return hashlib.sha256(text.encode()).hexdigest()
 
     def load(self) -> Notebook:
         """The notebook's code cells, read as :meth:`read_bytes` does (``sha256`` follows
