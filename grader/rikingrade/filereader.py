@@ -30,16 +30,22 @@ _DIR = os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC
 _FILE = os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK | os.O_NOCTTY | os.O_CLOEXEC
 REFUSED, TOO_LARGE, GONE = "refused", "too-large", "gone"
 DENIED = "denied"  # refused because these rights may not read it (EACCES)
+#: Why a file was refused, as a code the grader words in the student's language:
+LINK, HARD_LINK, NOT_A_FILE, NO_RIGHT, UNREADABLE = (
+    "link", "hard-link", "not-a-file", "no-right", "unreadable")
 
 
 class ReadFailed(Exception):
-    """``kind`` is REFUSED (links), DENIED (no right), TOO_LARGE (``size`` bytes) or GONE."""
+    """``kind`` is REFUSED (links), DENIED (no right), TOO_LARGE (``size`` bytes) or GONE;
+    ``reason`` (LINK, HARD_LINK, NOT_A_FILE, NO_RIGHT, UNREADABLE, or "") says which
+    refusal, for words in another language than ``why``'s English."""
 
-    def __init__(self, kind, why, size=0):
+    def __init__(self, kind, why, size=0, reason=""):
         super().__init__(why)
         self.kind = kind
         self.why = why
         self.size = size
+        self.reason = reason
 
 
 def _failure(exc, name, is_dir, who, dirfd=None):
@@ -47,7 +53,9 @@ def _failure(exc, name, is_dir, who, dirfd=None):
     if exc.errno == errno.ELOOP or (is_dir and exc.errno == errno.ENOTDIR):
         what = "a folder on its path" if is_dir else "it"
         return ReadFailed(
-            REFUSED, f"{what} ({shown}) is a symbolic link or not a folder: links are not followed"
+            REFUSED,
+            f"{what} ({shown}) is a symbolic link or not a folder: links are not followed",
+            reason=LINK,
         )
     if exc.errno in (errno.EACCES, errno.EPERM):
         try:
@@ -60,10 +68,13 @@ def _failure(exc, name, is_dir, who, dirfd=None):
             f"{shown}{what} cannot be read by {who or 'its folder owner'}: the grader reads "
             "student files with no more rights than that, never root's (a real submission: "
             "make it readable, e.g. chmod -R a+rX on the class folder)",
+            reason=NO_RIGHT,
         )
     if exc.errno == errno.ENOENT:
         return ReadFailed(GONE, f"{shown} is no longer there (moved or deleted during grading)")
-    return ReadFailed(REFUSED, f"{shown} cannot be read ({os.strerror(exc.errno or 0)})")
+    return ReadFailed(
+        REFUSED, f"{shown} cannot be read ({os.strerror(exc.errno or 0)})", reason=UNREADABLE
+    )
 
 
 def read_at(dirfd, rel, cap, links=False, who=""):
@@ -93,12 +104,13 @@ def read_at(dirfd, rel, cap, links=False, who=""):
         opened.append(fd)
         st = os.fstat(fd)
         if not stat.S_ISREG(st.st_mode):
-            raise ReadFailed(REFUSED, "not a regular file")
+            raise ReadFailed(REFUSED, "not a regular file", reason=NOT_A_FILE)
         if st.st_nlink > 1 and not links:
             raise ReadFailed(
                 REFUSED,
                 f"a hard link ({st.st_nlink} names for one file): a file linked in from "
                 "elsewhere is not read",
+                reason=HARD_LINK,
             )
         if st.st_size > cap:
             raise ReadFailed(TOO_LARGE, f"{st.st_size} bytes", st.st_size)
@@ -150,7 +162,8 @@ def serve(sock, who):
         except ReadFailed as exc:
             sock.send(
                 json.dumps(
-                    {"ok": False, "kind": exc.kind, "why": exc.why, "size": exc.size}
+                    {"ok": False, "kind": exc.kind, "why": exc.why, "size": exc.size,
+                     "reason": exc.reason}
                 ).encode()
             )
             continue

@@ -25,7 +25,7 @@ import zipfile
 from pathlib import Path
 
 from ._version import __version__
-from .api import DEFAULT_SEED, grade
+from .api import DEFAULT_SEED, grade_upload
 from .assignment import load_assignment
 from .notebook import MAX_NOTEBOOK_BYTES, _notebooks_in, _too_large, pick_notebook
 from .outputs import atomic_write
@@ -335,6 +335,10 @@ def gradescope_run(
 ) -> SubmissionResult:
     """Grade the notebook in ``submission`` and write Gradescope's ``results.json``.
 
+    The other files of the upload, below the notebook's folder (sub-folders kept), are in
+    the cells' working folder as in Jupyter, read as a student folder's files are
+    (:func:`rikingrade.api.grade_upload`); a file not given is named in the output, why.
+
     A submission that could not be graded (no sandbox could start, or a hidden test failed
     inside the grader) gets no ``results.json``: Gradescope then shows an autograder
     failure with no score, for the instructor to fix and rerun, instead of a 0. The reason
@@ -357,9 +361,10 @@ def gradescope_run(
     try:
         staged = _stage(work, data)
         try:
-            report = grade(
+            report = grade_upload(  # with the files handed in beside the notebook
                 a.source_path if a.source_path and str(assignment).endswith(".py") else assignment,
-                [staged],
+                staged,
+                nb,
                 work / "out",
                 workers=1,
                 seed=seed,
@@ -415,7 +420,8 @@ def _read_upload(
 
 
 def _stage(work: Path, data: bytes) -> Path:
-    """The upload's copy inside ``work``, readable by the grader's unprivileged file reader."""
+    """The upload's notebook copied inside ``work``, readable by the grader's unprivileged
+    file reader (the files beside it are read from the upload itself, when it runs)."""
     staged = work / "in" / "submission.ipynb"
     staged.parent.mkdir()
     os.chmod(staged.parent, 0o755)

@@ -26,6 +26,8 @@ import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .filereader import GONE, HARD_LINK, LINK, NO_RIGHT, NOT_A_FILE, TOO_LARGE, UNREADABLE
+from .i18n import N_, t
 from .studentfiles import ReadFailed, StudentFiles
 
 #: Files given to one notebook's cells at most (the rest are named in a note).
@@ -86,43 +88,60 @@ def beside(notebook: Path) -> list[tuple[str, Path]]:
     return out[: MAX_FILES + 1]
 
 
+def _why(exc: ReadFailed, file_cap: int) -> str:
+    """Why the safe reader did not give a file, in the feedback's language (the reader's
+    own English ``why`` when the refusal has no code)."""
+    if exc.kind == TOO_LARGE:
+        return t("larger than the {mib} MiB a file handed in may have ({size} bytes)",
+                 mib=file_cap // (1024 * 1024), size=exc.size)
+    if exc.kind == GONE:
+        return t("it was no longer there (moved or deleted during grading)")
+    words = {
+        LINK: N_("a symbolic link (or a folder on its path is one): links are not followed"),
+        HARD_LINK: N_("a hard link (several names for one file): a file linked in from "
+                      "elsewhere is not read"),
+        NOT_A_FILE: N_("not a regular file"),
+        NO_RIGHT: N_("it may not be read with the rights of whoever handed it in"),
+        UNREADABLE: N_("it could not be read"),
+    }
+    return t(words[exc.reason]) if exc.reason in words else exc.why
+
+
+def _not_given(name: str, why: str) -> str:
+    return t("{name}: not given to the notebook's cells: {why}", name=name, why=why)
+
+
 def read(files: StudentFiles, root: Path, listed: list[tuple[str, Path]],
          file_cap: int = MAX_FILE_BYTES) -> Handed:
     """The files ``listed`` (name, path below the submissions folder ``root``), read with
     the safe reader; each one refused, too large, beyond the count or the total cap is
-    left out with a note saying why."""
+    left out with a note saying why, in the feedback's language (:func:`rikingrade.i18n.t`:
+    call it inside the notebook's :func:`rikingrade.i18n.use`)."""
     out = Handed()
     file_cap = min(file_cap, MAX_FILE_BYTES)
     total = 0
     for i, (name, path) in enumerate(listed):
         if i >= MAX_FILES:
-            out.notes.append(
-                f"only the first {MAX_FILES} files handed in beside the notebook were given "
-                f"to its cells (more were found; {name} and the rest were not given)"
-            )
+            out.notes.append(t(
+                "only the first {count} files handed in beside the notebook were given to its "
+                "cells (more were found; {name} and the rest were not given)",
+                count=MAX_FILES, name=name))
             out.digests.append(f"more than {MAX_FILES}")
             break
         if not safe_name(name):
-            out.notes.append(f"{name!r}: not given to the notebook's cells: not a plain file name")
+            out.notes.append(_not_given(repr(name), t("not a plain file name")))
             out.digests.append(f"{name}\0bad name")
             continue
         try:
             data = files.read(root, path, file_cap)
         except ReadFailed as exc:
-            why = (
-                f"larger than the {file_cap // (1024 * 1024)} MiB a file handed in may have "
-                f"({exc.size} bytes)"
-                if exc.kind == "too-large"
-                else exc.why
-            )
-            out.notes.append(f"{name}: not given to the notebook's cells: {why}")
+            out.notes.append(_not_given(name, _why(exc, file_cap)))
             out.digests.append(f"{name}\0{exc.kind}\0{exc.size}")
             continue
         if total + len(data) > MAX_TOTAL_BYTES:
-            out.notes.append(
-                f"{name}: not given to the notebook's cells: the files handed in beside the "
-                f"notebook may have {MAX_TOTAL_BYTES // (1024 * 1024)} MiB together"
-            )
+            out.notes.append(_not_given(name, t(
+                "the files handed in beside the notebook may have {mib} MiB together",
+                mib=MAX_TOTAL_BYTES // (1024 * 1024))))
             out.digests.append(f"{name}\0total\0{len(data)}")
             continue
         total += len(data)

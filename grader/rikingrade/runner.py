@@ -31,7 +31,7 @@ import math
 import socket
 import time
 import traceback
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from .assignment import Assignment
 from .calllimits import CallLimits, backstop, cell_wall
@@ -164,13 +164,13 @@ class SubmissionRunner:
             result.elapsed = time.monotonic() - t0
             return result
         run = _Run(self, nb)
-        if sub.handed:
-            mb = self.opt.limits.max_file_mb
-            handed = sub.read_handed(mb * 1024 * 1024) if mb else sub.read_handed()
-            run.files, run.file_notes = handed.files, handed.notes
         result.language = nb.language
         try:
-            with use(nb.language):
+            with use(nb.language):  # the notes on files not given are feedback too
+                if sub.handed:
+                    mb = self.opt.limits.max_file_mb
+                    handed = sub.read_handed(mb * 1024 * 1024) if mb else sub.read_handed()
+                    run.files, run.file_notes = handed.files, handed.notes
                 run.execute(result)
         except SandboxUnavailable as exc:
             log.error("%s: sandbox failure: %s", sub.student, exc)
@@ -731,8 +731,12 @@ class _Run:
             )
         elif any(c.status == "error" for c in self.cells.values()) or self.unlisted.get("error"):
             status = CELL_ERRORS
-            first = [p for p in result.problems if p.startswith("code cell") and " raised " in p]
-            reasons.append(first[0] + (f" (and {len(first) - 1} more)" if len(first) > 1 else ""))
+            errors = {n: replace(c, notes=[]) for n, c in self.cells.items() if c.status == "error"}
+            first = cell_problems(errors, self.nb.cells)  # in the notebook's language
+            reasons.append(
+                (first[0] if first else "a code cell raised an error")
+                + (f" (and {len(first) - 1} more)" if len(first) > 1 else "")
+            )
         reasons += [
             missing_cause(f, self.functions, a.functions, self.nb.cells, self.cells)
             for f in missing

@@ -112,6 +112,7 @@ class _Helper:
                         head.get("kind", REFUSED),
                         str(head.get("why", "")),
                         int(head.get("size", 0)),
+                        str(head.get("reason", "")),
                     )
                 n = int(head["n"])
                 buf = bytearray(n)  # filled in place: one copy of a large notebook
@@ -184,7 +185,7 @@ class StudentFiles:
                 return filereader.read_at(dirfd, rel, cap, links)
             except ReadFailed as exc:
                 if exc.kind == DENIED:
-                    raise ReadFailed(REFUSED, exc.why) from None
+                    raise ReadFailed(REFUSED, exc.why, reason=exc.reason) from None
                 raise
         uid, gid, who, root_only = self._identity(dirfd, rel)
         try:
@@ -203,7 +204,7 @@ class StudentFiles:
                 # file (of one name) here, e.g. by unzipping as root a download whose
                 # entries say 0600. Read it as root, once more refusing links.
                 return filereader.read_at(dirfd, rel, cap, False)
-            raise ReadFailed(REFUSED, exc.why) from None
+            raise ReadFailed(REFUSED, exc.why, reason=exc.reason) from None
 
     def _identity(self, dirfd: int, rel: list[bytes]) -> tuple[int, int, str, bool]:
         """Whom to read ``rel`` as: the nearest folder owner that is not root, else a uid
@@ -291,7 +292,7 @@ def read_in_process(path: Path, cap: int) -> bytes:
         return filereader.read_at(dirfd, [os.fsencode(path.name)], cap)
     except ReadFailed as exc:
         if exc.kind == DENIED:
-            raise ReadFailed(REFUSED, exc.why) from None
+            raise ReadFailed(REFUSED, exc.why, reason=exc.reason) from None
         raise
     finally:
         os.close(dirfd)
