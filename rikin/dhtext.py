@@ -18,6 +18,24 @@
 Angles: a value with ``pi``/``π`` is radians, one marked ``°`` or ``deg`` degrees, a bare
 number degrees unless the column's header says ``(rad)``. Lengths are in the arm's units.
 A cell that cannot be read is refused naming its line, its column and how to write it.
+
+A joint its data sheet counts the other way (against the DH z axis: KUKA's A1, A4, A6;
+``direction=-1`` of :class:`~rikin.Link`) is written in one of three ways, once per row:
+
+* a ``direction`` (or ``dir``, ``sign``) column holding ``+1``/``-1`` (or ``+``/``-``);
+* a minus on the joint variable: ``-q1``, ``-θ2 + 90°``, ``-(q3 - 90°)`` in the theta
+  column of a revolute joint (theta = -q + offset), ``-d3`` or ``-q3 + 0.1`` in the d
+  column of a prismatic one (the variable appears once, times +1 or -1);
+* in rows of numbers, the type followed by a minus: ``R- 0.4 0.18 -90`` (``P-`` for a
+  prismatic joint). A trailing column cannot say it: ``R 0 1 0 -1`` is an offset of -1°.
+
+A header may also give the data sheet's joint limits as printed, in its joints' own
+direction (so a reversed joint's limits keep their printed signs): ``min`` and ``max``
+(or ``lower``/``upper``) columns, or one ``limits`` (``range``) column written
+``-170..170``, ``±170`` or ``-170 to 170`` (``|`` tables), ``none`` for a joint without;
+degrees unless the header says ``(rad)``, the arm's units for a prismatic joint. They
+become :attr:`rikin.Link.qlim`: ``arm.ik(T, within_limits=True)`` keeps the solutions the
+data sheet allows, and the DH panel shows only those (saying how many it left out).
 """
 
 from __future__ import annotations
@@ -44,12 +62,26 @@ COLUMNS = {
     "θ0": "offset", "theta0": "offset", "type": "type", "jointtype": "type", "kind": "type",
     "rp": "type", "r/p": "type", "i": "index", "joint": "index", "link": "index",
     "#": "index", "n": "index", "j": "index", "axis": "index", "no.": "index", "no": "index",
+    "direction": "direction", "dir": "direction", "sign": "direction", "dir.": "direction",
+    "min": "min", "max": "max", "lower": "min", "upper": "max", "qmin": "min", "qmax": "max",
+    "lowerlimit": "min", "upperlimit": "max", "min.": "min", "max.": "max",
+    "limits": "limits", "limit": "limits", "range": "limits", "qlim": "limits",
+    "jointlimits": "limits", "jointrange": "limits", "motionrange": "limits",
 }
 ANGLES = ("theta", "alpha", "offset")
 #: How to write a value, said when one cannot be read.
 HOW = {"angle": "a number of degrees (90, -90°, 90 deg) or radians with pi (pi/2, -π/2)",
        "length": "a number in the arm's units (0.4318, 431.8; 1e-3)",
-       "type": "R (revolute) or P (prismatic)"}
+       "type": "R (revolute) or P (prismatic), R- or P- for a joint counted the other way",
+       "direction": "+1 or -1 (also + or -): -1 where the data sheet counts the joint "
+                    "against the DH z axis",
+       "limits": "lower..upper as printed (-170..170), ±170, or none",
+       "variable": "the joint variable once, plus or minus: q3, -q3, -θ3 + 90°, -(q3 - 90°)"}
+#: A joint's direction as a direction cell or a type's suffix writes it.
+_DIRECTIONS = {"+": 1, "+1": 1, "1": 1, "1.0": 1, "+1.0": 1, "-": -1, "-1": -1, "-1.0": -1}
+_DASHES = str.maketrans({"−": "-", "–": "-", "—": "-"})
+#: No limit on that side (a limits, min or max cell).
+_NO_LIMIT = ("none", "-", "n/a", "free", "")
 
 _DECIMAL_COMMA = re.compile(r"^[-+]?\d+,\d+$")
 _SEPARATOR_ROW = re.compile(r"^\s*\|?\s*:?-{2,}:?\s*(\|\s*:?-{2,}:?\s*)*\|?\s*$")
@@ -68,21 +100,24 @@ def _normalise(text: str) -> str:
     return t.replace("°", "*DEG")
 
 
-def _evaluate(node: ast.AST) -> float:
-    """An arithmetic expression of numbers, pi and DEG; anything else is refused."""
+def _evaluate(node: ast.AST, q: float | None = None) -> float:
+    """An arithmetic expression of numbers, pi and DEG (and the joint variable QVAR,
+    worth ``q``, when ``q`` is given); anything else is refused."""
     if isinstance(node, ast.Expression):
-        return _evaluate(node.body)
+        return _evaluate(node.body, q)
+    if isinstance(node, ast.Name) and node.id == "QVAR" and q is not None:
+        return q
     if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) and not \
             isinstance(node.value, bool):
         return float(node.value)
     if isinstance(node, ast.Name) and node.id in ("pi", "DEG"):
         return math.pi if node.id == "pi" else math.pi / 180.0
     if isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.UAdd, ast.USub)):
-        v = _evaluate(node.operand)
+        v = _evaluate(node.operand, q)
         return -v if isinstance(node.op, ast.USub) else v
     if isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Add, ast.Sub, ast.Mult,
                                                             ast.Div)):
-        left, right = _evaluate(node.left), _evaluate(node.right)
+        left, right = _evaluate(node.left, q), _evaluate(node.right, q)
         ops = {ast.Add: left + right, ast.Sub: left - right, ast.Mult: left * right}
         if isinstance(node.op, ast.Div):
             if right == 0:
@@ -132,9 +167,14 @@ def _is_number(token: str) -> bool:
 def _glue_operators(parts: list[str]) -> list[str]:
     """Rejoin an expression that spaces cut: ``q2 + 90°`` or ``pi / 2`` is one cell."""
     out: list[str] = []
-    for part in parts:
+    for k, part in enumerate(parts):
+        last = k == len(parts) - 1
         if out and re.fullmatch(r"(?i)°|deg|degrees?|rad|radians?", part):
             out[-1] += part  # a unit after its number: 90 deg
+        elif out and _is_type(out[-1]) and _is_type(out[-1])[1] != 1:
+            out.append(part)  # R- 0.4 ...: the type of a reversed joint, then a number
+        elif last and part in ("+", "-", "−"):
+            out.append(part)  # a direction cell at the end of the row
         elif out and (part in ("+", "-", "*", "/") or out[-1][-1:] in ("+", "*", "/")
                     or (out[-1].endswith("-") and len(out[-1]) > 1)):
             out[-1] += part
@@ -198,12 +238,15 @@ def _header(tokens: list[str]) -> list[tuple[str, str]] | None:
     if any(c is None for c, _ in named):
         unknown = [t for t, (c, _) in zip(tokens, named, strict=True) if c is None]
         raise InputError(f"DH table header: column {unknown[0]!r} is not one rikin knows; name "
-                         "the columns theta (θ, q), d, a, alpha (α), offset, type (R or P) "
-                         "or joint (its number)")
+                         "the columns theta (θ, q), d, a, alpha (α), offset, type (R or P), "
+                         "joint (its number), direction (+1 or -1), min and max or limits")
     cols = [c for c, _ in named]
     dup = [c for c in set(cols) if cols.count(c) > 1 and c != "index"]
     if dup:
         raise InputError(f"DH table header: two columns are {dup[0]!r}")
+    if "limits" in cols and ("min" in cols or "max" in cols):
+        raise InputError("DH table header: a limits column and min/max columns say the same "
+                         "thing: keep one (limits as -170..170, or min and max)")
     return [(c, u) for c, u in named if c is not None]
 
 
@@ -233,31 +276,64 @@ def _read(cell: _Cell, token: str, kind: str, column_unit: str = "") -> float:
     return v.number if column_unit == "rad" else math.radians(v.number)
 
 
-def _variable(token: str) -> tuple[bool, str]:
-    """Whether a theta or d cell holds the joint variable, and the cell without it."""
+def _is_type(token: str) -> tuple[str, int] | None:
+    """A joint type cell, ``R``, ``P``, ``R-`` or ``P+`` (any case), as (type, direction);
+    None for anything else."""
+    m = re.fullmatch(r"([RrPp])\s*([-+−–]?)", token.strip())
+    if not m:
+        return None
+    return m.group(1).upper(), -1 if m.group(2) and m.group(2) != "+" else 1
+
+
+def _variable(token: str) -> tuple[bool, str, int]:
+    """Whether a theta or d cell holds the joint variable, the cell without it (the
+    variable read as 0: the offset) and the variable's sign (``-q3`` is -1).
+
+    Raises
+    ------
+    ValueError
+        The variable is not there once, times +1 or -1 (``2*q3``, ``q3 - q3``), with why.
+    """
     m = _VARIABLE.search(token)
     if not m:
-        return False, token
+        return False, token, 1
     rest = (token[:m.start()] + "0" + token[m.end():]).strip()
-    return True, rest
+    if _VARIABLE.search(token, m.end()):
+        raise ValueError("the joint variable is there twice")
+    expr = _normalise(token[:m.start()] + "QVAR" + token[m.end():])
+    try:
+        tree = ast.parse(expr, mode="eval")
+        f0, f1, f2 = (_evaluate(tree, q) for q in (0.0, 1.0, 2.0))
+    except (ValueError, SyntaxError, TypeError, RecursionError, OverflowError):
+        return True, rest, 1  # not arithmetic: reading the rest says what is wrong
+    slope = f1 - f0
+    # the variable inside a degree mark, (q2 + 90)°, counts in degrees: slope pi/180
+    unit = 1.0 if abs(abs(slope) - 1.0) < 1e-12 else math.pi / 180
+    if abs(abs(slope) - unit) > 1e-12 * unit or abs(f2 - f0 - 2 * slope) > 1e-12:
+        raise ValueError(f"the joint variable is multiplied by {slope / unit:g}")
+    return True, rest, 1 if slope > 0 else -1
 
 
-def _typed_row(cell: _Cell, values: dict[str, str], units: dict[str, str]) -> Link:
-    """One row of a table with a header: its joint type from the type column or from
-    where its joint variable is."""
-    theta_var, theta = _variable(values.get("theta", "0"))
-    d_var, d = _variable(values.get("d", "0")) if "d" in values else (False, "0")
-    joint = values.get("type", "").strip().upper()[:1]
-    if joint and joint not in ("R", "P"):
+def _joint_of(cell: _Cell, values: dict[str, str], theta_var: bool,
+              d_var: bool) -> tuple[str, int]:
+    """The joint type, from the type column or from where the joint variable is, and the
+    direction the type says (``R-`` is -1, anything else +1)."""
+    typed = values.get("type", "").strip()
+    kind = _is_type(typed) if typed else None
+    if typed and kind is None and typed.isalpha() and typed[:1].upper() in ("R", "P"):
+        kind = (typed[:1].upper(), 1)  # revolute, prismatic
+    if typed and kind is None:
         raise _Cell(cell.line, cell.raw, "type").fail(f"{values['type']!r}", "type")
-    if not joint and "theta" not in values:
-        joint = "R"  # no theta column and no type: revolute, as in the plain rows
-    if not joint:
-        if not theta_var and not d_var:
-            raise cell.fail("no joint variable", "the joint variable (q3, θ3) in theta for a "
-                            "revolute joint or in d for a prismatic one, or add a type column "
-                            "(R or P)")
-        joint = "R" if theta_var else "P"
+    if kind is not None:
+        joint, sign = kind
+    elif "theta" not in values:
+        joint, sign = "R", 1  # no theta column and no type: revolute, as in the plain rows
+    elif not theta_var and not d_var:
+        raise cell.fail("no joint variable", "the joint variable (q3, θ3) in theta for a "
+                        "revolute joint or in d for a prismatic one, or add a type column "
+                        "(R or P)")
+    else:
+        joint, sign = ("R" if theta_var else "P"), 1
     if joint == "R" and d_var:
         raise _Cell(cell.line, cell.raw, "d").fail(
             f"{values['d']!r}, a symbol", "its value, a number in the arm's units (this "
@@ -266,6 +342,100 @@ def _typed_row(cell: _Cell, values: dict[str, str], units: dict[str, str]) -> Li
         raise _Cell(cell.line, cell.raw, "theta").fail(
             f"{values['theta']!r}, a symbol", "its fixed angle, e.g. 0 or 90° (a prismatic "
             "joint's variable is in d)")
+    return joint, sign
+
+
+def _direction_of(cell: _Cell, values: dict[str, str], marks: dict[str, int]) -> int:
+    """The joint's direction from the one place that says it: the direction column, a
+    minus on the joint variable (``marks["theta"]``/``marks["d"]``) or the type (``R-``).
+    Two places saying it is refused: two minuses would cancel, a ``+1`` and a ``-q3``
+    contradict."""
+    said = {col: s for col, s in marks.items() if s < 0}
+    if "direction" in values:
+        token = values["direction"].strip().translate(_DASHES).replace(" ", "")
+        if token not in _DIRECTIONS:
+            raise _Cell(cell.line, cell.raw, "direction").fail(f"{values['direction']!r}",
+                                                                "direction")
+        if said:
+            col = next(iter(said))
+            raise _Cell(cell.line, cell.raw, "direction").fail(
+                f"{values['direction']!r} while {col} is {values[col]!r}",
+                "the direction once: -1 in the direction column and q3 (not -q3) in "
+                "theta, or -q3 and no direction column (two minuses would cancel)")
+        return _DIRECTIONS[token]
+    if len(said) > 1:
+        first, second = list(said)
+        raise _Cell(cell.line, cell.raw, second).fail(
+            f"{values[second]!r} while {first} is {values[first]!r}",
+            "the direction once: R- with q3 (not -q3), or R with -q3")
+    return -1 if said else 1
+
+
+def _bound(cell: _Cell, token: str, kind: str, unit: str, default: float) -> float:
+    """One joint limit; ``default`` (an infinity) for ``none``."""
+    t = token.strip().translate(_DASHES).lower()
+    if t in _NO_LIMIT or t.lstrip("+-") in ("inf", "∞", "infinity"):
+        return default
+    return _read(cell, token, kind, unit)
+
+
+def _range(cell: _Cell, token: str, kind: str, unit: str) -> tuple[float, float]:
+    """A limits cell: ``-170..170``, ``-170 to 170``, ``±170``, or ``none``."""
+    t = token.strip()
+    for plus_minus in ("±", "+/-", "+-"):
+        if t.startswith(plus_minus):
+            v = _bound(cell, t[len(plus_minus):], kind, unit, math.inf)
+            if v < 0:
+                raise cell.fail(f"{token!r}", "limits")
+            return -v, v
+    if t.lower().translate(_DASHES) in _NO_LIMIT:
+        return -math.inf, math.inf
+    parts = re.split(r"\s*(?:\.\.\.?|…|\s+to\s+|(?<=[0-9°)])\s*[–—]\s*)\s*", t)
+    if len(parts) != 2:
+        raise cell.fail(f"{token!r}", "limits")
+    return (_bound(cell, parts[0], kind, unit, -math.inf),
+            _bound(cell, parts[1], kind, unit, math.inf))
+
+
+def _limits_of(cell: _Cell, values: dict[str, str], joint: str,
+               units: dict[str, str]) -> tuple[float, float] | None:
+    """The joint's limits as the data sheet prints them (``limits``, or ``min`` and
+    ``max`` columns), radians for a revolute joint; None when the table gives none."""
+    if not {"limits", "min", "max"} & set(values):
+        return None
+    kind = "angle" if joint == "R" else "length"
+
+    def at(col: str) -> _Cell:
+        return _Cell(cell.line, cell.raw, col)
+
+    if "limits" in values:
+        lo, hi = _range(at("limits"), values["limits"], kind, units.get("limits", ""))
+    else:
+        lo = _bound(at("min"), values.get("min", "none"), kind, units.get("min", ""),
+                    -math.inf)
+        hi = _bound(at("max"), values.get("max", "none"), kind, units.get("max", ""),
+                    math.inf)
+    if lo > hi:
+        col = "limits" if "limits" in values else "min"
+        raise at(col).fail(f"a lower limit above the upper one ({values[col]!r})", "limits")
+    return None if math.isinf(lo) and math.isinf(hi) else (lo, hi)
+
+
+def _typed_row(cell: _Cell, values: dict[str, str], units: dict[str, str]) -> Link:
+    """One row of a table with a header: its joint type from the type column or from
+    where its joint variable is; its direction and limits when the table gives them."""
+    read: dict[str, tuple[bool, str, int]] = {}
+    for col in ("theta", "d"):
+        try:
+            read[col] = _variable(values[col]) if col in values else (False, "0", 1)
+        except ValueError as exc:
+            raise _Cell(cell.line, cell.raw, col).fail(
+                f"{values[col]!r}: {exc}", "variable") from None
+    (theta_var, theta, theta_sign), (d_var, d, d_sign) = read["theta"], read["d"]
+    joint, type_sign = _joint_of(cell, values, theta_var, d_var)
+    direction = _direction_of(cell, values, {"type": type_sign, "theta": theta_sign,
+                                             "d": d_sign})
+    qlim = _limits_of(cell, values, joint, units)
 
     def angle(col: str, token: str) -> float:
         return _read(_Cell(cell.line, cell.raw, col), token, "angle", units.get(col, ""))
@@ -278,37 +448,50 @@ def _typed_row(cell: _Cell, values: dict[str, str], units: dict[str, str]) -> Li
     extra = values.get("offset")
     if joint == "R":
         offset = angle("theta", theta) + (angle("offset", extra) if extra else 0.0)
-        return Link("R", d=length("d", d), a=a, alpha=alpha, offset=offset)
+        return _link(cell, "R", d=length("d", d), a=a, alpha=alpha, offset=offset,
+                     direction=direction, qlim=qlim)
     offset = length("d", d) if d_var else 0.0
     d_fixed = 0.0 if d_var else length("d", d)
     offset += length("offset", extra) if extra else 0.0
-    return Link("P", d=d_fixed, a=a, alpha=alpha, offset=offset, theta=angle("theta", theta))
+    return _link(cell, "P", d=d_fixed, a=a, alpha=alpha, offset=offset,
+                 theta=angle("theta", theta), direction=direction, qlim=qlim)
+
+
+def _link(cell: _Cell, joint: str, **fields: Any) -> Link:
+    """``Link(joint, **fields)``; what it refuses is said with the row's line."""
+    try:
+        return Link(joint, **fields)  # type: ignore[arg-type]
+    except InputError as exc:
+        raise InputError(f"DH table line {cell.line} ({cell.raw!r}): {exc}") from None
 
 
 def _plain_row(cell: _Cell, tokens: list[str]) -> Link:
-    """One row of numbers: ``[type] d a alpha [offset]``."""
-    joint = "R"
-    if tokens[0].upper() in ("R", "P"):
-        joint, tokens = tokens[0].upper(), tokens[1:]
+    """One row of numbers: ``[type] d a alpha [offset]``, the type ``R-`` or ``P-`` for a
+    joint its data sheet counts the other way."""
+    joint, direction = "R", 1
+    kind = _is_type(tokens[0])
+    if kind is not None:
+        (joint, direction), tokens = kind, tokens[1:]
     if not 3 <= len(tokens) <= 4:
         raise InputError(
             f"DH table line {cell.line} ({cell.raw!r}): expected 'type d a alpha offset' "
-            f"(3 or 4 numbers after R or P), got {len(tokens)} values; or name the columns "
-            "in a header row (theta d a alpha, in any order)")
+            f"(3 or 4 numbers after R or P; R- or P- for a joint its data sheet counts the "
+            f"other way), got {len(tokens)} values; or name the columns in a header row "
+            "(theta d a alpha, in any order; direction and limits too)")
     names = ("d", "a", "alpha", "offset")
     values = dict(zip(names, tokens, strict=False))
     kinds = {"d": "length", "a": "length", "alpha": "angle",
              "offset": "angle" if joint == "R" else "length"}
     v = {k: _read(_Cell(cell.line, cell.raw, k), t, kinds[k]) for k, t in values.items()}
-    return Link("P" if joint == "P" else "R", d=v["d"], a=v["a"], alpha=v["alpha"],
-                offset=v.get("offset", 0.0))
+    return _link(cell, joint, d=v["d"], a=v["a"], alpha=v["alpha"],
+                 offset=v.get("offset", 0.0), direction=direction)
 
 
 def _map_row(cell: _Cell, tokens: list[str],
              header: list[tuple[str, str]]) -> dict[str, str]:
     """The cells of a row by column name (a row may leave out the type, or the offset)."""
     cols = [c for c, _ in header]
-    if len(tokens) == len(cols) - 1 and "type" in cols and tokens[0].upper() not in ("R", "P"):
+    if len(tokens) == len(cols) - 1 and "type" in cols and _is_type(tokens[0]) is None:
         cols = [c for c in cols if c != "type"]
     elif len(tokens) == len(cols) - 1 and cols[-1] == "offset":
         cols = cols[:-1]
@@ -370,7 +553,8 @@ def arm_from_table(text: str, convention: str = "standard", units: str = "",
             continue
         if not links and header is None:
             header = _header(tokens)
-            if header is not None or not any(_is_number(t) or _variable(t)[0] for t in tokens):
+            if header is not None or not any(_is_number(t) or _VARIABLE.search(t)
+                                                   for t in tokens):
                 continue  # a header row (or a line of words before the table)
         cell = _Cell(number, raw.strip(), "")
         if header is not None:
