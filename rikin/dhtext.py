@@ -171,7 +171,7 @@ def _glue_operators(parts: list[str]) -> list[str]:
         last = k == len(parts) - 1
         if out and re.fullmatch(r"(?i)°|deg|degrees?|rad|radians?", part):
             out[-1] += part  # a unit after its number: 90 deg
-        elif out and _is_type(out[-1]) and _is_type(out[-1])[1] != 1:
+        elif out and (_is_type(out[-1]) or ("", 1))[1] != 1:
             out.append(part)  # R- 0.4 ...: the type of a reversed joint, then a number
         elif last and part in ("+", "-", "−"):
             out.append(part)  # a direction cell at the end of the row
@@ -261,8 +261,17 @@ class _Cell:
                           f"{what}: write {HOW[how] if how in HOW else how}")
 
 
+def _no_lone_sign(cell: _Cell, token: str, kind: str) -> None:
+    """Refuse a cell that is a sign alone (``-``), saying how a reversed joint is written."""
+    if token.strip().translate(_DASHES) in ("-", "+"):
+        raise cell.fail(f"{token!r}, a sign on no number", f"{HOW[kind]}; a joint its data "
+                        "sheet counts the other way is -q3 in theta (-d3 in d for a prismatic "
+                        "joint), -1 in a direction column or the type R-")
+
+
 def _read(cell: _Cell, token: str, kind: str, column_unit: str = "") -> float:
     """A length or an angle (radians) from one cell."""
+    _no_lone_sign(cell, token, kind)
     try:
         v = _table_value(token)
     except (ValueError, SyntaxError, TypeError, RecursionError, OverflowError):
@@ -308,7 +317,7 @@ def _variable(token: str) -> tuple[bool, str, int]:
         return True, rest, 1  # not arithmetic: reading the rest says what is wrong
     slope = f1 - f0
     # the variable inside a degree mark, (q2 + 90)°, counts in degrees: slope pi/180
-    unit = 1.0 if abs(abs(slope) - 1.0) < 1e-12 else math.pi / 180
+    unit = 1.0 if abs(abs(slope) - 1.0) < abs(abs(slope) - math.pi / 180) else math.pi / 180
     if abs(abs(slope) - unit) > 1e-12 * unit or abs(f2 - f0 - 2 * slope) > 1e-12:
         raise ValueError(f"the joint variable is multiplied by {slope / unit:g}")
     return True, rest, 1 if slope > 0 else -1
@@ -329,9 +338,9 @@ def _joint_of(cell: _Cell, values: dict[str, str], theta_var: bool,
     elif "theta" not in values:
         joint, sign = "R", 1  # no theta column and no type: revolute, as in the plain rows
     elif not theta_var and not d_var:
-        raise cell.fail("no joint variable", "the joint variable (q3, θ3) in theta for a "
-                        "revolute joint or in d for a prismatic one, or add a type column "
-                        "(R or P)")
+        raise _Cell(cell.line, cell.raw, "theta").fail(
+            "no joint variable", "the joint variable (q3, θ3) in theta for a revolute joint "
+            "or in d for a prismatic one, or add a type column (R or P)")
     else:
         joint, sign = ("R" if theta_var else "P"), 1
     if joint == "R" and d_var:
@@ -426,6 +435,8 @@ def _typed_row(cell: _Cell, values: dict[str, str], units: dict[str, str]) -> Li
     where its joint variable is; its direction and limits when the table gives them."""
     read: dict[str, tuple[bool, str, int]] = {}
     for col in ("theta", "d"):
+        _no_lone_sign(_Cell(cell.line, cell.raw, col), values.get(col, "0"),
+                      "angle" if col == "theta" else "length")
         try:
             read[col] = _variable(values[col]) if col in values else (False, "0", 1)
         except ValueError as exc:
