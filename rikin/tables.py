@@ -23,7 +23,8 @@ from typing import Any
 
 import numpy as np
 
-from ._validate import as_count, as_text
+from ._validate import as_count, as_flag, as_text
+from .dh import check_arm
 from .errors import InputError
 from .i18n import branch_name, phrase, word
 from .ik.result import IKResult
@@ -143,7 +144,7 @@ def table(header: Sequence[str], rows: Any, decimals: int = 4, caption: str | No
 
 
 def solutions_table(result: IKResult, decimals: int = 4, caption: str | None = None,
-                    units: str = "") -> Table:
+                    units: str = "", arm: Any = None) -> Table:
     """Every solution of an IK result: number, branch, joint values (degrees for revolute).
 
     Parameters
@@ -153,7 +154,12 @@ def solutions_table(result: IKResult, decimals: int = 4, caption: str | None = N
     caption : str, optional
         Default: none; a singular result says so in the caption.
     units : str
-        Length units of the prismatic joints, for their column headers.
+        Length units of the prismatic joints, for their column headers (default: the
+        arm's units when ``arm`` is given).
+    arm : rikin.SerialArm, optional
+        The arm solved. With it, the header of a joint its data sheet counts against the
+        DH z axis (``direction=-1``) says so: ``q1 (°, −z)``; the values are the data
+        sheet's ``q`` either way.
 
     Returns
     -------
@@ -166,9 +172,10 @@ def solutions_table(result: IKResult, decimals: int = 4, caption: str | None = N
     caption = as_text(caption, "caption", optional=True)
     qd = result.degrees()
     n = qd.shape[1] if qd.ndim == 2 else len(result.revolute)
-    suffix = f" ({units})" if units else ""
-    header = ["#", word("branch")] + [f"q{j + 1} (°)" if r else f"q{j + 1}{suffix}"
-                                 for j, r in zip(range(n), result.revolute, strict=True)]
+    directions = _directions(arm, n)
+    units = units or (arm.units if arm is not None else "")
+    header = ["#", word("branch")] + [_q_header(j, bool(r), units, int(s)) for j, r, s in
+                                      zip(range(n), result.revolute, directions, strict=True)]
     rows = [[i + 1, branch_name(lab), *map(float, q)]
             for i, (lab, q) in enumerate(zip(result.labels, qd, strict=True))]
     if caption is None and result.singular:
@@ -177,7 +184,33 @@ def solutions_table(result: IKResult, decimals: int = 4, caption: str | None = N
     return Table(header, rows, decimals, caption)
 
 
-def dh_table(arm: Any, decimals: int = 4) -> Table:
+def _directions(arm: Any, n: int) -> np.ndarray:
+    """Each joint's direction (+1 or -1) of ``arm``, shape ``(n,)``; all +1 without one."""
+    if arm is None:
+        return np.ones(n, dtype=np.int64)
+    check_arm(arm)
+    if arm.n != n:
+        raise InputError(f"arm has {arm.n} joints, the result {n}: give the arm solved")
+    return np.asarray(arm.directions)
+
+
+def _q_header(j: int, revolute: bool, units: str, direction: int) -> str:
+    """A joint column's header: ``q2 (°)``, ``q3 (mm)``, ``q1 (°, −z)`` when reversed."""
+    inside = [u for u in ("°" if revolute else units, "−z" if direction < 0 else "") if u]
+    return f"q{j + 1} ({', '.join(inside)})" if inside else f"q{j + 1}"
+
+
+def _limits_cell(lk: Any, deg: Any, length: Any) -> str:
+    """A joint's limits as the data sheet prints them (its ``q``), or ``—`` for none."""
+    lim = getattr(lk, "qlim", None)
+    if lim is None:
+        return "—"
+    show = deg if lk.is_revolute else length
+    lo, hi = (show(v) if np.isfinite(v) else ("−∞" if v < 0 else "∞") for v in lim)
+    return f"{lo} … {hi}"
+
+
+def dh_table(arm: Any, decimals: int = 4, limits: bool = False) -> Table:
     """An arm's DH table: one row per joint, angles in degrees, the joint variable by name.
 
     The HTML counterpart of ``arm.dh_table()`` (aligned text, angles in radians): columns
@@ -192,6 +225,9 @@ def dh_table(arm: Any, decimals: int = 4) -> Table:
     decimals : int
         Most decimals of a length, shown without trailing zeros (angles: 4 significant
         digits).
+    limits : bool
+        Add a column of the joint limits, as the data sheet prints them (``q``'s, so a
+        reversed joint's as printed too).
 
     Returns
     -------
@@ -201,6 +237,7 @@ def dh_table(arm: Any, decimals: int = 4) -> Table:
     if links is None or not hasattr(arm, "convention"):
         raise InputError(f"arm must be a rikin.SerialArm, got {type(arm).__name__}")
     decimals = _decimals(decimals)
+    limits = as_flag(limits, "limits")
     unit = f" ({arm.units})" if getattr(arm, "units", "") else ""
 
     def deg(x: Any) -> str:
@@ -221,5 +258,11 @@ def dh_table(arm: Any, decimals: int = 4) -> Table:
         d = length(lk.d) if lk.is_revolute else f"{qi} + {length(lk.d)}"
         cells = ([deg(lk.alpha), length(lk.a), theta, d] if modified
                  else [theta, d, length(lk.a), deg(lk.alpha)])
-        rows.append([i, lk.joint, *cells, deg(lk.offset)])
+        rows.append([i, lk.joint, *cells, deg(lk.offset)]
+                    + ([_limits_cell(lk, deg, length)] if limits else []))
+    if limits:
+        kinds = [u for u, there in (("°", any(lk.is_revolute for lk in links)),
+                                    (arm.units, not all(lk.is_revolute for lk in links)))
+                 if u and there]
+        header.append(f"{word('limits')} ({', '.join(kinds)})" if kinds else word("limits"))
     return Table(header, rows, decimals)
