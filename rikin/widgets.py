@@ -375,7 +375,7 @@ class IKPanel:
         from .tables import solutions_table
 
         return (f"<p><b>{html.escape(st.message)}</b></p>"
-                + solutions_table(st.result)._repr_html_())
+                + solutions_table(st.result, arm=self.arm)._repr_html_())
 
     def still_html(self) -> str:
         """The panel as it looks now, without widgets: the target, the solutions, the drawing."""
@@ -581,6 +581,22 @@ R      0.09465   0         -90   0
 R      0.0823    0           0   0
 """, "convention": "standard", "units": "m", "tool": "0 0 0",
         "target": "30 -60 80 -110 -90 20"},
+    # KUKA KR 5 arc (metres), its axes A1..A6 as KUKA's controller counts them: A1, A4 and
+    # A6 turn against this table's z axes (-q), the limits as KUKA's data sheet prints
+    # them; the same arm as rikin.robots.kuka_kr5_arc (checked there against
+    # ROS-Industrial's kuka_kr5_support model), its flange frame KUKA's $FLANGE.
+    "KUKA KR 5 arc (as KUKA counts A1-A6)": {"table": """\
+# KUKA KR 5 arc: A1, A4, A6 counted against z (-q); limits as printed
+| axis | θ        | d     | a    | α   | limits   |
+|------|----------|-------|------|-----|----------|
+| A1   | -q1      | 0.4   | 0.18 | -90 | ±155     |
+| A2   | q2       | 0     | 0.6  | 0   | -180..65 |
+| A3   | q3 - 90° | 0     | 0.12 | -90 | -15..158 |
+| A4   | -q4      | 0.62  | 0    | 90  | ±350     |
+| A5   | q5       | 0     | 0    | -90 | ±130     |
+| A6   | -q6      | 0.115 | 0    | 0   | ±350     |
+""", "convention": "standard", "units": "m", "tool": "0 0 0 0 0 90",
+        "target": "40 -80 100 20 60 -30"},
 }
 
 def _numbers(text: Any, count: int, what: str) -> FloatArray:
@@ -709,8 +725,8 @@ class DHPanel:
             return DHState(arm, verdict, None, None, f"The target cannot be read: {exc}")
         if not verdict.closed_form:
             return _numerical_state(arm, verdict, T, typed)
-        try:
-            res = arm.ik(T)
+        try:  # an arm with joint limits (typed as printed): the solutions they allow
+            res = arm.ik(T, within_limits=bool(np.isfinite(arm.qlim).any()))
         except UnreachableError as exc:
             return DHState(arm, verdict, T, None, f"Unreachable: {exc}", typed_q=typed)
         except RikinError as exc:
@@ -720,6 +736,8 @@ class DHPanel:
                      if len(res) == 1 else
                      "{n} solutions, each put back through FK: largest pose error {err}",
                      n=len(res), err=f"{err:.0e}")
+        if res.discarded:
+            msg += phrase("; {k} more outside the joint limits left out", k=res.discarded)
         if typed is not None:
             d = np.where(arm.revolute, np.abs(wrap_angle(res.q - typed)), np.abs(res.q - typed))
             hit = int(np.argmin(d.max(axis=1))) if len(res) else -1
@@ -731,18 +749,19 @@ class DHPanel:
         return DHState(arm, verdict, T, res, msg + ".", typed_q=typed)
 
     def html(self) -> str:
-        """The verdict, the status and the solutions as HTML."""
+        """The verdict, the status and the solutions as HTML (after the table as rikin read
+        it, when a joint is reversed or has limits)."""
         from .tables import solutions_table, table
 
         st = self.state
-        parts = []
+        parts = self._read_back()
         if st.verdict is not None:
             verdict = phrase("{verdict}", verdict=str(st.verdict))  # rikin's words, quoted
             parts.append(f"<p><b>classify:</b> {html.escape(verdict)}</p>")
         colour = "#b00" if st.result is None else "inherit"
         parts.append(f'<p style="color:{colour}">{html.escape(st.message)}</p>')
         if st.result is not None and len(st.result):
-            parts.append(solutions_table(st.result, decimals=1)._repr_html_())
+            parts.append(solutions_table(st.result, decimals=1, arm=st.arm)._repr_html_())
         elif st.numerical is not None and st.numerical.success and st.arm is not None:
             qd = np.where(st.arm.revolute, np.degrees(st.numerical.q), st.numerical.q)
             parts.append(table(["", *[f"q{j + 1}" for j in range(st.arm.n)]],
@@ -794,6 +813,19 @@ class DHPanel:
         return [f"<p><b>{html.escape(phrase('DH table'))}</b> {html.escape(said)}</p>",
                 f'<pre class="rikin-dh-table">{html.escape(str(inp["table"]).rstrip())}</pre>',
                 self.html()]
+
+    def _read_back(self) -> list[str]:
+        """The table as rikin read it, when that says more than the typed text can be
+        trusted to: which joints turn against their z axis (``−q1``) and the limits."""
+        from .tables import dh_table
+
+        arm = self.state.arm
+        if arm is None:
+            return []
+        limits = bool(np.isfinite(arm.qlim).any())
+        if not arm.reversed_joints and not limits:
+            return []
+        return [dh_table(arm, limits=limits)._repr_html_()]
 
     @staticmethod
     def _static_div(rows: list[str]) -> str:
