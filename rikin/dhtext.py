@@ -171,8 +171,8 @@ def _glue_operators(parts: list[str]) -> list[str]:
         last = k == len(parts) - 1
         if out and re.fullmatch(r"(?i)°|deg|degrees?|rad|radians?", part):
             out[-1] += part  # a unit after its number: 90 deg
-        elif out and (_is_type(out[-1]) or ("", 1))[1] != 1:
-            out.append(part)  # R- 0.4 ...: the type of a reversed joint, then a number
+        elif out and len(out[-1]) > 1 and _is_type(out[-1]) is not None:
+            out.append(part)  # R- 0.4 ...: the type with its direction, then a number
         elif last and part in ("+", "-", "−"):
             out.append(part)  # a direction cell at the end of the row
         elif out and (part in ("+", "-", "*", "/") or out[-1][-1:] in ("+", "*", "/")

@@ -885,6 +885,11 @@ def _api_cases() -> list[Case]:
         C("tables.solutions_table units", "units",
           lambda v: str(tables.solutions_table(res2, units=v)), "mm",
           fn=tables.solutions_table, **text),
+        C("tables.solutions_table arm", "arm",
+          lambda v: str(tables.solutions_table(res2, arm=v)), p2, accepts_none=True,
+          fn=tables.solutions_table, **obj),
+        C("tables.dh_table limits", "limits", lambda v: str(tables.dh_table(a6, limits=v)),
+          True, fn=tables.dh_table, **flag),
         # rikin.symbolic
         C("symbolic.dh_matrix theta", "theta", lambda v: symbolic.dh_matrix(v, 1, 2, 0.5),
           0.3, symbolic=True, fn=symbolic.dh_matrix),
