@@ -251,6 +251,13 @@ class PieperKernel:
               for w in (False, True)] for u in (False, True)]
             for f in (False, True)
         ]
+        #: what :meth:`_finish_orthogonal` reads, in one tuple: the twists of M1-M3, the
+        #: wrist's kappa, sigma and kappa pi, and the elbow label's tolerance times |up1|
+        #: (both constants of :meth:`_joint1_and_labels`, computed the same way)
+        self._ortho = (*self.x1, *self.x2, *self.x3, self.kappa, self.sigma, self.kappa * pi,
+                       self._j1[-1] * hypot(*self.up1))
+        self._near_axis1 = NEAR_AXIS1 * self.L
+        self._near2 = (NEAR * self.L) ** 2
 
     # ------------------------------------------------------------------ position
     def _th3_skew(self, px: float, py: float, pz: float) -> list[float] | None:
@@ -390,12 +397,12 @@ class PieperKernel:
         pz = g20 * wx + g21 * wy + g22 * wz + gt[2]
         L = self.L
         rho_p = hypot(px, py)
-        if rho_p < NEAR_AXIS1 * L:  # near axis 1: the shoulder singularity
+        if rho_p < self._near_axis1:  # near axis 1: the shoulder singularity
             return None
         # positions: (th2, th3, cos, sin of both, g)
         case = self.case
         g0, gc, gs = self.g0, self.gc, self.gs
-        near2 = (NEAR * L) ** 2
+        near2 = self._near2
         skew, meet = case == "skew", case == "meet"
         if self.planar:
             roots = self._th3_planar(px, py, pz)
@@ -441,11 +448,13 @@ class PieperKernel:
 
     def _finish(self, positions, px, py, r00, r01, r02, r10, r11, r12, r20, r21, r22):
         """Joint 1, the wrist and the labels of every position (see :meth:`solve`)."""
-        o1, o2, o3, o4, o5, o6 = self.offsets
         phi_p = atan2(py, px)
+        cols = self._goal_columns(r00, r01, r02, r10, r11, r12, r20, r21, r22)
+        if self.orthogonal:
+            return self._finish_orthogonal(positions, px, py, phi_p, cols)
+        o1, o2, o3, o4, o5, o6 = self.offsets
         rem, tau = remainder, _TAU
         ca3, sa3 = self.x3
-        cols = self._goal_columns(r00, r01, r02, r10, r11, r12, r20, r21, r22)
         q_out: list[float] = []
         branches: list[Branch] = []
         labels = self.labels
@@ -455,7 +464,7 @@ class PieperKernel:
                 return None
             th1, c1, s1, front, up = arm
             rw = self._wrist_columns(cols, c1, s1, c2, s2, c3, s3)
-            wrist = self._wrist_orthogonal(rw) if self.orthogonal else self._wrist_general(
+            wrist = self._wrist_general(
                 [(rw[i], ca3 * rw[i + 1] + sa3 * rw[i + 2], ca3 * rw[i + 2] - sa3 * rw[i + 1])
                  for i in (0, 3, 6)])
             if wrist is None:
@@ -469,6 +478,77 @@ class PieperKernel:
                 q_out += (a1, a2, a3, rem(th4 - o4, tau), q5, rem(th6 - o6, tau))
                 branches.append(labels[front][up][sq5 >= 0.0])
         # not max(map(abs, .)): a call of abs per value costs as much as the two passes
+        if not q_out or max(q_out) > WRAP_EDGE or min(q_out) < -WRAP_EDGE:
+            return None
+        return q_out, branches
+
+    def _finish_orthogonal(self, positions, px, py, phi_p, cols):
+        """:meth:`_finish` for an orthogonal wrist, with :meth:`_joint1_and_labels`,
+        :meth:`_wrist_columns` and :meth:`_wrist_orthogonal` written out in one loop: the
+        same operations in the same order (so the same floats), without a call, a tuple
+        and the constants' lookups per position, which took a third of the kernel's time."""
+        L, _, _, t1x, t1y, t2x, t2y, ux, uy, label_tol = self._j1
+        ca1s, sa1s, ca2, sa2, ca3, sa3, kappa, sigma, kpi, label_hn = self._ortho
+        (x0, y0, z0), (xb, yb, zb) = cols
+        o1, o2, o3, o4, o5, o6 = self.offsets
+        rem, tau, labels = remainder, _TAU, self.labels
+        q_out: list[float] = []
+        branches: list[Branch] = []
+        for th2, c2, s2, th3, c3, s3, gx, gy, gz in positions:
+            # joint 1 and the labels (_joint1_and_labels)
+            xp, yp = c2 * gx - s2 * gy, s2 * gx + c2 * gy
+            th1 = phi_p - atan2(ca1s * yp - sa1s * gz + t1y, xp + t1x)
+            c1, s1 = cos(th1), sin(th1)
+            fr = px * c1 + py * s1
+            if abs(fr) < label_tol:
+                return None
+            ex, ey = c2 * t2x - s2 * t2y, s2 * t2x + c2 * t2y
+            nl = xp * xp + yp * yp
+            el = ex * xp + ey * yp
+            across = abs(xp * uy - yp * ux)
+            span = sqrt(nl) + L
+            if across <= SINGULAR_TOL * span:
+                if abs(ex - el / nl * xp) < label_tol:
+                    return None
+                up = ex - el / nl * xp > 0.0
+            elif across < 1e-7 * span:
+                return None
+            else:
+                hu = ex * ux + ey * uy - el * (xp * ux + yp * uy) / nl
+                if abs(hu) < label_hn:
+                    return None
+                up = hu > 0.0
+            # the wrist's columns 0 and 2 (_wrist_columns), then R_w C^T (_wrist_orthogonal)
+            x1, y1 = c1 * x0 + s1 * y0, c1 * y0 - s1 * x0
+            y2, z2 = ca1s * y1 + sa1s * z0, ca1s * z0 - sa1s * y1
+            x3, y3 = c2 * x1 + s2 * y2, c2 * y2 - s2 * x1
+            y4, z4 = ca2 * y3 + sa2 * z2, ca2 * z2 - sa2 * y3
+            m00, y5 = c3 * x3 + s3 * y4, c3 * y4 - s3 * x3
+            x1, y1 = c1 * xb + s1 * yb, c1 * yb - s1 * xb
+            y2, z2 = ca1s * y1 + sa1s * zb, ca1s * zb - sa1s * y1
+            x3, y3 = c2 * x1 + s2 * y2, c2 * y2 - s2 * x1
+            y4, z4b = ca2 * y3 + sa2 * z2, ca2 * z2 - sa2 * y3
+            m02, y5b = c3 * x3 + s3 * y4, c3 * y4 - s3 * x3
+            m10, m20 = ca3 * y5 + sa3 * z4, ca3 * z4 - sa3 * y5
+            m12, m22 = ca3 * y5b + sa3 * z4b, ca3 * z4b - sa3 * y5b
+            if kappa < 0:  # C = diag(1, -1, -1)
+                m02, m12, m22 = -m02, -m12, -m22
+            sw = hypot(m02, m12)
+            if sw < NEAR:
+                return None
+            theta = sigma * atan2(sw, m22)
+            phi = atan2(m12, m02)
+            cp, sp = m02 / sw, m12 / sw
+            psi = kappa * atan2(cp * m10 - sp * m00, m22 * (cp * m00 + sp * m10) - sw * m20)
+            a1, a2, a3 = rem(th1 - o1, tau), rem(th2 - o2, tau), rem(th3 - o3, tau)
+            by_flip = labels[fr >= 0.0][up]
+            for th4, th5, th6 in ((phi, -theta, psi), (phi + pi, theta, psi + kpi)):
+                q5 = rem(th5 - o5, tau)
+                sq5 = sin(q5)
+                if abs(sq5) < LABEL:
+                    return None
+                q_out += (a1, a2, a3, rem(th4 - o4, tau), q5, rem(th6 - o6, tau))
+                branches.append(by_flip[sq5 >= 0.0])
         if not q_out or max(q_out) > WRAP_EDGE or min(q_out) < -WRAP_EDGE:
             return None
         return q_out, branches
