@@ -395,7 +395,6 @@ class PieperKernel:
         px = g00 * wx + g01 * wy + g02 * wz + gt[0]
         py = g10 * wx + g11 * wy + g12 * wz + gt[1]
         pz = g20 * wx + g21 * wy + g22 * wz + gt[2]
-        L = self.L
         rho_p = hypot(px, py)
         if rho_p < self._near_axis1:  # near axis 1: the shoulder singularity
             return None
