@@ -245,15 +245,19 @@ class PieperKernel:
         R4, R5 = model.M[4, :3, :3], model.M[5, :3, :3]  # Rx(b1), Rx(b2), exact zeros kept
         self.wbx = (float(R4[1, 1]), float(R4[2, 1]), float(R5[1, 1]), float(R5[2, 1]))
         self.offsets = tuple(float(o) for o in model.offsets)
+        self._loop_constants()
+
+    def _loop_constants(self) -> None:
+        """What :meth:`solve` and :meth:`_finish_orthogonal` read once per pose, in one
+        tuple: the twists of M1-M3, the wrist's kappa, sigma and kappa pi, and the elbow
+        label's tolerance times ``|up1|`` (a constant of :meth:`_joint1_and_labels`,
+        computed the same way); the thresholds near axes 1 and 2 times the arm's size."""
         #: ``labels[front][elbow up][sin(q5) >= 0]``: the Branch of a solution
         self.labels = [
             [[Branch("front" if f else "back", "up" if u else "down", "no-flip" if w else "flip")
               for w in (False, True)] for u in (False, True)]
             for f in (False, True)
         ]
-        #: what :meth:`_finish_orthogonal` reads, in one tuple: the twists of M1-M3, the
-        #: wrist's kappa, sigma and kappa pi, and the elbow label's tolerance times |up1|
-        #: (both constants of :meth:`_joint1_and_labels`, computed the same way)
         self._ortho = (*self.x1, *self.x2, *self.x3, self.kappa, self.sigma, self.kappa * pi,
                        self._j1[-1] * hypot(*self.up1))
         self._near_axis1 = NEAR_AXIS1 * self.L
