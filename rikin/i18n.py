@@ -142,6 +142,94 @@ _SPANISH_PHRASES = {
         "postura {err}",
     "; the joints you typed are solution {k} ({label})":
         "; las articulaciones que escribiste son la solución {k} ({label})",
+    ". Singular: {why}": ". Singular: «{why}»",
+    "The table cannot be read: {why}": "No se puede leer la tabla: {why}",
+    "the tool: {why}": "la herramienta: {why}",
+    "The target cannot be read: {why}": "No se puede leer el objetivo: {why}",
+    "Unreachable: {why}": "Inalcanzable: {why}",
+    "No solution: {why}": "Sin solución: {why}",
+    "classify:": "veredicto de classify:",
+    "No closed form: {why}{radians}.": "Sin forma cerrada: «{why}»{radians}.",
+    " rikin.ik.ik_numerical cannot take this arm: {why}":
+        " rikin.ik.ik_numerical no admite este brazo: {why}",
+    "it found one solution": "ha encontrado una solución",
+    "it did not converge ({why})": "no ha convergido ({why})",
+    (" rikin.ik.ik_numerical (Levenberg-Marquardt from a seeded start): {how}; "
+     "ik_numerical_multistart finds more, with no guarantee of all."):
+    (" rikin.ik.ik_numerical (Levenberg-Marquardt desde un punto de partida con semilla "
+     "fija): {how}; ik_numerical_multistart encuentra más, sin garantía de hallarlas todas."),
+    (" rikin.ik.ik_numerical (Levenberg-Marquardt from a seeded start, for the TCP "
+     "position): {how}; ik_numerical_multistart finds more, with no guarantee of all."):
+    (" rikin.ik.ik_numerical (Levenberg-Marquardt desde un punto de partida con semilla "
+     "fija, para la posición del TCP): {how}; ik_numerical_multistart encuentra más, sin "
+     "garantía de hallarlas todas."),
+    "row {row}'s {name} {value}": "{name} de la fila {row}, {value}",
+    (" ({found}: the panel reads a bare number as degrees, not radians; for a right angle "
+     "type 90 (or 90°, or pi/2))"):
+    (" ({found}: el panel lee un número sin unidad como grados, no como radianes; para un "
+     "ángulo recto escribe 90 (o 90°, o pi/2))"),
+    "{name}: ik_numerical's solution": "{name}: la solución de ik_numerical",
+    "{name}: the arm at q = 0": "{name}: el brazo en q = 0",
+    "every IK solution of the target, drawn":
+        "todas las soluciones de la cinemática inversa del objetivo, dibujadas",
+    # the DH panel's controls (rikin.widgets.DHPanel.widget): the values stay English
+    "your arm": "tu brazo",
+    "convention": "convención",
+    "name": "nombre",
+    "units": "unidades",
+    "tool": "herramienta",
+    "target as": "objetivo como",
+    "joints": "articulaciones",
+    "pose": "postura",
+    "target": "objetivo",
+    "x y z  or  x y z roll pitch yaw": "x y z  o  x y z roll pitch yaw",
+    "q1 ... q6 (deg)  or  x y z roll pitch yaw": "q1 ... q6 (°)  o  x y z roll pitch yaw",
+    "start from": "partir de",
+    "(your table)": "(tu tabla)",
+    "Epson C4 (modified DH)": "Epson C4 (DH modificado)",
+    "UR5 (no spherical wrist)": "UR5 (sin muñeca esférica)",
+    "Solve": "Resolver",
+    ("<b>Your own arm</b>: one row per joint, <code>type d a alpha offset</code> (R or P; "
+     "lengths in your units, angles in degrees or with pi: <code>-90</code>, "
+     "<code>-90°</code>, <code>-pi/2</code>), or paste a table with a header row naming "
+     "its columns in any order (<code>| joint | θ | d | a | α |</code>, joint variables "
+     "such as <code>q2 + 90°</code>); press Solve for every IK solution of the target, "
+     "drawn."):
+    ("<b>Tu propio brazo</b>: una fila por articulación, <code>type d a alpha offset</code> "
+     "(R o P; longitudes en tus unidades, ángulos en grados o con pi: <code>-90</code>, "
+     "<code>-90°</code>, <code>-pi/2</code>), o pega una tabla con una fila de cabecera que "
+     "nombre sus columnas en cualquier orden (<code>| joint | θ | d | a | α |</code>, "
+     "variables articulares como <code>q2 + 90°</code>); pulsa Resolver y verás dibujadas "
+     "todas las soluciones de la cinemática inversa del objetivo."),
+    # the comments of the tables the DH panel offers (rikin.widgets.EXAMPLES)
+    "KUKA KR5 (ARTE): m and degrees": "KUKA KR5 (ARTE): m y grados",
+    "Epson C4, the lab's arm: mm and degrees":
+        "Epson C4, el brazo del laboratorio: mm y grados",
+    "Universal Robots UR5: m and degrees": "Universal Robots UR5: m y grados",
+    # the pose panel and the teach pendant (rikin.widgets.IKPanel, TeachPanel)
+    "deg": "°",
+    "target {values}": "objetivo {values}",
+    "move the target; every IK solution is drawn with its branch":
+        "mueve el objetivo: cada solución de la cinemática inversa se dibuja con su rama",
+    "{n} solution": "{n} solución",
+    "{n} solutions": "{n} soluciones",
+    " (singular: {why})": " (singular: «{why}»)",
+    "; {k} more outside the joint limits": "; {k} más fuera de los límites articulares",
+    "no solution: {why}": "sin solución: {why}",
+    "out of reach by {excess}": "fuera de alcance por {excess}",
+    "out of reach": "fuera de alcance",
+    "{name}: target out of reach\n(the arm at q = 0 for scale)":
+        "{name}: objetivo fuera de alcance\n(el brazo en q = 0, como escala)",
+    "{name} at the sliders' joint values":
+        "{name} con los valores articulares de los deslizadores",
+    # a panel's still picture (rikin.widgets.STILL_NOTE)
+    ("A still picture of the live panel: this page cannot show widgets yet. After rikin's "
+     "first install, reload the page (F5), then run the notebook again (Run All): "
+     "JupyterLab and Jupyter Notebook load the widget support when a page opens."):
+    ("Imagen fija del panel interactivo: esta página aún no puede mostrar widgets. Tras la "
+     "primera instalación de rikin, recarga la página (F5) y vuelve a ejecutar el notebook "
+     "(Run All): JupyterLab y Jupyter Notebook cargan el soporte de widgets al abrir una "
+     "página."),
 }
 _PHRASES: dict[str, dict[str, str]] = {"en": {}, "es": _SPANISH_PHRASES}
 

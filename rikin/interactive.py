@@ -434,9 +434,9 @@ def _limits(arm: SerialArm, points: FloatArray, dims: int) -> FloatArray:
     return _square_limits(np.vstack([points, arm.base[None, :3, 3]]), 3, 0.15 * arm.scale)
 
 
-def _target_trace(go: Any, dims: int, p: FloatArray, name: str = "target") -> Any:
+def _target_trace(go: Any, dims: int, p: FloatArray) -> Any:
     Scatter = go.Scatter3d if dims == 3 else go.Scatter
-    return Scatter(mode="markers", name=name, hoverinfo="name",
+    return Scatter(mode="markers", name=phrase("target"), hoverinfo="name",
                    marker={"size": 9 if dims == 3 else 16, "color": "rgba(0,0,0,0)",
                            "line": {"color": "#d62728", "width": 3}},
                    **_xyz(p[None, :3], dims))
@@ -592,7 +592,7 @@ def arm_figure(arm: SerialArm, q: Any, *, frames: bool = True, height: int = 520
     F = arm._fk(qv, frames=True)
     lim = _limits(arm, F[:, :3, 3], dims)
     fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
-    text = f"{arm.name} at q = {_q_text(arm, qv)}" if title is None else title
+    text = phrase("{name} at q = {q}", name=arm.name, q=_q_text(arm, qv)) if title is None else title
     traces = _arm_traces(go, dims, SLOT_COLOURS[0], arm.name, "arm",
                          _arm_geometry(arm, qv, fs, dims, frames), text)
     fig = go.Figure(data=traces, layout=_layout(go, arm, lim, dims, text, height))
@@ -771,7 +771,7 @@ def _path_slider(names: list[str]) -> dict[str, Any]:
                                       "transition": {"duration": 0}}]}
              for s, name in enumerate(names)]
     return {"active": 0, "steps": steps, "x": 0.2, "len": 0.8, "y": -0.02,
-            "yanchor": "top", "currentvalue": {"prefix": "target ", "xanchor": "right",
+            "yanchor": "top", "currentvalue": {"prefix": phrase("target") + " ", "xanchor": "right",
                                                "font": {"size": 12}},
             "pad": {"t": 30}}
 

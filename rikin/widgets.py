@@ -50,7 +50,7 @@ from ._validate import (
 from .dh import SerialArm
 from .dhtext import arm_from_table, row_tokens
 from .errors import InputError, RikinError, UnreachableError
-from .i18n import branch_name, phrase
+from .i18n import branch_name, phrase, word
 from .ik import classify, ik_numerical
 from .ik.result import IKResult
 from .plot import _check_arm, _q_text
@@ -82,6 +82,11 @@ def _solutions_figsize(width: float, k: int) -> tuple[tuple[float, float], int]:
     return (panel * cols, panel * 1.15 * rows + 0.5), cols
 
 
+def _unit(unit: str) -> str:
+    """A slider's unit as a panel shows it: degrees (``"deg"``) in the current language."""
+    return phrase(unit) if unit == "deg" else unit
+
+
 def plain_unreachable(exc: UnreachableError) -> str:
     """An UnreachableError in plain words, how far first.
 
@@ -102,7 +107,8 @@ def plain_unreachable(exc: UnreachableError) -> str:
         text = (f"{m['what']} is {dist:.4g}{units} from {where}, "
                 f"{m['links']} reach {float(m['reach']):.4g}{units}")
     excess = float(getattr(exc, "excess", float("nan")))
-    head = f"out of reach by {excess:.4g}{units}" if math.isfinite(excess) else "out of reach"
+    head = (phrase("out of reach by {excess}", excess=f"{excess:.4g}{units}")
+            if math.isfinite(excess) else phrase("out of reach"))
     return f"{head}: {text}" if text else head
 
 
@@ -156,10 +162,10 @@ def _still_bundle(panel: Any, refused: bool = False) -> dict[str, str]:
 
     ``refused``: the page has refused the live panel (its ``div`` says so, for tests)."""
     note = (f'<p class="rikin-still-note" style="color:#8a4b00;font-size:90%">'
-            f"{html.escape(STILL_NOTE)}</p>")
+            f"{html.escape(phrase(STILL_NOTE))}</p>")
     div = '<div class="rikin-still"' + (' data-refused="1">' if refused else ">")
     return {"text/html": div + note + panel.still_html() + "</div>",
-            "text/plain": f"<rikin {type(panel).__name__}: {STILL_NOTE}>"}
+            "text/plain": f"<rikin {type(panel).__name__}: {phrase(STILL_NOTE)}>"}
 
 
 def _display_panel(panel: Any) -> None:
@@ -340,13 +346,13 @@ class IKPanel:
             units = getattr(exc, "units", "") or ""
             return IKState(T, None, plain_unreachable(exc), float(exc.excess), units)
         except RikinError as exc:
-            return IKState(T, None, f"no solution: {exc}")
+            return IKState(T, None, phrase("no solution: {why}", why=exc))
         n = len(res)
-        msg = f"{n} solution{'s' if n != 1 else ''}"
+        msg = phrase("{n} solution" if n == 1 else "{n} solutions", n=n)
         if res.singular:
-            msg += f" (singular: {res.singularity})"
+            msg += phrase(" (singular: {why})", why=res.singularity)
         if res.discarded:
-            msg += f"; {res.discarded} more outside the joint limits"
+            msg += phrase("; {k} more outside the joint limits", k=res.discarded)
         return IKState(T, res, msg, labels=res.labels)
 
     def figure(self) -> Any:
@@ -358,7 +364,8 @@ class IKPanel:
             size, cols = _solutions_figsize(self.width, len(st.result))
             return plot_solutions(self.arm, st.result, ncols=cols, figsize=size)
         ax = plot_arm(self.arm, np.zeros(self.arm.n), frames=False,
-                      title=f"{self.arm.name}: target out of reach\n(the arm at q = 0 for scale)")
+                      title=phrase("{name}: target out of reach\n(the arm at q = 0 for scale)",
+                                   name=self.arm.name))
         p = st.target[:3, 3]
         three_d = ax.name == "3d"
         ax.plot(*p[:3 if three_d else 2], "o", ms=13, mfc="none", mec="tab:red", mew=2.0,
@@ -379,9 +386,10 @@ class IKPanel:
 
     def still_html(self) -> str:
         """The panel as it looks now, without widgets: the target, the solutions, the drawing."""
-        values = ", ".join(f"{name} = {self.values[name]:.4g}{' ' + unit if unit else ''}"
+        values = ", ".join(f"{name} = {self.values[name]:.4g}{' ' + _unit(unit) if unit else ''}"
                            for name, unit, _, _ in self.spec)
-        return (f"<p><b>{html.escape(self.arm.name)}</b>: target {html.escape(values)}</p>"
+        target = phrase("target {values}", values=values)
+        return (f"<p><b>{html.escape(self.arm.name)}</b>: {html.escape(target)}</p>"
                 + self.table_html() + _png_html(self.figure(), f"{self.arm.name}: "
                                                  f"{self.state.message}"))
 
@@ -401,7 +409,7 @@ class IKPanel:
         for name, unit, lo, hi in self.spec:
             step = 1.0 if unit == "deg" else float(10 ** np.floor(np.log10((hi - lo) / 200)))
             s = w.FloatSlider(value=self.values[name], min=lo, max=hi, step=step,
-                              description=f"{name} ({unit})" if unit else name,
+                              description=f"{name} ({_unit(unit)})" if unit else name,
                               continuous_update=False, readout_format=".4g",
                               style={"description_width": "70px"},
                               layout=w.Layout(width="auto"))
@@ -413,8 +421,8 @@ class IKPanel:
         # 1000 px column), one under the other where it is not
         grid = w.GridBox(list(self._sliders.values()), layout=w.Layout(
             grid_template_columns="repeat(auto-fill, minmax(290px, 1fr))", width="auto"))
-        box = w.VBox([w.HTML(f"<b>{html.escape(self.arm.name)}</b>: move the target; every IK "
-                             "solution is drawn with its branch"),
+        box = w.VBox([w.HTML(f"<b>{html.escape(self.arm.name)}</b>: " + html.escape(phrase(
+                             "move the target; every IK solution is drawn with its branch"))),
                       grid, self._table, self._image],
                      layout=w.Layout(width="auto", max_width="100%"))
         self._widget = box
@@ -490,7 +498,8 @@ class TeachPanel:
     def still_html(self) -> str:
         """The pendant as it looks now, without widgets: the pose and the drawing."""
         return (f"<p><code>{html.escape(self.pose_text())}</code></p>"
-                + _png_html(self.figure(), f"{self.arm.name} at the sliders' joint values"))
+                + _png_html(self.figure(), phrase("{name} at the sliders' joint values",
+                                                  name=self.arm.name)))
 
     def _refresh(self) -> None:
         if self._widget is None:
@@ -507,7 +516,7 @@ class TeachPanel:
             value = np.degrees(self.q[i]) if unit == "deg" else self.q[i]
             s = w.FloatSlider(value=float(np.clip(value, lo, hi)), min=lo, max=hi,
                               step=1.0 if unit == "deg" else (hi - lo) / 200,
-                              description=f"{name} ({unit})" if unit else name,
+                              description=f"{name} ({_unit(unit)})" if unit else name,
                               continuous_update=False, readout_format=".4g",
                               style={"description_width": "70px"},
                               layout=w.Layout(width="auto"))
@@ -599,6 +608,38 @@ R      0.0823    0           0   0
         "target": "40 -80 100 20 60 -30"},
 }
 
+#: The "start from" menu's entry that leaves the typed table as it is.
+YOUR_TABLE = "(your table)"
+
+#: The DH panel's help line (HTML; a :func:`rikin.i18n.phrase`).
+DH_HELP = ("<b>Your own arm</b>: one row per joint, <code>type d a alpha offset</code> (R or P; "
+           "lengths in your units, angles in degrees or with pi: <code>-90</code>, "
+           "<code>-90°</code>, <code>-pi/2</code>), or paste a table with a header row naming "
+           "its columns in any order (<code>| joint | θ | d | a | α |</code>, joint variables "
+           "such as <code>q2 + 90°</code>); press Solve for every IK solution of the target, "
+           "drawn.")
+
+#: The column names of a table's header comment (``# type d a alpha offset``), said in the
+#: current language word by word (:func:`rikin.i18n.word`).
+_HEADER_WORDS = frozenset({"type", "d", "a", "alpha", "offset", "theta"})
+
+
+def _table_text(table: Any) -> str:
+    """A typed table as the panel shows it: its comment lines in the current language (the
+    examples' ``# KUKA KR5 (ARTE): m and degrees``, a header comment's column names), the
+    rows as typed."""
+    lines = []
+    for line in str(table).rstrip().split("\n"):
+        head, sep, said = line.partition("#")
+        if sep and not head.strip() and said.strip():
+            if set(said.split()) <= _HEADER_WORDS:
+                said = re.sub(r"[a-z]+", lambda m: word(m.group()), said)
+            else:
+                said = " " + phrase(said.strip())
+        lines.append(head + sep + said)
+    return "\n".join(lines)
+
+
 def _numbers(text: Any, count: int, what: str) -> FloatArray:
     """``count`` numbers typed as text (or given as a sequence)."""
     try:
@@ -670,11 +711,12 @@ class DHPanel:
 
     def __init__(self, table: str = PUMA560_TABLE, convention: str = "standard",
                  units: str = "m", target: Any = "20 -30 40 10 50 60", mode: str = "joints",
-                 tool: Any = "0 0 0", name: str = "your arm",
+                 tool: Any = "0 0 0", name: str | None = None,
                  width: float = DRAWING_WIDTH) -> None:
         self.inputs: dict[str, Any] = {"table": table, "convention": convention,
                                        "units": units, "target": target, "mode": mode,
-                                       "tool": tool, "name": name}
+                                       "tool": tool,
+                                       "name": phrase("your arm") if name is None else name}
         _check_inputs(self.inputs)
         self.width = float(as_positive(width, "width"))  # type: ignore[arg-type]
         self.state = self.compute()
@@ -706,12 +748,14 @@ class DHPanel:
             try:
                 tool = _tool_pose(inp["tool"])
             except RikinError as exc:  # say it is the tool (not the rows) that is wrong
-                why = str(exc) if "tool" in str(exc) else f"the tool: {exc}"
-                return DHState(None, None, None, None, f"The table cannot be read: {why}")
+                why = str(exc) if "tool" in str(exc) else phrase("the tool: {why}", why=exc)
+                return DHState(None, None, None, None,
+                               phrase("The table cannot be read: {why}", why=why))
             arm = arm_from_table(inp["table"], inp["convention"], inp["units"],
                                  name=str(inp["name"]), tool=tool)
         except RikinError as exc:
-            return DHState(None, None, None, None, f"The table cannot be read: {exc}")
+            return DHState(None, None, None, None,
+                           phrase("The table cannot be read: {why}", why=exc))
         verdict = classify(arm)
         try:
             if inp["mode"] == "joints":
@@ -722,15 +766,18 @@ class DHPanel:
                 v = _numbers(inp["target"], 6, "the target pose (x y z roll pitch yaw)")
                 T, typed = homogeneous(rpy_to_r(*v[3:], degrees=True), v[:3]), None
         except RikinError as exc:
-            return DHState(arm, verdict, None, None, f"The target cannot be read: {exc}")
+            return DHState(arm, verdict, None, None,
+                           phrase("The target cannot be read: {why}", why=exc))
         if not verdict.closed_form:
             return _numerical_state(arm, verdict, T, typed)
         try:  # an arm with joint limits (typed as printed): the solutions they allow
             res = arm.ik(T, within_limits=bool(np.isfinite(arm.qlim).any()))
         except UnreachableError as exc:
-            return DHState(arm, verdict, T, None, f"Unreachable: {exc}", typed_q=typed)
+            return DHState(arm, verdict, T, None, phrase("Unreachable: {why}", why=exc),
+                           typed_q=typed)
         except RikinError as exc:
-            return DHState(arm, verdict, T, None, f"No solution: {exc}", typed_q=typed)
+            return DHState(arm, verdict, T, None, phrase("No solution: {why}", why=exc),
+                           typed_q=typed)
         err = _pose_error(arm, res.q, res.target, rotation=_sets_rotation(arm, verdict))
         msg = phrase("{n} solution, each put back through FK: largest pose error {err}"
                      if len(res) == 1 else
@@ -745,7 +792,7 @@ class DHPanel:
                 msg += phrase("; the joints you typed are solution {k} ({label})", k=hit + 1,
                               label=branch_name(res.labels[hit]))
         if res.singular:
-            msg += f". Singular: {res.singularity}"
+            msg += phrase(". Singular: {why}", why=res.singularity)
         return DHState(arm, verdict, T, res, msg + ".", typed_q=typed)
 
     def html(self) -> str:
@@ -757,7 +804,8 @@ class DHPanel:
         parts = self._read_back()
         if st.verdict is not None:
             verdict = phrase("{verdict}", verdict=str(st.verdict))  # rikin's words, quoted
-            parts.append(f"<p><b>classify:</b> {html.escape(verdict)}</p>")
+            parts.append(f"<p><b>{html.escape(phrase('classify:'))}</b> "
+                         f"{html.escape(verdict)}</p>")
         colour = "#b00" if st.result is None else "inherit"
         parts.append(f'<p style="color:{colour}">{html.escape(st.message)}</p>')
         if st.result is not None and len(st.result):
@@ -779,9 +827,9 @@ class DHPanel:
             size, cols = _solutions_figsize(self.width, len(st.result))
             return plot_solutions(st.arm, st.result, ncols=cols, figsize=size)
         q = st.numerical.q if st.numerical is not None and st.numerical.success else None
-        title = ("ik_numerical's solution" if q is not None else "the arm at q = 0")
-        ax = plot_arm(st.arm, np.zeros(st.arm.n) if q is None else q, frames=True,
-                      title=f"{st.arm.name}: {title}")
+        title = phrase("{name}: ik_numerical's solution" if q is not None else
+                       "{name}: the arm at q = 0", name=st.arm.name)
+        ax = plot_arm(st.arm, np.zeros(st.arm.n) if q is None else q, frames=True, title=title)
         fig = _figure_of(ax)
         fig.set_size_inches(SMALL_DRAWING, SMALL_DRAWING)
         return fig
@@ -807,11 +855,11 @@ class DHPanel:
         said = phrase("({convention} DH, {units}; tool at ({tool}); target joints ({target}))"
                       if inp["mode"] == "joints" else
                       "({convention} DH, {units}; tool at ({tool}); target pose ({target}))",
-                      convention=str(inp["convention"]),
+                      convention=word(str(inp["convention"])),
                       units=str(inp["units"]) or phrase("no units"), tool=str(inp["tool"]),
                       target=str(inp["target"]))
         return [f"<p><b>{html.escape(phrase('DH table'))}</b> {html.escape(said)}</p>",
-                f'<pre class="rikin-dh-table">{html.escape(str(inp["table"]).rstrip())}</pre>',
+                f'<pre class="rikin-dh-table">{html.escape(_table_text(inp["table"]))}</pre>',
                 self.html()]
 
     def _read_back(self) -> list[str]:
@@ -834,7 +882,7 @@ class DHPanel:
 
     def still_html(self) -> str:
         """The panel as it looks now, without widgets (:meth:`static_html`)."""
-        return self.static_html(alt="every IK solution of the target, drawn")
+        return self.static_html(alt=phrase("every IK solution of the target, drawn"))
 
     # ---- the widget
     def _refresh(self) -> None:
@@ -851,40 +899,36 @@ class DHPanel:
             return self._widget
         w = _ipywidgets()
         full = w.Layout(width="auto")  # stretched by the box, margins included
-        style = {"description_width": "90px"}
+        style = {"description_width": "100px"}
         inp = self.inputs
         self._fields = {
-            "table": w.Textarea(value=str(inp["table"]), description="DH table",
+            "table": w.Textarea(value=_table_text(inp["table"]), description=phrase("DH table"),
                                 style=style, layout=w.Layout(width="auto", height="170px")),
-            "convention": w.ToggleButtons(options=["standard", "modified"],
-                                          value=inp["convention"], description="convention",
-                                          style=style),
-            "name": w.Text(value=str(inp["name"]), description="name", style=style,
+            "convention": w.ToggleButtons(options=[(word(c), c) for c in ("standard", "modified")],
+                                          value=inp["convention"],
+                                          description=phrase("convention"), style=style),
+            "name": w.Text(value=str(inp["name"]), description=phrase("name"), style=style,
                            layout=full),
-            "units": w.Text(value=str(inp["units"]), description="units", style=style,
+            "units": w.Text(value=str(inp["units"]), description=phrase("units"), style=style,
                             layout=full),
-            "tool": w.Text(value=str(inp["tool"]), description="tool", style=style,
-                           layout=full, placeholder="x y z  or  x y z roll pitch yaw"),
-            "mode": w.ToggleButtons(options=list(self.MODES), value=inp["mode"],
-                                    description="target as", style=style),
-            "target": w.Text(value=str(inp["target"]), description="target", style=style,
-                             layout=full,
-                             placeholder="q1 ... q6 (deg)  or  x y z roll pitch yaw"),
+            "tool": w.Text(value=str(inp["tool"]), description=phrase("tool"), style=style,
+                           layout=full, placeholder=phrase("x y z  or  x y z roll pitch yaw")),
+            "mode": w.ToggleButtons(options=[(phrase(m), m) for m in self.MODES],
+                                    value=inp["mode"], description=phrase("target as"),
+                                    style=style),
+            "target": w.Text(value=str(inp["target"]), description=phrase("target"),
+                             style=style, layout=full,
+                             placeholder=phrase("q1 ... q6 (deg)  or  x y z roll pitch yaw")),
         }
-        self._example = w.Dropdown(options=["(your table)", *EXAMPLES], value="(your table)",
-                                   description="start from", style=style)
+        self._example = w.Dropdown(
+            options=[(phrase(YOUR_TABLE), YOUR_TABLE), *((phrase(k), k) for k in EXAMPLES)],
+            value=YOUR_TABLE, description=phrase("start from"), style=style)
         self._example.observe(self._on_example, names="value")
-        button = w.Button(description="Solve", button_style="primary")
+        button = w.Button(description=phrase("Solve"), button_style="primary")
         button.on_click(self._on_solve)
         self._out = w.HTML()
         self._image = w.Image(format="png", layout=w.Layout(max_width="100%"))
-        help_text = w.HTML("<b>Your own arm</b>: one row per joint, <code>type d a alpha "
-                           "offset</code> (R or P; lengths in your units, angles in degrees "
-                           "or with pi: <code>-90</code>, <code>-90°</code>, "
-                           "<code>-pi/2</code>), or paste a table with a header row naming "
-                           "its columns in any order (<code>| joint | θ | d | a | α |</code>,"
-                           " joint variables such as <code>q2 + 90°</code>); press Solve for "
-                           "every IK solution of the target, drawn.")
+        help_text = w.HTML(phrase(DH_HELP))
         self._widget = w.VBox([help_text, self._example, *self._fields.values(), button,
                                self._out,
                                self._image], layout=w.Layout(max_width="100%"))
@@ -899,7 +943,7 @@ class DHPanel:
         if example is None:
             return
         for k, v in {**example, "name": change["new"].split(" (")[0], "mode": "joints"}.items():
-            self._fields[k].value = v
+            self._fields[k].value = _table_text(v) if k == "table" else v
         self._on_solve()
 
     def _ipython_display_(self) -> None:
@@ -911,20 +955,22 @@ def _numerical_state(arm: SerialArm, verdict: Any, T: FloatArray,
     """The panel's state for an arm without a closed form: the reason, and one solution of
     :func:`rikin.ik.ik_numerical` (the TCP position only for an arm of fewer than six
     joints, which cannot match a whole pose), or why it could not try."""
-    why = f"No closed form: {verdict.reason}{_radians_typed_as_degrees(arm)}."
+    why = phrase("No closed form: {why}{radians}.", why=verdict.reason,
+                 radians=_radians_typed_as_degrees(arm))
     mask = None if arm.n >= 6 else (1, 1, 1, 0, 0, 0)
     try:
         num = ik_numerical(arm, T, rng=0, mask=mask)
     except RikinError as exc:
-        return DHState(arm, verdict, T, None, f"{why} rikin.ik.ik_numerical cannot take this "
-                       f"arm: {exc}", typed_q=typed)
-    how = ("it found one solution" if num.success else f"it did not converge "
-           f"({num.reason})")
-    what = "" if mask is None else ", for the TCP position"
-    return DHState(arm, verdict, T, None,
-                   f"{why} rikin.ik.ik_numerical (Levenberg-Marquardt from a seeded start"
-                   f"{what}): {how}; ik_numerical_multistart finds more, with no guarantee "
-                   "of all.", numerical=num, typed_q=typed)
+        return DHState(arm, verdict, T, None, why + phrase(
+            " rikin.ik.ik_numerical cannot take this arm: {why}", why=exc), typed_q=typed)
+    how = (phrase("it found one solution") if num.success else
+           phrase("it did not converge ({why})", why=num.reason))
+    return DHState(arm, verdict, T, None, why + phrase(
+        " rikin.ik.ik_numerical (Levenberg-Marquardt from a seeded start): {how}; "
+        "ik_numerical_multistart finds more, with no guarantee of all." if mask is None else
+        " rikin.ik.ik_numerical (Levenberg-Marquardt from a seeded start, for the TCP "
+        "position): {how}; ik_numerical_multistart finds more, with no guarantee of all.",
+        how=how), numerical=num, typed_q=typed)
 
 
 def _radians_typed_as_degrees(arm: SerialArm) -> str:
@@ -938,11 +984,12 @@ def _radians_typed_as_degrees(arm: SerialArm) -> str:
             typed = math.degrees(float(value))
             quarters = round(typed / (math.pi / 2))
             if quarters and abs(typed - quarters * math.pi / 2) <= 2e-3:
-                found.append(f"row {row}'s {name} {typed:g}")
+                found.append(phrase("row {row}'s {name} {value}", row=row, name=name,
+                                    value=f"{typed:g}"))
     if not found:
         return ""
-    return (f" ({', '.join(found)}: the panel reads a bare number as degrees, not radians; "
-            "for a right angle type 90 (or 90°, or pi/2))")
+    return phrase(" ({found}: the panel reads a bare number as degrees, not radians; for a "
+                  "right angle type 90 (or 90°, or pi/2))", found=", ".join(found))
 
 
 def _sets_rotation(arm: SerialArm, verdict: Any) -> bool:
