@@ -592,7 +592,8 @@ def arm_figure(arm: SerialArm, q: Any, *, frames: bool = True, height: int = 520
     F = arm._fk(qv, frames=True)
     lim = _limits(arm, F[:, :3, 3], dims)
     fs = float(FRAME_FRACTION * (lim[0, 1] - lim[0, 0]))
-    text = phrase("{name} at q = {q}", name=arm.name, q=_q_text(arm, qv)) if title is None else title
+    text = (phrase("{name} at q = {q}", name=arm.name, q=_q_text(arm, qv)) if title is None
+            else title)
     traces = _arm_traces(go, dims, SLOT_COLOURS[0], arm.name, "arm",
                          _arm_geometry(arm, qv, fs, dims, frames), text)
     fig = go.Figure(data=traces, layout=_layout(go, arm, lim, dims, text, height))
