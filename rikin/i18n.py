@@ -206,6 +206,11 @@ _SPANISH_PHRASES = {
     "Epson C4, the lab's arm: mm and degrees":
         "Epson C4, el brazo del laboratorio: mm y grados",
     "Universal Robots UR5: m and degrees": "Universal Robots UR5: m y grados",
+    "KUKA KR 5 arc: A1, A4, A6 counted against z (-q); limits as printed":
+        "KUKA KR 5 arc: A1, A4 y A6 cuentan contra z (-q); límites como en la hoja de datos",
+    "KUKA KR 5 arc (as KUKA counts A1-A6)": "KUKA KR 5 arc (A1-A6 como los cuenta KUKA)",
+    "; {k} more outside the joint limits left out":
+        "; {k} más, fuera de los límites articulares, descartadas",
     # the pose panel and the teach pendant (rikin.widgets.IKPanel, TeachPanel)
     "deg": "°",
     "target {values}": "objetivo {values}",
