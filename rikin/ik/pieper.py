@@ -98,6 +98,16 @@ WRIST_FOLD_TOL = 1e-6
 #: its second shoulder in a rounded double root (see ``_split_near_axis``).
 NEAR_AXIS = 1e-6
 
+#: A wrist centre closer than this to axis 1 (relative to the arm's size; ten times the
+#: kernels' ``NEAR_AXIS1``, below which they hand the pose to this solver) has its two
+#: shoulders re-solved from the local geometry (``_axis_pairs``) where the closed form
+#: gives them as two joint-2/3 roots within ``AXIS_PAIR_GAP`` (rad) of each other.
+AXIS_PAIR = 1e-3
+AXIS_PAIR_GAP = 1e-2
+#: Newton steps onto the pair's midpoint: each squares the error (1e-7 rad, the rounding
+#: of a double root, to 1e-14 to rounding)
+AXIS_PAIR_STEPS = 4
+
 #: A wrist centre this close to axis 1 or 2 (relative to the arm's size) leaves that
 #: joint to rounding. Farther, but within ``SINGULAR_TOL``, the singularity is flagged and
 #: the joint is free within the FK check; it takes ``near``'s value when the caller gives
@@ -902,6 +912,7 @@ class Pieper6RSolver(ChainPolish):
         free1 = rho_p <= hint_tol
         th1 = np.arctan2(p[:, 1], p[:, 0])[:, None] - np.arctan2(r[..., 1], r[..., 0])
         th[..., 0] = np.where(free1, hint_th1, th1)
+        self._axis_pairs(p, th, valid, free1[:, 0])
         self._split_near_axis(th, valid, rho_p[:, 0], free1[:, 0])
         shoulder = np.broadcast_to(on_axis, valid.shape) & valid
         return th, valid, {"shoulder": shoulder, "upper_arm": upper & valid}
@@ -946,6 +957,94 @@ class Pieper6RSolver(ChainPolish):
         X, Y = B3 / (2 * self.a1), A3 / self.sa1
         gx, gy = g3[..., 0], g3[..., 1]
         return np.arctan2(gx * Y - gy * X, gx * X + gy * Y), X * X + Y * Y
+
+    def _axis_pairs(
+        self, p: FloatArray, th: FloatArray, valid: np.ndarray, free1: np.ndarray
+    ) -> None:
+        """Re-solve the two shoulders of a wrist centre near axis 1 from the local
+        geometry (in place): ``th (N, 4, 3)`` for the wrist centres ``p (N, 3)``.
+
+        Near axis 1 the two shoulders are two nearby roots of joints 2-3 (a double root
+        on the axis): the closed form gives them only to ~sqrt(rounding), 1e-8..1e-7 rad,
+        while the centre's distance ``rho`` from the axis, which joint 1 turns into place,
+        may be far smaller (1e-9 of the arm's size): joint 1 then comes out arbitrary, and
+        no polish of the whole pose recovers it (its steps along joint 1, ``~error / rho``,
+        leave the range where the pose is linear in the joints). So each such pair is
+        solved again where the surface of points joints 2-3 reach crosses the axis: a few
+        Newton steps put the pair's midpoint (the point of that surface at the centre's
+        height, along its level curve, nearest the axis) to rounding, and the two
+        shoulders are where that curve, linear over ``~rho``, meets the circle of radius
+        ``rho`` the centre turns on: joint 1 from each, to ~rounding / rho. A pair the
+        new points fit worse (a curve that misses the circle) keeps its old values; the
+        polish and the FK check then decide as before. Where joint 1 is free (``free1``)
+        it keeps its value and both slots take the midpoint.
+        """
+        L = self.model.scale
+        rho = np.hypot(p[:, 0], p[:, 1])
+        near = rho <= AXIS_PAIR * L
+        if not near.any():
+            return
+        done = np.zeros(valid.shape, dtype=bool)
+        for i, j in itertools.combinations(range(POSITION_SLOTS), 2):
+            gap = np.abs(wrap_in_place(th[:, j, 1:] - th[:, i, 1:])).max(-1)
+            rows = np.flatnonzero(near & valid[:, i] & valid[:, j] & ~done[:, i] & ~done[:, j]
+                                  & (gap <= AXIS_PAIR_GAP))
+            if not rows.size:
+                continue
+            mid = th[rows, i, 1:] + wrap_in_place(th[rows, j, 1:] - th[rows, i, 1:]) / 2
+            new = self._axis_pair(p[rows], mid, free1[rows])
+            if new is None:
+                continue
+            old = th[rows][:, [i, j]]
+            new[..., 0] = np.where(free1[rows, None], old[..., 0], new[..., 0])
+            better = self._position_miss(p[rows], new) <= self._position_miss(p[rows], old)
+            th[rows[better], i] = new[better, 0]
+            th[rows[better], j] = new[better, 1]
+            done[rows[better], i] = done[rows[better], j] = True
+
+    def _axis_pair(
+        self, p: FloatArray, mid: FloatArray, free1: np.ndarray
+    ) -> FloatArray | None:
+        """The two shoulders near axis 1 for wrist centres ``p (m, 3)``, from a midpoint
+        ``mid (m, 2)`` of joints 2-3 within ~1e-7 rad (:meth:`_axis_pairs`): ``(m, 2, 3)``,
+        or None where the level curve is degenerate (joints 2-3 do not move the centre
+        along axis 1, or along it not across the axis) in any row."""
+        for step in range(AXIS_PAIR_STEPS + 1):
+            r, d2, d3 = self._arm_point(mid[:, 0], mid[:, 1], jacobian=True)
+            jz = np.stack([d2[:, 2], d3[:, 2]], -1)  # the height's gradient in joints 2-3
+            jz2 = (jz * jz).sum(-1)
+            if not (jz2 > 0).all():
+                return None
+            along = np.stack([-jz[:, 1], jz[:, 0]], -1) / np.sqrt(jz2)[:, None]
+            level = jz * ((p[:, 2] - r[:, 2]) / jz2)[:, None]  # onto the centre's height
+            jxy = np.stack([d2[:, :2], d3[:, :2]], -1)  # (m, 2, 2): columns joints 2, 3
+            a = r[:, :2] + (jxy @ level[..., None])[..., 0]  # the curve: a + s b
+            b = (jxy @ along[..., None])[..., 0]
+            bb = (b * b).sum(-1)
+            if not (bb > 0).all():
+                return None
+            s0 = -(a * b).sum(-1) / bb  # its point nearest the axis
+            if step < AXIS_PAIR_STEPS:
+                mid = mid + level + s0[:, None] * along
+        rho2 = (p[:, :2] ** 2).sum(-1)
+        cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+        half = np.sqrt(np.maximum(bb * rho2 - cross * cross, 0.0)) / bb
+        half = np.where(free1, 0.0, half)
+        out = np.empty((len(p), 2, 3))
+        for k, s in enumerate((s0 - half, s0 + half)):
+            out[:, k, 1:] = mid + level + s[:, None] * along
+            at = a + s[:, None] * b  # where joints 2-3 put the centre, before joint 1
+            out[:, k, 0] = np.arctan2(p[:, 1], p[:, 0]) - np.arctan2(at[:, 1], at[:, 0])
+        return out
+
+    def _position_miss(self, p: FloatArray, th: FloatArray) -> FloatArray:
+        """The larger distance from ``p (m, 3)`` of the wrist centres joints ``th (m, 2,
+        3)`` put, per row ``(m,)``."""
+        r = self._arm_point(th[..., 1], th[..., 2])
+        c, s = np.cos(th[..., 0]), np.sin(th[..., 0])
+        turned = np.stack([c * r[..., 0] - s * r[..., 1], s * r[..., 0] + c * r[..., 1],
+                           r[..., 2]], -1)
+        return np.abs(turned - p[:, None]).max(axis=(-1, -2))
 
     def _split_near_axis(
         self, th: FloatArray, valid: np.ndarray, rho_p: FloatArray, on_axis: np.ndarray
