@@ -992,37 +992,38 @@ class Pieper6RSolver(ChainPolish):
             if not rows.size:
                 continue
             mid = th[rows, i, 1:] + wrap_in_place(th[rows, j, 1:] - th[rows, i, 1:]) / 2
-            new = self._axis_pair(p[rows], mid, free1[rows])
-            if new is None:
-                continue
+            new, ok = self._axis_pair(p[rows], mid, free1[rows])
             old = th[rows][:, [i, j]]
             new[..., 0] = np.where(free1[rows, None], old[..., 0], new[..., 0])
-            better = self._position_miss(p[rows], new) <= self._position_miss(p[rows], old)
+            better = ok & (self._position_miss(p[rows], new) <= self._position_miss(p[rows], old))
             th[rows[better], i] = new[better, 0]
             th[rows[better], j] = new[better, 1]
             done[rows[better], i] = done[rows[better], j] = True
 
     def _axis_pair(
         self, p: FloatArray, mid: FloatArray, free1: np.ndarray
-    ) -> FloatArray | None:
+    ) -> tuple[FloatArray, np.ndarray]:
         """The two shoulders near axis 1 for wrist centres ``p (m, 3)``, from a midpoint
         ``mid (m, 2)`` of joints 2-3 within ~1e-7 rad (:meth:`_axis_pairs`): ``(m, 2, 3)``,
-        or None where the level curve is degenerate (joints 2-3 do not move the centre
-        along axis 1, or along it not across the axis) in any row."""
+        and which rows have them ``(m,)``: not where the level curve is degenerate (joints
+        2-3 do not move the centre along axis 1, or along it not across the axis). Each
+        row on its own, whatever the others."""
+        ok = np.ones(len(p), dtype=bool)
         for step in range(AXIS_PAIR_STEPS + 1):
             r, d2, d3 = self._arm_point(mid[:, 0], mid[:, 1], jacobian=True)
             jz = np.stack([d2[:, 2], d3[:, 2]], -1)  # the height's gradient in joints 2-3
             jz2 = (jz * jz).sum(-1)
-            if not (jz2 > 0).all():
-                return None
+            ok &= jz2 > 0
+            jz2 = np.where(ok, jz2, 1.0)
             along = np.stack([-jz[:, 1], jz[:, 0]], -1) / np.sqrt(jz2)[:, None]
             level = jz * ((p[:, 2] - r[:, 2]) / jz2)[:, None]  # onto the centre's height
-            jxy = np.stack([d2[:, :2], d3[:, :2]], -1)  # (m, 2, 2): columns joints 2, 3
-            a = r[:, :2] + (jxy @ level[..., None])[..., 0]  # the curve: a + s b
-            b = (jxy @ along[..., None])[..., 0]
+            # the curve a + s b: where joints 2-3 put the centre (before joint 1), written
+            # out (a stacked matmul's rounding may depend on how many rows it has)
+            a = r[:, :2] + level[:, :1] * d2[:, :2] + level[:, 1:] * d3[:, :2]
+            b = along[:, :1] * d2[:, :2] + along[:, 1:] * d3[:, :2]
             bb = (b * b).sum(-1)
-            if not (bb > 0).all():
-                return None
+            ok &= bb > 0
+            bb = np.where(ok, bb, 1.0)
             s0 = -(a * b).sum(-1) / bb  # its point nearest the axis
             if step < AXIS_PAIR_STEPS:
                 mid = mid + level + s0[:, None] * along
@@ -1033,9 +1034,9 @@ class Pieper6RSolver(ChainPolish):
         out = np.empty((len(p), 2, 3))
         for k, s in enumerate((s0 - half, s0 + half)):
             out[:, k, 1:] = mid + level + s[:, None] * along
-            at = a + s[:, None] * b  # where joints 2-3 put the centre, before joint 1
+            at = a + s[:, None] * b
             out[:, k, 0] = np.arctan2(p[:, 1], p[:, 0]) - np.arctan2(at[:, 1], at[:, 0])
-        return out
+        return out, ok & np.isfinite(out).all(axis=(-1, -2))
 
     def _position_miss(self, p: FloatArray, th: FloatArray) -> FloatArray:
         """The larger distance from ``p (m, 3)`` of the wrist centres joints ``th (m, 2,
