@@ -42,6 +42,7 @@ _SPANISH = {
     "joint": "articulación",
     "type": "tipo",
     "offset": "desfase",
+    "limits": "límites",
     # DH conventions
     "standard": "estándar",
     "modified": "modificado",
