@@ -711,12 +711,13 @@ class DHPanel:
 
     def __init__(self, table: str = PUMA560_TABLE, convention: str = "standard",
                  units: str = "m", target: Any = "20 -30 40 10 50 60", mode: str = "joints",
-                 tool: Any = "0 0 0", name: str | None = None,
+                 tool: Any = "0 0 0", name: str = "your arm",
                  width: float = DRAWING_WIDTH) -> None:
+        default_name = isinstance(name, str) and name == "your arm"  # in the page's language
         self.inputs: dict[str, Any] = {"table": table, "convention": convention,
                                        "units": units, "target": target, "mode": mode,
                                        "tool": tool,
-                                       "name": phrase("your arm") if name is None else name}
+                                       "name": phrase(name) if default_name else name}
         _check_inputs(self.inputs)
         self.width = float(as_positive(width, "width"))  # type: ignore[arg-type]
         self.state = self.compute()
