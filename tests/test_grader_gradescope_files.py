@@ -38,14 +38,19 @@ def _autograder(tmp_path: Path) -> Path:
     return root
 
 
-def _run(root: Path) -> dict:
-    res = gradescope_run(
+def _grade(root: Path):
+    """Gradescope's autograder run on the fake ``/autograder`` tree ``root``."""
+    return gradescope_run(
         str(ASSIGNMENT),
         submission=str(root / "submission"),
         results=str(root / "results" / "results.json"),
         cell_timeout=5.0,
         memory_mb=512,
     )
+
+
+def _run(root: Path) -> dict:
+    res = _grade(root)
     assert res.status == "ok", (res.status, res.reason, res.problems)
     return json.loads((root / "results" / "results.json").read_text(encoding="utf-8"))
 
@@ -90,13 +95,7 @@ def test_a_spanish_notebook_whose_cell_raises_is_graded_not_a_grader_error(tmp_p
     nb.metadata["language"] = "es"
     nb.cells.insert(0, nbformat.v4.new_code_cell("1 / 0"))
     nbformat.write(nb, path)
-    res = gradescope_run(
-        str(ASSIGNMENT),
-        submission=str(root / "submission"),
-        results=str(root / "results" / "results.json"),
-        cell_timeout=5.0,
-        memory_mb=512,
-    )
+    res = _grade(root)
     assert res.status == "cell-errors", (res.status, res.reason)
     assert res.reason.startswith("celda de código 1 lanzó ZeroDivisionError"), res.reason
     assert res.score == pytest.approx(5.0)
