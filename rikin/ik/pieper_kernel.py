@@ -249,17 +249,15 @@ class PieperKernel:
 
     def _loop_constants(self) -> None:
         """What :meth:`solve` and :meth:`_finish_orthogonal` read once per pose, in one
-        tuple: the twists of M1-M3, the wrist's kappa, sigma and kappa pi, and the elbow
-        label's tolerance times ``|up1|`` (a constant of :meth:`_joint1_and_labels`,
-        computed the same way); the thresholds near axes 1 and 2 times the arm's size."""
+        tuple: the twists of M1-M3, the wrist's kappa, sigma and kappa pi; the thresholds
+        near axes 1 and 2 times the arm's size."""
         #: ``labels[front][elbow up][sin(q5) >= 0]``: the Branch of a solution
         self.labels = [
             [[Branch("front" if f else "back", "up" if u else "down", "no-flip" if w else "flip")
               for w in (False, True)] for u in (False, True)]
             for f in (False, True)
         ]
-        self._ortho = (*self.x1, *self.x2, *self.x3, self.kappa, self.sigma, self.kappa * pi,
-                       self._j1[-1] * hypot(*self.up1))
+        self._ortho = (*self.x1, *self.x2, *self.x3, self.kappa, self.sigma, self.kappa * pi)
         self._near_axis1 = NEAR_AXIS1 * self.L
         self._near2 = (NEAR * self.L) ** 2
 
@@ -486,41 +484,21 @@ class PieperKernel:
         return q_out, branches
 
     def _finish_orthogonal(self, positions, px, py, phi_p, cols):
-        """:meth:`_finish` for an orthogonal wrist, with :meth:`_joint1_and_labels`,
-        :meth:`_wrist_columns` and :meth:`_wrist_orthogonal` written out in one loop: the
-        same operations in the same order (so the same floats), without a call, a tuple
-        and the constants' lookups per position, which took a third of the kernel's time."""
-        L, _, _, t1x, t1y, t2x, t2y, ux, uy, label_tol = self._j1
-        ca1s, sa1s, ca2, sa2, ca3, sa3, kappa, sigma, kpi, label_hn = self._ortho
+        """:meth:`_finish` for an orthogonal wrist: joint 1 and the labels by
+        :meth:`_joint1_and_labels` (the one place they are decided), :meth:`_wrist_columns`
+        and :meth:`_wrist_orthogonal` written out in the loop (the same operations in the
+        same order, so the same floats, without their calls and lookups per position)."""
+        ca1s, sa1s, ca2, sa2, ca3, sa3, kappa, sigma, kpi = self._ortho
         (x0, y0, z0), (xb, yb, zb) = cols
         o1, o2, o3, o4, o5, o6 = self.offsets
         rem, tau, labels = remainder, _TAU, self.labels
         q_out: list[float] = []
         branches: list[Branch] = []
         for th2, c2, s2, th3, c3, s3, gx, gy, gz in positions:
-            # joint 1 and the labels (_joint1_and_labels)
-            xp, yp = c2 * gx - s2 * gy, s2 * gx + c2 * gy
-            th1 = phi_p - atan2(ca1s * yp - sa1s * gz + t1y, xp + t1x)
-            c1, s1 = cos(th1), sin(th1)
-            fr = px * c1 + py * s1
-            if abs(fr) < label_tol:
+            arm = self._joint1_and_labels(px, py, phi_p, c2, s2, gx, gy, gz)
+            if arm is None:
                 return None
-            ex, ey = c2 * t2x - s2 * t2y, s2 * t2x + c2 * t2y
-            nl = xp * xp + yp * yp
-            el = ex * xp + ey * yp
-            across = abs(xp * uy - yp * ux)
-            span = sqrt(nl) + L
-            if across <= SINGULAR_TOL * span:
-                if abs(ex - el / nl * xp) < label_tol:
-                    return None
-                up = ex - el / nl * xp > 0.0
-            elif across < 1e-7 * span:
-                return None
-            else:
-                hu = ex * ux + ey * uy - el * (xp * ux + yp * uy) / nl
-                if abs(hu) < label_hn:
-                    return None
-                up = hu > 0.0
+            th1, c1, s1, front, up = arm
             # the wrist's columns 0 and 2 (_wrist_columns), then R_w C^T (_wrist_orthogonal)
             x1, y1 = c1 * x0 + s1 * y0, c1 * y0 - s1 * x0
             y2, z2 = ca1s * y1 + sa1s * z0, ca1s * z0 - sa1s * y1
@@ -544,7 +522,7 @@ class PieperKernel:
             cp, sp = m02 / sw, m12 / sw
             psi = kappa * atan2(cp * m10 - sp * m00, m22 * (cp * m00 + sp * m10) - sw * m20)
             a1, a2, a3 = rem(th1 - o1, tau), rem(th2 - o2, tau), rem(th3 - o3, tau)
-            by_flip = labels[fr >= 0.0][up]
+            by_flip = labels[front][up]
             for th4, th5, th6 in ((phi, -theta, psi), (phi + pi, theta, psi + kpi)):
                 q5 = rem(th5 - o5, tau)
                 sq5 = sin(q5)
