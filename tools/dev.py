@@ -30,6 +30,7 @@ import shlex
 import shutil
 import subprocess
 import sys
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -399,6 +400,30 @@ def _missing() -> list[str]:
     return [exe for exe in SYSTEM_PACKAGES if shutil.which(exe) is None]
 
 
+#: How long ``apt-get update`` waits for another apt (another clone's tests, unattended
+#: upgrades) to let go of the package lists. apt 2.6 honours DPkg::Lock::Timeout for
+#: install but not for update, which fails at once with "Could not get lock".
+APT_LOCK_WAIT_S = 600
+
+
+def apt_update(env: dict[str, str]) -> None:
+    """Run ``apt-get update``, waiting (up to APT_LOCK_WAIT_S) while another apt holds its lock."""
+    cmd = ["apt-get", "update", "-qq"]
+    print("$ " + " ".join(cmd), flush=True)
+    for attempt in range(APT_LOCK_WAIT_S // 5 + 1):
+        r = subprocess.run(cmd, env=env, cwd=ROOT, capture_output=True, text=True)
+        sys.stdout.write(r.stdout)
+        sys.stderr.write(r.stderr)
+        if r.returncode == 0:
+            return
+        if "Could not get lock" not in r.stderr and "Unable to lock" not in r.stderr:
+            break
+        if attempt == 0:
+            print("dev.py: another apt holds the package lists; waiting for it", flush=True)
+        time.sleep(5)
+    sys.exit(f"dev.py: command failed with exit code {r.returncode}")
+
+
 def ensure_system_packages() -> None:
     """Install the missing Debian packages when we can (root with apt-get); else say how.
 
@@ -414,7 +439,7 @@ def ensure_system_packages() -> None:
         env = dict(os.environ, DEBIAN_FRONTEND="noninteractive")
         pkgs = [SYSTEM_PACKAGES[e] for e in missing]
         lock = ["-o", "DPkg::Lock::Timeout=300"]
-        check(["apt-get", "update", "-qq"], env)
+        apt_update(env)
         check(["apt-get", "install", "-y", "-qq", *lock, "--no-install-recommends", *pkgs], env)
         missing = _missing()
         if not missing:

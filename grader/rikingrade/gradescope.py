@@ -48,7 +48,19 @@ SOURCE="$(pwd)"
 VENV="${{RIKIN_GRADE_VENV:-/opt/rikin-venv}}"
 GRADER="${{RIKIN_GRADE_HOME:-/opt/rikingrade}}"
 export DEBIAN_FRONTEND=noninteractive
-apt-get update
+# apt-get update fails at once while another apt holds the package lists (apt 2.6 does not
+# honour DPkg::Lock::Timeout for update, only for install): wait for it, up to 10 minutes.
+APT_ERR="$(mktemp)"
+for attempt in $(seq 120); do
+    if apt-get update 2>"$APT_ERR"; then break; fi
+    cat "$APT_ERR" >&2
+    if [ "$attempt" = 120 ] || ! grep -q "Could not get lock\\|Unable to lock" \\
+            "$APT_ERR"; then
+        exit 1
+    fi
+    sleep 5
+done
+rm -f "$APT_ERR"
 apt-get install -y -o DPkg::Lock::Timeout=600 --no-install-recommends \\
     bubblewrap python3 python3-venv
 umask 022
