@@ -22,7 +22,9 @@ the machine's load hits all sides alike):
   does to the wall clock);
 * ``x sph``: this arm's ``arm.ik`` time over the Puma's (the general 6R's goal: <= 10);
 * ``cpu ik``, ``cpu x sph``: ``arm.ik``'s CPU time per pose and its ratio to the Puma's
-  (steadier than the wall clock on a machine shared with other work);
+  (steadier than the wall clock on a machine shared with other work); ``cpu b x sph``: the
+  same ratio of the batches' CPU time per pose. The arms alternate round by round, so
+  that these ratios compare times taken under the same load;
 * with ``--baseline CHECKOUT``: the same times of the rikin in another checkout (run in
   a subprocess, in turn with this one, round by round), its ``arm.ik`` CPU time per pose
   (``base cpu ik``), and ``base/ik``, ``base/batch``, ``base/cpu ik``: its times over this
@@ -141,9 +143,13 @@ KEYS = ("ik", "ik_cpu", "batch", "batch_cpu", "eaik", "eaik_cpu")
 def timings(poses: int, rounds: int, batch_poses: int) -> list[dict]:
     """Per arm: its name, family, and the best of ``rounds`` of ``ik``, ``batch`` and
     ``eaik`` (seconds per pose; eaik None where EAIK has no solver for the arm), and how
-    many poses the batch had (``batch_poses`` for a closed-form family, else ``poses``)."""
+    many poses the batch had (``batch_poses`` for a closed-form family, else ``poses``).
+
+    Each round times every arm in turn (the arms alternate, round by round), so that the
+    ratios between arms (``x sph``: a general 6R's time over the spherical wrist's) compare
+    times taken under the same load."""
     rng = np.random.default_rng(2026)
-    out = []
+    setup = []
     for arm in arms():
         Ts = arm.fk(rng.uniform(-pi, pi, size=(poses, 6)))
         family = str(rikin.ik.classify(arm)).split(":")[0][:28]
@@ -151,21 +157,32 @@ def timings(poses: int, rounds: int, batch_poses: int) -> list[dict]:
         Tb = arm.fk(rng.uniform(-pi, pi, size=(nb, 6)))
         arm.ik(Ts[0])  # build the solver once (no derivation step: reading the table)
         arm.ik_batch(Ts[:2])
-        robot = eaik_of(arm)
-        best = dict.fromkeys(KEYS, np.inf)
-        for _ in range(rounds):
-            wall, cpu = per_pose(arm.ik, Ts)
-            best["ik"], best["ik_cpu"] = min(best["ik"], wall), min(best["ik_cpu"], cpu)
-            batch = per_pose(partial(arm.ik_batch, workers=2), Tb[None])
-            best["batch"] = min(best["batch"], batch[0] / nb)
-            best["batch_cpu"] = min(best["batch_cpu"], batch[1] / nb)
-            if robot is not None:
-                wall, cpu = per_pose(robot.IK, Ts)
-                best["eaik"], best["eaik_cpu"] = min(best["eaik"], wall), min(best["eaik_cpu"], cpu)
+        setup.append((arm, family, nb, Ts, Tb, eaik_of(arm)))
+    best = [dict.fromkeys(KEYS, np.inf) for _ in setup]
+    for _ in range(rounds):
+        for row, (arm, _, nb, Ts, Tb, robot) in zip(best, setup, strict=True):
+            _time_round(row, arm, nb, Ts, Tb, robot)
+    out = []
+    for row, (arm, family, nb, _, _, robot) in zip(best, setup, strict=True):
         if robot is None:
-            best["eaik"] = best["eaik_cpu"] = None
-        out.append({"arm": arm.name, "family": family, "n": nb, **best})
+            row["eaik"] = row["eaik_cpu"] = None
+        out.append({"arm": arm.name, "family": family, "n": nb, **row})
     return out
+
+
+def _time_round(best: dict, arm: SerialArm, nb: int, Ts: np.ndarray, Tb: np.ndarray,
+                robot: object) -> None:
+    """One round of one arm: ``arm.ik`` of each of ``Ts``, ``ik_batch`` of the ``nb`` poses
+    ``Tb`` (2 threads) and EAIK's ``IK`` of each of ``Ts`` (``robot``, or None), each kept
+    in ``best`` (seconds per pose, wall and CPU) where faster than before."""
+    wall, cpu = per_pose(arm.ik, Ts)
+    best["ik"], best["ik_cpu"] = min(best["ik"], wall), min(best["ik_cpu"], cpu)
+    batch = per_pose(partial(arm.ik_batch, workers=2), Tb[None])
+    best["batch"] = min(best["batch"], batch[0] / nb)
+    best["batch_cpu"] = min(best["batch_cpu"], batch[1] / nb)
+    if robot is not None:
+        wall, cpu = per_pose(robot.IK, Ts)
+        best["eaik"], best["eaik_cpu"] = min(best["eaik"], wall), min(best["eaik_cpu"], cpu)
 
 
 def baseline_timings(checkout: str, poses: int, batch_poses: int) -> list[dict]:
@@ -201,19 +218,20 @@ def print_table(rows: list[dict], base: list[dict] | None) -> None:
     and EAIK's over the batch's); with a baseline, its times over these."""
     head = (f"{'arm':12} {'family':28} {'ik':>9} {'N batch':>7} {'batch':>8} {'eaik':>7} "
             f"{'eaik/ik':>8} {'eaik/batch':>10} {'cpu batch':>9} {'cpu eaik':>8} "
-            f"{'cpu e/b':>7} {'x sph':>6} {'cpu ik':>8} {'cpu x sph':>9}")
+            f"{'cpu e/b':>7} {'x sph':>6} {'cpu ik':>8} {'cpu x sph':>9} {'cpu b x sph':>11}")
     if base is not None:
         head += (f" {'base ik':>9} {'base batch':>10} {'base/ik':>8} {'base/batch':>10} "
                  f"{'base cpu ik':>11} {'base/cpu ik':>11} {'base cpu x sph':>14}")
     print(head)
-    sph, sph_cpu = rows[0]["ik"], rows[0]["ik_cpu"]
+    sph, sph_cpu, sph_batch = rows[0]["ik"], rows[0]["ik_cpu"], rows[0]["batch_cpu"]
     for n, row in enumerate(rows):
         line = (f"{row['arm'][:12]:12} {row['family']:28} {_us(row['ik'], 9)} {row['n']:7d} "
                 f"{_us(row['batch'], 8)} {_us(row['eaik'], 7)} "
                 f"{_ratio(row['eaik'], row['ik'], 8)} {_ratio(row['eaik'], row['batch'], 10)} "
                 f"{_us(row['batch_cpu'], 9)} {_us(row['eaik_cpu'], 8)} "
                 f"{_ratio(row['eaik_cpu'], row['batch_cpu'], 7)} {row['ik'] / sph:6.1f} "
-                f"{_us(row['ik_cpu'], 8)} {row['ik_cpu'] / sph_cpu:9.1f}")
+                f"{_us(row['ik_cpu'], 8)} {row['ik_cpu'] / sph_cpu:9.1f} "
+                f"{row['batch_cpu'] / sph_batch:11.1f}")
         if base is not None:
             b = base[n]
             line += (f" {_us(b['ik'], 9)} {_us(b['batch'], 10)} "
