@@ -28,11 +28,16 @@ the machine's load hits all sides alike):
 * with ``--baseline CHECKOUT``: the same times of the rikin in another checkout (run in
   a subprocess, in turn with this one, round by round), its ``arm.ik`` CPU time per pose
   (``base cpu ik``), and ``base/ik``, ``base/batch``, ``base/cpu ik``: its times over this
-  checkout's (2 = this one twice as fast), and its ``cpu x sph``.
+  checkout's (2 = this one twice as fast), and its ``cpu x sph``;
+* with ``--breakdown`` (only that): where a general 6R's ``arm.ik`` time goes, stage by
+  stage, each stage's thread CPU time per pose beside the spherical wrist's whole
+  ``arm.ik`` (:func:`general_stages`): the goal, a general 6R within 10x of the spherical
+  wrist, leaves each pose 10 of them.
 
     python benchmarks/bench_ik6r_families.py             # 300 poses per arm
     python benchmarks/bench_ik6r_families.py --poses 30 --batch-poses 30  # a smoke run
     python benchmarks/bench_ik6r_families.py --baseline /work/main  # against main
+    python benchmarks/bench_ik6r_families.py --breakdown --poses 100  # a general 6R's stages
 
 EAIK (``pip install eaik``) is in requirements.txt; without it its columns are blank.
 """
@@ -185,6 +190,99 @@ def _time_round(best: dict, arm: SerialArm, nb: int, Ts: np.ndarray, Tb: np.ndar
         best["eaik"], best["eaik_cpu"] = min(best["eaik"], wall), min(best["eaik_cpu"], cpu)
 
 
+#: The stages of :func:`general_stages`, in the order printed.
+STAGES = ("arm.ik", "matrices", "eigen step", "LAPACK alone", "roots to joints",
+          "polish + checks", "rest")
+
+
+def general_stages(puma: SerialArm, arm: SerialArm, poses: int, rounds: int) -> dict[str, float]:
+    """Where one pose of a general 6R's ``arm.ik`` goes, in thread CPU µs per pose, next to
+    the spherical wrist's ``arm.ik`` (``puma``), all timed in alternating rounds (best of
+    ``rounds``, at least 3) on the same seeded poses.
+
+    The stages: ``matrices``, the 12 x 12 matrix polynomial of the pose
+    (``_Elimination.matrices``); ``eigen step``, its roots and eigenvectors
+    (``_eig_quadratic``); ``LAPACK alone``, that step's four LAPACK calls by themselves (the
+    SVD of both ends, the 12 x 12 solve, the 24 x 24 ``eig``): the floor of this method in
+    numpy; ``roots to joints``, the rest of ``_candidates`` (joints 1, 2, 4-6 of the real
+    roots); ``polish + checks``, the rest of ``_polished`` (Newton steps, residuals,
+    merging, the singular check); ``rest``, ``arm.ik`` less ``_polished`` (the pose into the
+    chain's frame, wrapping, naming, the FK check, the result). Reads the solver's private
+    methods: a profile, not an interface.
+    """
+    from rikin.ik import general6r  # noqa: PLC0415  (only here: the private path profiled)
+
+    rng = np.random.default_rng(7)
+    Ts = [np.array(T) for T in arm.fk(rng.uniform(-pi, pi, size=(poses, 6)))]
+    Tp = [np.array(T) for T in puma.fk(rng.uniform(-pi, pi, size=(10 * poses, 6)))]
+    arm.ik(Ts[0])  # build both solvers and their one-pose kernels
+    puma.ik(Tp[0])
+    solver = arm.__dict__["_single_kernel"][0].solver
+    Ws = [solver._to_chain(arm._world_to_base(T)[None]) for T in Ts]
+    Ss = [solver.elim.matrices(W)[0] for W in Ws]
+    flip = [_flipped(S) for S in Ss]
+
+    def lapack(S: np.ndarray, flipped: bool) -> None:
+        with np.errstate(all="ignore"):
+            np.linalg.svd(S[:, ::2], compute_uv=False)
+            A, B = (S[0, 2], S[0, 0]) if flipped else (S[0, 0], S[0, 2])
+            X = np.linalg.solve(B, np.concatenate([A, S[0, 1]], axis=-1))
+        C = np.zeros((24, 24))
+        C[:12, 12:] = np.eye(12)
+        C[12:] = np.where(np.isfinite(X), -X, 0.0)
+        np.linalg.eig(C)
+
+    def each(fn, items) -> None:  # noqa: ANN001
+        for x in items:
+            try:
+                fn(x)
+            except rikin.UnreachableError:
+                pass
+
+    runs = {
+        "sph": lambda: each(puma.ik, Tp),
+        "arm.ik": lambda: each(arm.ik, Ts),
+        "polished": lambda: each(solver._polished, Ws),
+        "candidates": lambda: each(solver._candidates, Ws),
+        "matrices": lambda: each(solver.elim.matrices, Ws),
+        "eigen step": lambda: each(general6r._eig_quadratic, Ss),
+        "LAPACK alone": lambda: [lapack(S, f) for S, f in zip(Ss, flip, strict=True)],
+    }
+    best = dict.fromkeys(runs, np.inf)
+    for _ in range(max(rounds, 3)):
+        for name, fn in runs.items():
+            t0 = time.thread_time()
+            fn()
+            best[name] = min(best[name], time.thread_time() - t0)
+    us = {name: t * 1e6 / poses for name, t in best.items()}
+    us["sph"] /= 10
+    return {"sph": us["sph"], "arm.ik": us["arm.ik"], "matrices": us["matrices"],
+            "eigen step": us["eigen step"], "LAPACK alone": us["LAPACK alone"],
+            "roots to joints": us["candidates"] - us["matrices"] - us["eigen step"],
+            "polish + checks": us["polished"] - us["candidates"],
+            "rest": us["arm.ik"] - us["polished"]}
+
+
+def _flipped(S: np.ndarray) -> bool:
+    """Whether ``_eig_quadratic`` inverts the far end of the matrix polynomial ``S (1, 3,
+    12, 12)`` (the better conditioned one), as it decides."""
+    with np.errstate(all="ignore"):
+        sv = np.linalg.svd(S[:, ::2], compute_uv=False)
+        cond = np.nan_to_num(sv[..., 0] / sv[..., -1], nan=np.inf)
+    return not cond[0, 1] <= cond[0, 0]
+
+
+def print_stages(table: list[tuple[str, dict[str, float]]]) -> None:
+    """The ``--breakdown`` table: each stage's thread CPU µs per pose and its ratio to the
+    spherical wrist's whole ``arm.ik`` (the goal: ``arm.ik`` at most 10 of them)."""
+    print("\ngeneral 6R: thread CPU us per pose of each stage (x the spherical wrist's "
+          "arm.ik, timed in the same rounds)")
+    print(f"{'arm':12} {'sph arm.ik':>10}" + "".join(f" {s:>22}" for s in STAGES))
+    for name, st in table:
+        cells = "".join(f" {st[s]:>13.1f} ({st[s] / st['sph']:>5.1f}x)" for s in STAGES)
+        print(f"{name[:12]:12} {st['sph']:>10.1f}{cells}", flush=True)
+
+
 def baseline_timings(checkout: str, poses: int, batch_poses: int) -> list[dict]:
     """:func:`timings` (one round) of the rikin in another checkout, in a subprocess."""
     env = dict(os.environ, PYTHONPATH=os.path.abspath(checkout))
@@ -250,7 +348,14 @@ def main() -> None:
     ap.add_argument("--baseline", metavar="CHECKOUT",
                     help="another checkout of rikin (e.g. /work/main), timed in turn with this one")
     ap.add_argument("--json", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--breakdown", action="store_true",
+                    help="only where a general 6R's arm.ik time goes, against the Puma's")
     args = ap.parse_args()
+    if args.breakdown:
+        every = arms()
+        print_stages([(arm.name, general_stages(every[0], arm, args.poses, args.rounds))
+                      for arm in every if str(rikin.ik.classify(arm)).startswith("general")])
+        return
     if args.json:
         print(json.dumps(timings(args.poses, args.rounds, args.batch_poses)))
         return
