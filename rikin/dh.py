@@ -350,6 +350,9 @@ class SerialArm:
             T = T.copy()
             T.setflags(write=False)
             object.__setattr__(self, fname, T)
+        # their inverses, which every IK call applies (_world_to_base): taken once here
+        object.__setattr__(self, "_frames_inv", (_inv_transform(self.base),
+                                                 _inv_transform(self.tool)))
         size = sum(abs(float(lk.a)) + abs(float(lk.d)) for lk in links)
         check_length_range(size, "the arm's size (sum of |a| and |d|)", lower=True)
         object.__setattr__(self, "_scale", size if size > 0 else 1.0)
@@ -649,7 +652,8 @@ class SerialArm:
 
     def _world_to_base(self, T_world: FloatArray) -> FloatArray:
         """:meth:`world_to_base` for trusted input."""
-        return _inv_transform(self.base) @ T_world @ _inv_transform(self.tool)
+        base_inv, tool_inv = self._frames_inv  # type: ignore[attr-defined]
+        return base_inv @ T_world @ tool_inv
 
 
 def check_arm(arm: Any, name: str = "arm") -> SerialArm:

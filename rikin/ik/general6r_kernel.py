@@ -48,6 +48,9 @@ class General6RKernel:
     def __init__(self, solver: KernelSource, arm: SerialArm) -> None:
         self.solver, self.arm = solver, arm
         self.root_joint = solver.root_joint
+        #: the columns of a solution with the root's joint first: ``np.roll(q, -root_joint,
+        #: axis=1)`` as one indexing (the same copy, without np.roll's calls)
+        self._root_first = np.roll(np.arange(6), -self.root_joint)
 
     def solve(self, rows: list[list[float]]) -> tuple[list[float], list[Branch]] | None:
         """The solutions (flat, row after row) of the world pose ``rows`` (4 x 4 nested
@@ -60,7 +63,7 @@ class General6RKernel:
             return None
         q = _wrap_angle(raw.q[0, valid])  # every joint revolute
         q = q[_first_of_each(q)]
-        names, order = root_names(np.roll(_wrap_angle(q), -self.root_joint, axis=1), False)
+        names, order = root_names(_wrap_angle(q)[:, self._root_first], False)
         return q[order].ravel().tolist(), [Branch(root=names[i]) for i in order]
 
 
