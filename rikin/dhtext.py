@@ -16,8 +16,11 @@
   ``-90°``, ``90 deg``, ``1e-3`` (parsed, never evaluated as Python code).
 
 Angles: a value with ``pi``/``π`` is radians, one marked ``°`` or ``deg`` degrees, a bare
-number degrees unless the column's header says ``(rad)``. Lengths are in the arm's units.
-A cell that cannot be read is refused naming its line, its column and how to write it.
+number degrees unless the column's header says ``(rad)``. Lengths are in the arm's units,
+which a header may name (``d (mm)``, ``a [m]``: ``mm``, ``m``, ``cm``, ``in``); rikin converts
+no length, so a header naming two length units, or another unit than ``units=``, is refused,
+as is an angle unit on ``d``/``a``. A cell that cannot be read is refused naming its line,
+its column and how to write it.
 
 A joint its data sheet counts the other way (against the DH z axis: KUKA's A1, A4, A6;
 ``direction=-1`` of :class:`~rikin.Link`) is written in one of three ways, once per row:
@@ -213,14 +216,22 @@ def row_tokens(line: str) -> list[str]:
     return _glue_operators(parts)
 
 
+#: The units a header cell may name, as rikin keeps them: angles, and lengths.
+_HEADER_UNITS = {"rad": "rad", "radians": "rad", "deg": "deg", "degrees": "deg", "°": "deg",
+                 "mm": "mm", "m": "m", "cm": "cm", "in": "in"}
+#: Columns that only ever hold an angle, or only a length (offset, min, max and limits
+#: hold either, by the row's joint type).
+_ANGLE_COLUMNS, _LENGTH_COLUMNS = ("theta", "alpha"), ("d", "a")
+
+
 def _header_key(token: str) -> tuple[str, str]:
-    """A header cell as (column name key, unit the header gives: "rad", "deg" or "")."""
+    """A header cell as (column name key, unit the header gives: "rad", "deg", a length
+    unit "mm", "m", "cm", "in", or "")."""
     t = token.strip().lower().replace("$", "").replace("\\", "")
     unit = ""
     m = re.search(r"[\(\[]\s*(rad|radians|deg|degrees|°|mm|m|cm|in)\s*[\)\]]", t)
     if m:
-        unit = {"rad": "rad", "radians": "rad", "deg": "deg", "degrees": "deg",
-                "°": "deg"}.get(m.group(1), "")
+        unit = _HEADER_UNITS[m.group(1)]
         t = t[:m.start()] + t[m.end():]
     t = re.sub(r"[{}\s]", "", t).translate(_SUBSCRIPTS)
     t = re.sub(r"_?\(?i(-1|−1)?\)?$", "", t) if len(t) > 1 else t  # θ_i, a_{i-1}, αi-1
@@ -231,12 +242,18 @@ def _header(tokens: list[str]) -> list[tuple[str, str]] | None:
     """The columns a header row names, or None when it is not a header."""
     if any(_is_number(t) for t in tokens):
         return None
+    tokens = _units_joined(tokens)
     keys = [_header_key(t) for t in tokens]
     named = [(COLUMNS.get(k), unit) for k, unit in keys]
     if sum(1 for c, _ in named if c in ("d", "a", "alpha", "theta")) < 2:
         return None
     if any(c is None for c, _ in named):
         unknown = [t for t, (c, _) in zip(tokens, named, strict=True) if c is None]
+        unit = re.search(r"[\(\[]\s*([^()\[\]]*?)\s*[\)\]]", unknown[0])
+        if unit and COLUMNS.get(_header_key(unknown[0][:unit.start()])[0]):
+            raise InputError(f"DH table header: column {unknown[0]!r}: rikin reads the units "
+                             "(deg), (rad), (mm), (m), (cm) and (in) in a header, not "
+                             f"{unit.group(1)!r}")
         raise InputError(f"DH table header: column {unknown[0]!r} is not one rikin knows; name "
                          "the columns theta (θ, q), d, a, alpha (α), offset, type (R or P), "
                          "joint (its number), direction (+1 or -1), min and max or limits")
@@ -247,7 +264,51 @@ def _header(tokens: list[str]) -> list[tuple[str, str]] | None:
     if "limits" in cols and ("min" in cols or "max" in cols):
         raise InputError("DH table header: a limits column and min/max columns say the same "
                          "thing: keep one (limits as -170..170, or min and max)")
-    return [(c, u) for c, u in named if c is not None]
+    columns = [(c, u) for c, u in named if c is not None]
+    _check_header_units(columns)
+    return columns
+
+
+def _units_joined(tokens: list[str]) -> list[str]:
+    """Header tokens with a unit typed apart (``d (mm)`` in a table of spaces) joined to
+    the column before it: ``["d", "(mm)"]`` is ``["d (mm)"]``."""
+    out: list[str] = []
+    for t in tokens:
+        if out and re.fullmatch(r"[\(\[]\s*[^\s()\[\]]+\s*[\)\]]", t.strip()):
+            out[-1] += " " + t
+        else:
+            out.append(t)
+    return out
+
+
+def _check_header_units(columns: list[tuple[str, str]]) -> None:
+    """Refuse a header whose units rikin would have to guess at: an angle unit on a
+    length column (or the reverse), or two length units (rikin reads every length of the
+    table, prismatic limits included, in one unit, the arm's; it converts none)."""
+    for col, unit in columns:
+        if col in _LENGTH_COLUMNS and unit in ("rad", "deg"):
+            raise InputError(f"DH table header: column {col} ({unit}) holds lengths, not "
+                             "angles: drop the unit, or name the length unit (mm, m)")
+        if col in _ANGLE_COLUMNS and unit not in ("", "rad", "deg"):
+            raise InputError(f"DH table header: column {col} ({unit}) holds angles: name "
+                             "(deg) or (rad), or no unit (degrees)")
+    lengths = sorted({u for _, u in columns if u not in ("", "rad", "deg")})
+    if len(lengths) > 1:
+        raise InputError(f"DH table header: lengths in {' and '.join(lengths)}: rikin reads "
+                         "every length of a table (a, d, a prismatic joint's limits) in one "
+                         "unit and converts none: write them all in one, e.g. "
+                         f"{lengths[0]}")
+
+
+def _length_unit(header: list[tuple[str, str]] | None, units: str) -> str:
+    """The arm's length unit: ``units`` as given, else the one the header names; a header
+    naming another unit than ``units`` is refused (rikin converts no length)."""
+    named = {u for _, u in header or () if u not in ("", "rad", "deg")}
+    if named and units and units not in named:
+        raise InputError(f"the DH table's header gives lengths in {named.pop()}, the arm's "
+                         f"units are {units!r}: rikin converts no length, so write the "
+                         "table in the arm's units (or give units to match)")
+    return units or (named.pop() if named else "")
 
 
 @dataclass
@@ -575,6 +636,7 @@ def arm_from_table(text: str, convention: str = "standard", units: str = "",
             links.append(_plain_row(cell, tokens))
     if not links:
         raise InputError("the DH table has no rows: type one row 'R d a alpha offset' per joint")
+    units = _length_unit(header, as_text(units, "units") or "")
     return SerialArm(tuple(links), convention=convention,  # type: ignore[arg-type]
                      base=np.eye(4) if base is None else base,
                      tool=np.eye(4) if tool is None else tool, units=units, name=name)

@@ -303,7 +303,8 @@ def _solve_reversed(arm: SerialArm, target: Any, within_limits: Any, near: Any) 
     res = solve(arm._dh, target, near=None if hint is None else hint * s)
     q = _wrap(res.q * s, arm.revolute)
     q, branches, discarded = _select(arm, q, list(res.branches), hint, within_limits)
-    return replace(res, q=q, branches=tuple(branches), discarded=discarded)
+    return replace(res, q=q, branches=tuple(branches), discarded=discarded,
+                   directions=arm.directions)
 
 
 def _select(
@@ -472,6 +473,7 @@ def _finish(
         revolute=rev,
         rotation_distance=rot_dist,
         reach_distance=reach_dist,
+        directions=arm.directions,
     )
 
 

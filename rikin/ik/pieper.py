@@ -392,9 +392,25 @@ def _general_reason(arm: SerialArm) -> tuple[str, str]:
     elif parallel12:
         how = ("axes 1 and 2 are parallel, so placing the wrist centre gives a quadratic "
                "equation in q3")
+    elif _planar_elbow(model, wg, al1):
+        how = ("axes 1 and 2 are perpendicular, a shoulder offset apart (as on the KUKA KR "
+               "5), and the elbow moves in a plane across axis 2, so placing the wrist centre "
+               "gives a quadratic equation in its squared distance from the shoulder, then "
+               "q3 from the elbow triangle")
     else:
         how = "axes 1 and 2 are skew, so placing the wrist centre gives a quartic equation in q3"
     return f"6R with a spherical wrist (Pieper's decoupling): {how}", ""
+
+
+def _planar_elbow(model: ChainModel, wg: WristGeometry, al1: float) -> bool:
+    """True when skew axes 1 and 2 are perpendicular and the wrist centre's height along
+    axis 2 does not change with q3 (the kernel's ``planar`` case): the quartic is then a
+    quadratic in ``|g|^2``, as :meth:`PieperKernel._th3_planar` solves it."""
+    v, R2 = wg.v, model.M[2][:3, :3]
+    gc_z = float(R2[2] @ np.array([v[0], v[1], 0.0]))
+    gs_z = float(R2[2] @ np.array([-v[1], v[0], 0.0]))
+    return (abs(math.cos(al1)) <= GEOMETRY_TOL
+            and max(abs(gc_z), abs(gs_z)) <= GEOMETRY_TOL * model.scale)
 
 
 def _positions_span_3d(model: ChainModel, wg: WristGeometry) -> bool:

@@ -141,6 +141,10 @@ class IKResult:
         nearest reachable pose, which is ``target``'s: the least sum of squared
         changes of the entries of ``[R | p]``. 0 when the target was reachable
         as given.
+    directions : ndarray, shape (n,)
+        The solved arm's :attr:`rikin.SerialArm.directions`: -1 for a joint its data sheet
+        counts against the DH z axis (``q`` holds the data sheet's values; :meth:`table`
+        marks the column ``q1(-z)``); empty, read as all +1, when not known.
     """
 
     q: FloatArray
@@ -154,6 +158,7 @@ class IKResult:
     revolute: FloatArray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     rotation_distance: float = 0.0
     reach_distance: float = 0.0
+    directions: FloatArray = field(default_factory=lambda: np.zeros(0))
 
     @classmethod
     def _regular(
@@ -174,6 +179,7 @@ class IKResult:
             "revolute": arm.revolute,
             "rotation_distance": 0.0,
             "reach_distance": 0.0,
+            "directions": arm.directions,
         })
         return self
 
@@ -224,8 +230,8 @@ class IKResult:
         k, n = self.q.shape
         names = [branch_name(label) for label in self.labels]
         w = max([22, *map(len, names)])
-        head = f"{'#':>2}  {word('branch'):<{w}}" + "".join(f"{'q' + str(j + 1):>11}"
-                                                          for j in range(n))
+        head = f"{'#':>2}  {word('branch'):<{w}}" + "".join(f"{name:>11}"
+                                                          for name in self._joint_names(n))
         rows = [head]
         qd = self.degrees()
         for i in range(k):
@@ -246,6 +252,11 @@ class IKResult:
                 "solved for the nearest reachable pose"
             )
         return "\n".join(rows)
+
+    def _joint_names(self, n: int) -> list[str]:
+        """Column names ``q1 .. qn``, ``q1(-z)`` for a joint counted against the DH z axis."""
+        reversed_ = [len(self.directions) == n and self.directions[j] < 0 for j in range(n)]
+        return [f"q{j + 1}" + ("(-z)" if r else "") for j, r in enumerate(reversed_)]
 
     def __repr__(self) -> str:
         extra = f", singular={self.singularity!r}" if self.singular else ""
