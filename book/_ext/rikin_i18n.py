@@ -21,6 +21,12 @@ notebook ran, and ``tools/dev.py translations`` extracts without running any. In
 the messages Sphinx's ``Locale`` transform looks up in the executed Spanish build (a
 caption's paragraph, its lines joined by spaces; an image's alt text).
 
+The comments of the code cells a page shows are teaching text too: the gettext build adds
+them to the page's catalogue (one message per trailing comment or block of comment lines,
+found with :mod:`tokenize`, ``rikin_comments``), and a translated edition shows each cell's
+source with its comments translated (:class:`TranslatedComments`), while the notebook
+that runs is the English source, so the numbers stay the same.
+
 And what makes the site around the pages speak the edition's language:
 
 * the texts the site shows that no page's source has (:func:`site_messages`: the config's
@@ -68,6 +74,7 @@ from sphinx.transforms.post_transforms import SphinxPostTransform
 from sphinx.util.i18n import docname_to_domain
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import rikin_comments  # noqa: E402  (the code cells' comments, as messages)
 import rikin_site  # noqa: E402  (the texts the book's extension writes on its pages)
 
 #: The editions: language code -> (folder below the site root, the language's own name).
@@ -261,9 +268,66 @@ class ExtractCellTexts(SphinxTransform):
         for cell in list(self.document.findall(nodes.container)):
             if cell.get("nb_element") != "cell_code":
                 continue
-            texts = cell_texts(cell.get("cell_metadata"))
+            texts = cell_texts(cell.get("cell_metadata")) + comment_texts(cell)
             if texts:
                 cell += _late_node(texts, self.document["source"], cell.line)
+
+
+def _shown_sources(cell: nodes.Element) -> list[nodes.literal_block]:
+    """The literal blocks that show a code cell's source (none when its input is removed)."""
+    return [block for source in cell.findall(nodes.container)
+            if source.get("nb_element") == "cell_code_source"
+            for block in source.findall(nodes.literal_block)]
+
+
+def comment_texts(cell: nodes.Element) -> list[str]:
+    """The messages of the comments a code cell shows (rikin_comments.code_comments)."""
+    return [c.text for block in _shown_sources(cell)
+            for c in rikin_comments.code_comments(block.astext())]
+
+
+def _has_message(catalogue: gettext.NullTranslations | None, message: str) -> bool:
+    """Whether ``catalogue`` (or one it falls back on) translates ``message``, also when
+    its translation is the message itself (a comment that is a formula, ``# q5 = 0``)."""
+    while catalogue is not None:
+        if getattr(catalogue, "_catalog", {}).get(message):
+            return True
+        catalogue = getattr(catalogue, "_fallback", None)
+    return False
+
+
+class TranslatedComments(SphinxTransform):
+    """In a translated edition, each code cell shows its comments in the edition's language.
+
+    Only the literal block that shows the cell's source changes (the notebook that ran is
+    the English source, so the numbers are the same); a cell with a comment the catalogue
+    does not translate keeps it and is marked ``untranslated`` (what the tests look for).
+    """
+
+    default_priority = 21  # after Locale (20), which loads the page's catalogue
+
+    def apply(self, **kwargs: Any) -> None:
+        if edition(self.config.language) == "en" or self.app.builder.name == GETTEXT:
+            return
+        dirs = [str(Path(self.env.srcdir) / d) for d in self.config.locale_dirs]
+        domain = docname_to_domain(self.env.docname, self.config.gettext_compact)
+        catalogue, _ = init_locale(dirs, self.config.language, domain)
+
+        def translate(message: str) -> str | None:
+            return catalogue.gettext(message) if _has_message(catalogue, message) else None
+
+        for block in list(self.document.findall(nodes.literal_block)):
+            parent = block.parent
+            if parent is None or parent.get("nb_element") != "cell_code_source":
+                continue
+            text, missing = rikin_comments.translated_source(block.astext(), translate)
+            if text == block.astext() and not missing:
+                continue
+            shown = nodes.literal_block(text, text, **block.attributes)
+            shown.source, shown.line = block.source, block.line
+            if missing:
+                shown["classes"] = [*shown["classes"], "untranslated"]
+            parent.replace(block, shown)
 
 
 class GlueFigure(PasteFigureDirective):
@@ -615,6 +679,7 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.add_transform(TranslatedPartCaptions)
     app.add_transform(RememberAlt)
     app.add_transform(MarkAltTranslated)
+    app.add_transform(TranslatedComments)
     app.add_post_transform(TranslatedFolds)
     app.add_node(HideCodeCellNode, override=True, html=(visit_fold, depart_HideCellInput))
     app.add_directive_to_domain("glue", "figure", GlueFigure, override=True)
