@@ -4,6 +4,8 @@
   ``RIKIN_LANG=es``) with no warning;
 * every page shows the same numbers in both: the text of every code cell's output and
   glued output, and the coordinates of every interactive figure, compared page by page;
+* every code cell's comments read in the edition's language (the code shown is the same,
+  and stays within 80 columns);
 * every page has ``<html lang>`` of its edition, and every text the Spanish edition looked
   up in the catalogues was found there (Sphinx marks a text it found no translation for
   with the class ``untranslated``, book/_ext/rikin_i18n.py);
@@ -36,7 +38,9 @@ from bs4 import BeautifulSoup
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
+sys.path.insert(0, str(ROOT / "book" / "_ext"))
 import dev  # noqa: E402
+import rikin_comments  # noqa: E402
 
 # The browser test's fixtures (Chromium, a local server of ``book_html``) and pages.
 browser_paths, server = _browser.browser_paths, _browser.server
@@ -280,6 +284,106 @@ def test_no_figure_caption_is_english(page: str, book_html: Path) -> None:
         left = english_captions(english, book_html / folder / page)
         assert not left, (f"{folder}/{page}: {len(left)} captions still English:\n"
                           + "\n".join(repr(t[:100]) for t in left[:30]))
+
+
+def shown_sources(html_file: Path) -> list[str]:
+    """The source of every code cell a page shows, folded ones too (its highlighted text)."""
+    return [pre.get_text() for pre in _article(html_file).select("div.cell_input pre")]
+
+
+def shown_comments(html_file: Path) -> list[str]:
+    """The comments of a page's code cells as the page shows them, as messages
+    (rikin_comments.code_comments: a block of comment lines is one)."""
+    return [c.text for source in shown_sources(html_file)
+            for c in rikin_comments.code_comments(source)]
+
+
+def spelt_alike(language: str, page: str) -> set[str]:
+    """The messages of a page's catalogue translated as they are (a comment that is a
+    formula, ``# q5 = 0``, or a name, ``# SCARA``) with no English function word."""
+    from babel.messages.pofile import read_po
+
+    po = ROOT / "book" / "locales" / language / "LC_MESSAGES" / Path(page).with_suffix(".po")
+    if not po.is_file():
+        return set()
+    with po.open("rb") as f:
+        alike = {m.id for m in read_po(f) if m.id and m.string == m.id and not m.fuzzy}
+    return {m for m in alike if not set(re.findall(r"[a-z]+", m.lower())) & _ENGLISH_WORDS}
+
+
+#: English function words (no Spanish word): a comment copied with one is still English.
+_ENGLISH_WORDS = frozenset("the and with of is are to for this that from by on which it "
+                           "its be or at into each not what when where how but only than "
+                           "then there as in".split())
+
+
+def english_comments(english_html: Path, other_html: Path, alike: set[str]) -> list[str]:
+    """The comments of the English page's code cells that the other edition's page shows
+    unchanged, but for those its catalogue translates as they are (``alike``)."""
+    other = set(shown_comments(other_html))
+    return [c for c in dict.fromkeys(shown_comments(english_html))
+            if c in other and c not in alike]
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", BOOK_PAGES)
+def test_no_code_comment_is_english(page: str, book_html: Path) -> None:
+    """The comments of every code cell a page shows (folded ones too) read in the
+    edition's language: the page's catalogue translates them (rikin_comments)."""
+    english = book_html / page
+    for language, folder in EDITIONS.items():
+        left = english_comments(english, book_html / folder / page, spelt_alike(language, page))
+        assert not left, (f"{folder}/{page}: {len(left)} code comments still English:\n"
+                          + "\n".join(repr(t[:100]) for t in left[:30]))
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", BOOK_PAGES)
+def test_translated_code_lines_fit_80_columns(page: str, book_html: Path) -> None:
+    """A translated comment leaves every line of a code cell within 80 columns (as
+    tests/test_book_content.py checks the English source), and the code the cells show is
+    the English code: only comments differ."""
+    english = shown_sources(book_html / page)
+    for folder in EDITIONS.values():
+        shown = shown_sources(book_html / folder / page)
+        long = [line for source in shown for line in source.split("\n")
+                if len(line) > rikin_comments.CODE_COLUMNS]
+        assert not long, f"{folder}/{page}: {len(long)} code lines over 80 columns: {long[:3]}"
+        assert [_code_only(s) for s in shown] == [_code_only(s) for s in english], (
+            f"{folder}/{page}: a code cell shows other code than the English page")
+
+
+def _code_only(source: str) -> list[str]:
+    """The lines of ``source`` that are code, without their comments."""
+    lines = source.split("\n")
+    for c in reversed(rikin_comments.code_comments(source)):
+        if c.trailing:
+            lines[c.row] = lines[c.row][:c.col]
+        else:
+            del lines[c.row:c.row + c.rows]
+    return [line.rstrip() for line in lines if line.strip()]
+
+
+def test_the_comment_comparison_sees_english(tmp_path: Path) -> None:
+    """shown_comments reads the comments of shown and folded cells (not a ``#`` in a
+    string); a comment the catalogue writes as it is may stay."""
+    def page(name: str, *cells: str) -> Path:
+        body = "".join(f'<div class="cell_input"><div class="highlight"><pre>{c}</pre></div>'
+                       f"</div>" for c in cells)
+        return article_page(tmp_path / f"{name}.html",
+                            f'<div class="cell"><details>{body}</details></div>')
+
+    english = page("en", "x = '#1'  # the wrist centre\n# q5 = 0\n", "y = 2  # front, back")
+    assert shown_comments(english) == ["the wrist centre", "q5 = 0", "front, back"]
+    spanish = page("es", "x = '#1'  # el centro de la muñeca\n# q5 = 0\n",
+                   "y = 2  # delante, detrás")
+    assert english_comments(english, spanish, {"q5 = 0"}) == []
+    half = page("half", "x = '#1'  # the wrist centre\n# q5 = 0\n", "y = 2  # delante, detrás")
+    assert english_comments(english, half, {"q5 = 0"}) == ["the wrist centre"]
+    assert english_comments(english, half, set()) == ["the wrist centre", "q5 = 0"]
+    assert _code_only("x = '#1'  # a\n# b\n# c\ny = 2\n") == ["x = '#1'", "y = 2"]
 
 
 def article_page(path: Path, body: str) -> Path:

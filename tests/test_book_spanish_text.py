@@ -10,7 +10,8 @@
   code that draws it writes no word on it.
 
 Stays English on purpose, and is left out here: code the student reads and runs (a code
-cell's source, and what a code cell whose source is shown prints: ``print(classify(arm))``
+cell's source, whose comments tests/test_book_editions.py checks are translated, and what
+a code cell whose source is shown prints: ``print(classify(arm))``
 shows rikin's own description), inline code and identifiers, formulas, a program's
 message quoted in «…» or printed as ``SomeError: ...`` (rikin's, Python's and the
 grader's errors, matched by tests; what ``classify`` says), English cited in italics (a

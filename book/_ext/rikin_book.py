@@ -56,6 +56,7 @@ from sphinx.errors import ExtensionError
 from sphinx.util import logging
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import rikin_comments  # noqa: E402  (the code cells' comments in the edition's language)
 import rikin_i18n  # noqa: E402  (the editions, and the site's texts in their language)
 import rikin_markdown  # noqa: E402  (next to this file; standard library only)
 import rikin_site  # noqa: E402
@@ -319,14 +320,18 @@ def jupyter_markdown(nb: nbformat.NotebookNode, links: rikin_markdown.Resolve) -
 def translate_notebook(nb: nbformat.NotebookNode, lookup: Any, language: str) -> None:
     """A chapter's executed notebook in a translated edition's language (in place): its
     markdown and its figures' captions, as the page's catalogue translates them
-    (``rikin_i18n.translate_markdown``); the code and what it printed stay as they are
-    (the cells printed in the edition's language); its metadata says ``language`` (as the
-    exercises in other languages do). ``lookup`` None: English, unchanged."""
+    (``rikin_i18n.translate_markdown``), and its code cells' comments as the page shows
+    them (``rikin_comments``); the code and what it printed stay as they are (the cells
+    printed in the edition's language); its metadata says ``language`` (as the exercises
+    in other languages do). ``lookup`` None: English, unchanged."""
     if lookup is None:
         return
     for cell in nb.cells:
         if cell.cell_type == "markdown":
             cell.source = rikin_i18n.translate_markdown(cell.source, lookup)
+        elif cell.cell_type == "code":
+            cell.source = rikin_comments.translated_source(
+                cell.source, lambda message: lookup([message]))[0]
         figure = cell.get("metadata", {}).get("mystnb", {}).get("figure", {})
         if cell.cell_type == "code" and figure.get("caption"):
             figure["caption"] = rikin_i18n.translate_markdown(str(figure["caption"]).strip(),

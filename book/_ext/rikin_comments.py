@@ -14,7 +14,8 @@ English source (so both editions compute the same numbers); only the source the 
 * :func:`translated_source` writes a cell's source with each comment's translation in its
   place: a block re-wrapped to the English block's width, a trailing comment after its
   code, or on its own line above the code (same indentation) when the line would be
-  longer than :data:`CODE_COLUMNS`.
+  longer than :data:`CODE_COLUMNS` (and the line does not continue one that ends with a
+  backslash, where no comment line may go).
 
 rikin_i18n extracts the messages in the gettext build and replaces the shown source in a
 translated one (:class:`TranslatedComments`); a comment the catalogue has no translation
@@ -138,7 +139,9 @@ def translated_source(
         if c.trailing:
             code = here[0][:c.col]
             line = code + c.marker + translation
-            if len(line) <= width and "\n" not in translation:
+            continued = c.row > 0 and lines[c.row - 1].rstrip().endswith("\\")
+            if continued or (len(line) <= width and "\n" not in translation):
+                # (no comment line can go between a backslash and the line it continues)
                 lines[c.row] = line
             else:
                 indent = re.match(r"\s*", code).group(0)
