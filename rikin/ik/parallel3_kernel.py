@@ -56,6 +56,9 @@ from .pieper import ACCEPT_TOL
 from .pieper_kernel import LABEL, NEAR_AXIS1, WRAP_EDGE
 from .result import Branch
 
+#: A joint's cosine and sine, two arrays broadcasting to the slots' shape.
+CosSin = tuple[np.ndarray, np.ndarray]
+
 if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
 
@@ -405,8 +408,8 @@ def solve_batch(k: ParallelKernel, X: np.ndarray) -> tuple[np.ndarray, np.ndarra
     with np.errstate(all="ignore"):  # NaN and inf end up in suspect
         W = _batch_chain(k, X)
         th1, side, suspect = _batch_joint1(k, W)
-        th, valid, bad = _batch_rest(k, W, th1, side)
-        err = _batch_fk_error(k, W, th)
+        th, cs, valid, bad = _batch_rest(k, W, th1, side)
+        err = _batch_fk_error(k, W, cs)
         suspect = suspect | bad | (valid & ~(err <= ACCEPT_TOL)).any(axis=(0, 1, 2))
         full = (2, 2, 2, n)
         th = [np.broadcast_to(t, full).reshape(8, n) for t in th]
@@ -451,9 +454,12 @@ def _batch_joint1(k: ParallelKernel, W: tuple[np.ndarray, ...]
 
 
 def _batch_rest(k: ParallelKernel, W: tuple[np.ndarray, ...], th1: np.ndarray,
-                side: tuple[np.ndarray, ...]) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
+                side: tuple[np.ndarray, ...]
+                ) -> tuple[list[np.ndarray], list[CosSin], np.ndarray, np.ndarray]:
     """Joints 1-6 (broadcasting to ``(2, 2, 2, n)``: joint 1's root, joint 5's, the elbow),
-    which slots exist, and the poses :meth:`ParallelKernel._shoulder` would decline."""
+    their cosines and sines (from the closed form's arguments where it has them: the FK
+    check then takes no ``cos`` or ``sin`` of joints 1-3, 5 and 6), which slots exist, and
+    the poses :meth:`ParallelKernel._shoulder` would decline."""
     w00, w01, w02, w03, w10, w11, w12, w13, w20, w21, w22, w23 = W
     c1, s1 = np.cos(th1), np.sin(th1)  # (2, n)
     u0, u1, u2 = k.u
@@ -498,16 +504,20 @@ def _batch_rest(k: ParallelKernel, W: tuple[np.ndarray, ...], th1: np.ndarray,
     Px, Py = in_frame2(k.vp)
     Px, Py = Px + zp[0], Py + zp[1]
     dx, dy = in_frame2(k.vd)
-    th234, valid, bad_p = _batch_planar(k, th5, Px, Py, np.arctan2(dy, dx), ok5[:, None])
-    return [th1[:, None, None], *th234, th5[:, :, None], th6[:, :, None]], valid, \
-        bad.any(axis=0) | bad_p
+    th234, cs234, valid, bad_p = _batch_planar(k, th5, Px, Py, np.arctan2(dy, dx),
+                                               ok5[:, None])
+    th = [th1[:, None, None], *th234, th5[:, :, None], th6[:, :, None]]
+    cs = [(c1[:, None, None], s1[:, None, None]), *cs234, (c5[:, :, None], s5[:, :, None]),
+          (c6[:, :, None], s6[:, :, None])]
+    return th, cs, valid, bad.any(axis=0) | bad_p
 
 
 def _batch_planar(k: ParallelKernel, th5: np.ndarray, Px: np.ndarray, Py: np.ndarray,
                   phi_v: np.ndarray, ok5: np.ndarray
-                  ) -> tuple[list[np.ndarray], np.ndarray, np.ndarray]:
+                  ) -> tuple[list[np.ndarray], list[CosSin], np.ndarray, np.ndarray]:
     """Joints 2-4 ``(2, 2, 2, n)`` (the elbows last but one) of :meth:`ParallelKernel._planar`,
-    which slots exist, and the poses with an elbow near stretched or folded."""
+    their cosines and sines (joint 2's from its ``atan2``'s arguments, joint 3's from
+    ``psi``'s), which slots exist, and the poses with an elbow near stretched or folded."""
     P2 = Px * Px + Py * Py
     ratio = (P2 - k.aabb) / 2.0 / k.rho_ab
     okp = ok5 & (np.abs(ratio) <= 1.0 + OUT)
@@ -519,17 +529,23 @@ def _batch_planar(k: ParallelKernel, th5: np.ndarray, Px: np.ndarray, Py: np.nda
     cp, sp = np.cos(psi), np.sin(psi)
     ex, ey = a0 + cp * b0 - sp * b1, a1 + sp * b0 + cp * b1
     Px, Py = Px[:, :, None], Py[:, :, None]
-    th2 = np.arctan2(ex * Py - ey * Px, Px * ex + Py * ey)
+    y2, x2 = ex * Py - ey * Px, Px * ex + Py * ey
+    th2 = np.arctan2(y2, x2)
+    h2 = norm2(x2, y2)  # 0 at a singular pose: NaN cosines, an FK miss, suspect
     th3 = k.s2 * (psi - k.gamma2)
+    cg, sg = cos(k.gamma2), sin(k.gamma2)
+    c3, s3 = cp * cg + sp * sg, k.s2 * (sp * cg - cp * sg)
     th4 = k.sig * (phi_v[:, :, None] - th2 - k.s2 * th3 - k.g4)
-    return [th2, th3, th4], np.repeat(okp[:, :, None], 2, axis=2), bad
+    cs = [(x2 / h2, y2 / h2), (c3, s3), (np.cos(th4), np.sin(th4))]
+    return [th2, th3, th4], cs, np.repeat(okp[:, :, None], 2, axis=2), bad
 
 
-def _batch_fk_error(k: ParallelKernel, W: tuple[np.ndarray, ...], th: list[np.ndarray]
+def _batch_fk_error(k: ParallelKernel, W: tuple[np.ndarray, ...], cs: list[CosSin]
                     ) -> np.ndarray:
     """``max(|p - p_goal| / scale, max |R - R_goal|)`` ``(2, 2, 2, n)`` of the chain's
-    joints ``th`` (6 arrays broadcasting to that shape) against ``W``, both between ``M0``
+    joints (their cosines and sines ``cs``, 6 pairs of arrays broadcasting to that shape)
+    against ``W``, both between ``M0``
     and ``M6`` (the general batch kernel's check). Joints 5 and 6 have fewer distinct
     values than slots: the chain's tail is multiplied out on its own shape."""
     goal = _mul_const(_mul(k.M[0], W), k.M[6])
-    return chain_fk_error(k.M, [(np.cos(t), np.sin(t)) for t in th], goal, k.L, split=4)
+    return chain_fk_error(k.M, cs, goal, k.L, split=4)
