@@ -20,6 +20,10 @@ the machine's load hits all sides alike):
 * ``cpu batch``, ``cpu eaik``, ``cpu e/b``: the batch's CPU time per pose (both threads),
   EAIK's, and EAIK's over the batch's (what each pose costs, whatever the machine's load
   does to the wall clock);
+* ``batch 1t``, ``cpu b 1t``, ``1t/2t``: the same batch on one thread (``workers=1``), wall
+  and CPU time per pose, and its wall time over the 2 threads' (about 1.8 on an idle
+  2-CPU machine, where the threads share the poses; near 1 or below when other work
+  keeps both CPUs busy);
 * ``x sph``: this arm's ``arm.ik`` time over the Puma's (the general 6R's goal: <= 10);
 * ``cpu ik``, ``cpu x sph``: ``arm.ik``'s CPU time per pose and its ratio to the Puma's
   (steadier than the wall clock on a machine shared with other work); ``cpu b x sph``: the
@@ -28,7 +32,9 @@ the machine's load hits all sides alike):
 * with ``--baseline CHECKOUT``: the same times of the rikin in another checkout (run in
   a subprocess, in turn with this one, round by round), its ``arm.ik`` CPU time per pose
   (``base cpu ik``), and ``base/ik``, ``base/batch``, ``base/cpu ik``: its times over this
-  checkout's (2 = this one twice as fast), and its ``cpu x sph``;
+  checkout's (2 = this one twice as fast), its ``cpu x sph``, and its batch's CPU time per
+  pose on 2 threads and on one (``base cpu b``, ``base cpu b 1t``) and their ratios to this
+  checkout's (``base/cpu b``, ``base/cpu b 1t``);
 * with ``--breakdown`` (only that): where a general 6R's ``arm.ik`` time goes, stage by
   stage, each stage's thread CPU time per pose beside the spherical wrist's whole
   ``arm.ik`` (:func:`general_stages`): the goal, a general 6R within 10x of the spherical
@@ -142,7 +148,7 @@ def per_pose(fn, Ts: np.ndarray) -> tuple[float, float]:
 
 
 #: The timed columns: seconds per pose (also in CPU seconds).
-KEYS = ("ik", "ik_cpu", "batch", "batch_cpu", "eaik", "eaik_cpu")
+KEYS = ("ik", "ik_cpu", "batch", "batch_cpu", "batch1", "batch1_cpu", "eaik", "eaik_cpu")
 
 
 def timings(poses: int, rounds: int, batch_poses: int) -> list[dict]:
@@ -178,13 +184,16 @@ def timings(poses: int, rounds: int, batch_poses: int) -> list[dict]:
 def _time_round(best: dict, arm: SerialArm, nb: int, Ts: np.ndarray, Tb: np.ndarray,
                 robot: object) -> None:
     """One round of one arm: ``arm.ik`` of each of ``Ts``, ``ik_batch`` of the ``nb`` poses
-    ``Tb`` (2 threads) and EAIK's ``IK`` of each of ``Ts`` (``robot``, or None), each kept
+    ``Tb`` (2 threads, then one) and EAIK's ``IK`` of each of ``Ts`` (``robot``, or None), each kept
     in ``best`` (seconds per pose, wall and CPU) where faster than before."""
     wall, cpu = per_pose(arm.ik, Ts)
     best["ik"], best["ik_cpu"] = min(best["ik"], wall), min(best["ik_cpu"], cpu)
     batch = per_pose(partial(arm.ik_batch, workers=2), Tb[None])
     best["batch"] = min(best["batch"], batch[0] / nb)
     best["batch_cpu"] = min(best["batch_cpu"], batch[1] / nb)
+    batch = per_pose(partial(arm.ik_batch, workers=1), Tb[None])
+    best["batch1"] = min(best["batch1"], batch[0] / nb)
+    best["batch1_cpu"] = min(best["batch1_cpu"], batch[1] / nb)
     if robot is not None:
         wall, cpu = per_pose(robot.IK, Ts)
         best["eaik"], best["eaik_cpu"] = min(best["eaik"], wall), min(best["eaik_cpu"], cpu)
@@ -316,10 +325,13 @@ def print_table(rows: list[dict], base: list[dict] | None) -> None:
     and EAIK's over the batch's); with a baseline, its times over these."""
     head = (f"{'arm':12} {'family':28} {'ik':>9} {'N batch':>7} {'batch':>8} {'eaik':>7} "
             f"{'eaik/ik':>8} {'eaik/batch':>10} {'cpu batch':>9} {'cpu eaik':>8} "
-            f"{'cpu e/b':>7} {'x sph':>6} {'cpu ik':>8} {'cpu x sph':>9} {'cpu b x sph':>11}")
+            f"{'cpu e/b':>7} {'x sph':>6} {'cpu ik':>8} {'cpu x sph':>9} {'cpu b x sph':>11} "
+            f"{'batch 1t':>8} {'cpu b 1t':>8} {'1t/2t':>6}")
     if base is not None:
         head += (f" {'base ik':>9} {'base batch':>10} {'base/ik':>8} {'base/batch':>10} "
-                 f"{'base cpu ik':>11} {'base/cpu ik':>11} {'base cpu x sph':>14}")
+                 f"{'base cpu ik':>11} {'base/cpu ik':>11} {'base cpu x sph':>14} "
+                 f"{'base cpu b':>10} {'base/cpu b':>10} {'base cpu b 1t':>13} "
+                 f"{'base/cpu b 1t':>13}")
     print(head)
     sph, sph_cpu, sph_batch = rows[0]["ik"], rows[0]["ik_cpu"], rows[0]["batch_cpu"]
     for n, row in enumerate(rows):
@@ -329,13 +341,16 @@ def print_table(rows: list[dict], base: list[dict] | None) -> None:
                 f"{_us(row['batch_cpu'], 9)} {_us(row['eaik_cpu'], 8)} "
                 f"{_ratio(row['eaik_cpu'], row['batch_cpu'], 7)} {row['ik'] / sph:6.1f} "
                 f"{_us(row['ik_cpu'], 8)} {row['ik_cpu'] / sph_cpu:9.1f} "
-                f"{row['batch_cpu'] / sph_batch:11.1f}")
+                f"{row['batch_cpu'] / sph_batch:11.1f} {_us(row['batch1'], 8)} "
+                f"{_us(row['batch1_cpu'], 8)} {_ratio(row['batch1'], row['batch'], 6)}")
         if base is not None:
             b = base[n]
             line += (f" {_us(b['ik'], 9)} {_us(b['batch'], 10)} "
                      f"{_ratio(b['ik'], row['ik'], 8)} {_ratio(b['batch'], row['batch'], 10)} "
                      f"{_us(b['ik_cpu'], 11)} {_ratio(b['ik_cpu'], row['ik_cpu'], 11)} "
-                     f"{b['ik_cpu'] / base[0]['ik_cpu']:14.1f}")
+                     f"{b['ik_cpu'] / base[0]['ik_cpu']:14.1f} {_us(b['batch_cpu'], 10)} "
+                     f"{_ratio(b['batch_cpu'], row['batch_cpu'], 10)} "
+                     f"{_us(b['batch1_cpu'], 13)} {_ratio(b['batch1_cpu'], row['batch1_cpu'], 13)}")
         print(line)
 
 
