@@ -8,6 +8,7 @@ branch labels; arms without a closed form must say why in the arm's terms.
 
 import math
 import warnings
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -123,7 +124,12 @@ def random_pose(rng):
 # ------------------------------------------------------------------ classify
 def test_classify_names_the_closed_form():
     assert "quadratic" in str(classify(puma560()))  # axes 1 and 2 meet (a1 = 0)
-    assert "quartic" in str(classify(kuka_kr5()))  # a1 != 0 and alpha1 != 0: skew
+    # a1 != 0 and alpha1 = -90 deg, axes 2 and 3 parallel: the quartic is a quadratic in
+    # the squared shoulder-wrist distance (what the kernel solves, _th3_planar)
+    assert "quadratic" in str(classify(kuka_kr5()))
+    skew = SerialArm((replace(kuka_kr5().links[0], alpha=pi / 3),) + kuka_kr5().links[1:],
+                     units="mm")
+    assert "quartic" in str(classify(skew))  # a1 != 0 and alpha1 not 0 or 90 deg: skew
     assert classify(robots.aula10_6r()).closed_form  # the lesson solver
 
 
