@@ -480,11 +480,33 @@ def _open(driver: object, url: str) -> None:
 
 
 def _set_width(driver: object, px: int) -> None:
-    driver.set_window_size(px, 900)
-    # the window's outer size includes no chrome in headless mode; make sure
-    inner = driver.execute_script("return window.innerWidth")
-    if inner != px:
-        driver.set_window_size(px + (px - inner), 900)
+    """Make the page ``px`` CSS pixels wide (``window.innerWidth``). Headless Chromium's
+    window has no chrome, so the outer width is usually it; where it is not, the outer
+    width is corrected by the difference, read once the resize has reached the page (on a
+    busy machine the page may still report its old width just after the resize)."""
+    outer = px
+    for _ in range(3):
+        driver.set_window_size(outer, 900)
+        inner = _settled_inner_width(driver, outer)
+        if inner == px:
+            return
+        outer += px - inner
+        assert outer > 0, f"cannot make the page {px} px wide (it is {inner} px)"
+    raise AssertionError(f"the page is {inner} px wide after three resizes, not {px}")
+
+
+def _settled_inner_width(driver: object, outer: int) -> int:
+    """``window.innerWidth`` once the resize to ``outer`` has reached the page: no wider
+    than the window and the same on two reads 0.1 s apart (PAGE_TIMEOUT_S at most)."""
+    deadline = time.monotonic() + PAGE_TIMEOUT_S
+    last = None
+    while True:
+        inner = driver.execute_script("return window.innerWidth")
+        if inner == last and inner <= outer:
+            return int(inner)
+        assert time.monotonic() < deadline, f"the page did not take the width {outer} px"
+        last = inner
+        time.sleep(0.1)
 
 
 CHAPTER_PAGES = [p for p in PAGES if p.startswith("book/")]
