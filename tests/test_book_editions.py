@@ -259,6 +259,72 @@ def english_cell_texts(english_html: Path, other_html: Path) -> list[str]:
     return [t for t in dict.fromkeys(cell_texts(english_html)) if t in other and _has_words(t)]
 
 
+#: Where a printed line starts quoting a message that stays English in every edition, by
+#: policy (searched for, quoted in forums, matched by tests): rikin's own words after
+#: ``rikin:`` (its error messages, the notes of ``IKResult.table()``, a singularity's
+#: description, ``rikin.ik.classify``'s verdict) and, from an exception's class name on,
+#: its name and message (rikin's ``InputError: ...``; Python's ``TypeError - Cannot
+#: convert complex to float`` where the lesson's code fails).
+_QUOTED = re.compile(r"(?:^|\s)(?:rikin:|\w*Error\b).*$")
+#: A code identifier shown with its value ("excess = 4.1661", "alpha = 46.8011°").
+_SHOWN_NAME = re.compile(r"\b\w+(?= =)")
+#: Punctuation around a printed word ("(deg)", "target:", "[180.0]").
+_AROUND = "()[]{},;:.!?'\"|<>"
+#: Words a printed line may share with the English one beyond :data:`SAME_IN_BOTH`:
+#: Python's reprs and a constant of the formulas.
+PRINTED_ALIKE = {"True", "False", "None", "nan", "inf", "pi"}
+#: Whole printed lines that stay English by policy, with why.
+KEPT_OUTPUT_LINES = {
+    "j type theta_i d_i a_i alpha_i offset":
+        "Robot.dh_table()'s header: the DH fields as rikin's own-arm rows name them "
+        "(type d a alpha offset), code identifiers in every edition",
+}
+
+
+def printed_words(line: str) -> list[str]:
+    """The words of a printed line to translate: not what it quotes (:data:`_QUOTED`), a
+    name shown with its value, code (``p_z``, ``fk(q``, ``l1``), numbers, units, reprs."""
+    if line in KEPT_OUTPUT_LINES:
+        return []
+    text = _SHOWN_NAME.sub(" ", _QUOTED.sub("", line))
+    words = [token.strip(_AROUND) for token in text.split()]
+    return [w for w in words if re.fullmatch(r"[A-Za-z]{2,}(?:[-'][A-Za-z]+)*", w)
+            and w not in SAME_IN_BOTH and w not in PRINTED_ALIKE]
+
+
+def printed_lines(html_file: Path) -> list[str]:
+    """Every line a page's code cells printed as text (streams and ``text/plain`` reprs),
+    its spaces collapsed, in order."""
+    lines = []
+    for output in _article(html_file).select("div.cell_output"):
+        for pre in output.select("pre"):
+            lines += [" ".join(line.split()) for line in pre.get_text().split("\n")
+                      if line.strip()]
+    return lines
+
+
+def english_printed_lines(english_html: Path, other_html: Path) -> list[str]:
+    """The lines the English page's cells printed with words to translate in them
+    (:func:`printed_words`) that the other edition's page prints unchanged."""
+    other = set(printed_lines(other_html))
+    return [t for t in dict.fromkeys(printed_lines(english_html))
+            if t in other and printed_words(t)]
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", BOOK_PAGES)
+def test_no_printed_line_is_english(page: str, book_html: Path) -> None:
+    """Every line the cells print (``print(tr(...))``, not a plain English string) reads
+    in the edition's language, but for the messages quoted as they are (``rikin: ...``,
+    an exception's name and message) and :data:`KEPT_OUTPUT_LINES`."""
+    english = book_html / page
+    for folder in EDITIONS.values():
+        left = english_printed_lines(english, book_html / folder / page)
+        assert not left, (f"{folder}/{page}: {len(left)} printed lines still English:\n"
+                          + "\n".join(repr(t[:100]) for t in left[:30]))
+
+
 @pytest.mark.book
 @pytest.mark.slow
 @pytest.mark.parametrize("page", BOOK_PAGES)
@@ -406,6 +472,35 @@ def test_the_caption_comparison_sees_english(tmp_path: Path) -> None:
     assert english_captions(english, page("es", "Figura 3", "El brazo en q = 0")) == []
     assert english_captions(english, page("half", "Figura 3", "The arm at q = 0")) == [
         "The arm at q = 0"]
+
+
+def test_the_printed_line_comparison_sees_english(tmp_path: Path) -> None:
+    """printed_lines reads what cells print (not the prose); a line left in English is
+    flagged, a translated one, one of numbers, code and reprs only, or one quoting rikin's
+    or an exception's message is not."""
+    def page(name: str, *lines: str) -> Path:
+        body = "\n".join(lines)
+        return article_page(tmp_path / f"{name}.html",
+                            f'<p>the wrist centre</p><div class="cell_output"><pre>{body}'
+                            f"</pre></div>")
+
+    lines = ("wrist centre p_w = [ 1. 2. ]", "θ1, θ2, θ3 = [ 1. 2. ] (deg)",
+             "rpy_to_r gives the same: True", "excess = 4.1661", "fk(q + 2 pi k): 1e-14",
+             "rikin: planar 3R: target is unreachable", "InputError: l1 must be numbers",
+             "as in the lesson: TypeError - Cannot convert complex to float")
+    english = page("en", *lines)
+    assert printed_lines(english) == list(lines)
+    assert english_printed_lines(english, page("same", *lines)) == [
+        "wrist centre p_w = [ 1. 2. ]", "θ1, θ2, θ3 = [ 1. 2. ] (deg)",
+        "rpy_to_r gives the same: True",
+        "as in the lesson: TypeError - Cannot convert complex to float"]
+    spanish = page("es", "centro de la muñeca p_w = [ 1. 2. ]",
+                   "θ1, θ2, θ3 = [ 1. 2. ] (grados)", "rpy_to_r da la misma: True",
+                   *lines[3:7], "como en la lección: TypeError - Cannot convert complex to "
+                   "float")
+    assert english_printed_lines(english, spanish) == []
+    assert printed_words("moved 0.5 along y: UnreachableError, 0.5 off") == ["moved", "along"]
+    assert printed_words("j type theta_i d_i a_i alpha_i offset") == []
 
 
 def test_the_cell_text_comparison_sees_english(tmp_path: Path) -> None:
