@@ -157,6 +157,12 @@ def test_only_the_kernel_shutdown_race_is_left_out_of_the_build_log() -> None:
 
 
 # ------------------------------------------------------------------ the built site
+def assert_none_left(left: list[str], where: str, what: str) -> None:
+    """Fail naming the first 30 ``what`` (e.g. "captions") of page ``where`` still English."""
+    assert not left, (f"{where}: {len(left)} {what} still English:\n"
+                      + "\n".join(repr(t[:100]) for t in left[:30]))
+
+
 @pytest.mark.book
 @pytest.mark.slow
 def test_both_editions_build_strict_with_no_warning(editions: Editions) -> None:
@@ -321,8 +327,7 @@ def test_no_printed_line_is_english(page: str, book_html: Path) -> None:
     english = book_html / page
     for folder in EDITIONS.values():
         left = english_printed_lines(english, book_html / folder / page)
-        assert not left, (f"{folder}/{page}: {len(left)} printed lines still English:\n"
-                          + "\n".join(repr(t[:100]) for t in left[:30]))
+        assert_none_left(left, f"{folder}/{page}", "printed lines")
 
 
 @pytest.mark.book
@@ -335,8 +340,7 @@ def test_no_check_line_or_table_header_is_english(page: str, book_html: Path) ->
     assert english.is_file()
     for folder in EDITIONS.values():
         left = english_cell_texts(english, book_html / folder / page)
-        assert not left, (f"{folder}/{page}: {len(left)} cell texts still English:\n"
-                          + "\n".join(repr(t[:100]) for t in left[:30]))
+        assert_none_left(left, f"{folder}/{page}", "cell texts")
 
 
 @pytest.mark.book
@@ -348,8 +352,7 @@ def test_no_figure_caption_is_english(page: str, book_html: Path) -> None:
     english = book_html / page
     for folder in EDITIONS.values():
         left = english_captions(english, book_html / folder / page)
-        assert not left, (f"{folder}/{page}: {len(left)} captions still English:\n"
-                          + "\n".join(repr(t[:100]) for t in left[:30]))
+        assert_none_left(left, f"{folder}/{page}", "captions")
 
 
 def shown_sources(html_file: Path) -> list[str]:
@@ -400,8 +403,7 @@ def test_no_code_comment_is_english(page: str, book_html: Path) -> None:
     english = book_html / page
     for language, folder in EDITIONS.items():
         left = english_comments(english, book_html / folder / page, spelt_alike(language, page))
-        assert not left, (f"{folder}/{page}: {len(left)} code comments still English:\n"
-                          + "\n".join(repr(t[:100]) for t in left[:30]))
+        assert_none_left(left, f"{folder}/{page}", "code comments")
 
 
 @pytest.mark.book

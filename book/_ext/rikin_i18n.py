@@ -309,9 +309,7 @@ class TranslatedComments(SphinxTransform):
     def apply(self, **kwargs: Any) -> None:
         if edition(self.config.language) == "en" or self.app.builder.name == GETTEXT:
             return
-        dirs = [str(Path(self.env.srcdir) / d) for d in self.config.locale_dirs]
-        domain = docname_to_domain(self.env.docname, self.config.gettext_compact)
-        catalogue, _ = init_locale(dirs, self.config.language, domain)
+        catalogue, _ = page_catalogue(self.app, self.env.docname)
 
         def translate(message: str) -> str | None:
             return catalogue.gettext(message) if _has_message(catalogue, message) else None
@@ -490,9 +488,7 @@ class TranslatedPartCaptions(SphinxTransform):
     def apply(self, **kwargs: Any) -> None:
         if edition(self.config.language) == "en" or self.app.builder.name == GETTEXT:
             return
-        dirs = [str(Path(self.env.srcdir) / d) for d in self.config.locale_dirs]
-        domain = docname_to_domain(self.env.docname, self.config.gettext_compact)
-        catalogue, found = init_locale(dirs, self.config.language, domain)
+        catalogue, found = page_catalogue(self.app, self.env.docname)
         for node in self.document.findall(addnodes.toctree):
             caption = node.get("rawcaption") or node.get("caption")
             translated = catalogue.gettext(caption) if found and caption else caption
@@ -621,14 +617,20 @@ def translate_markdown(text: str, lookup: Any) -> str:
     return "\n".join(out)
 
 
+def page_catalogue(app: Sphinx, docname: str) -> tuple[Any, bool]:
+    """The gettext catalogue of page ``docname`` in the edition's language (one ``.po``
+    per page, ``gettext_compact: false``), and whether one was found."""
+    dirs = [str(Path(app.srcdir) / d) for d in app.config.locale_dirs]
+    domain = docname_to_domain(docname, app.config.gettext_compact)
+    return init_locale(dirs, app.config.language, domain)
+
+
 def page_lookup(app: Sphinx, docname: str) -> Any:
     """The translation of a message of page ``docname`` in the edition's language, as
     :func:`translate_markdown` wants it; None in the English edition."""
     if edition(app.config.language) == "en":
         return None
-    dirs = [str(Path(app.srcdir) / d) for d in app.config.locale_dirs]
-    domain = docname_to_domain(docname, app.config.gettext_compact)
-    catalogue, found = init_locale(dirs, app.config.language, domain)
+    catalogue, found = page_catalogue(app, docname)
     if not found:
         return None
 
