@@ -41,6 +41,7 @@ sys.path.insert(0, str(ROOT / "tools"))
 sys.path.insert(0, str(ROOT / "book" / "_ext"))
 import dev  # noqa: E402
 import rikin_comments  # noqa: E402
+import rikin_site  # noqa: E402
 
 # The browser test's fixtures (Chromium, a local server of ``book_html``) and pages.
 browser_paths, server = _browser.browser_paths, _browser.server
@@ -423,6 +424,53 @@ def test_translated_code_lines_fit_80_columns(page: str, book_html: Path) -> Non
             f"{folder}/{page}: a code cell shows other code than the English page")
 
 
+def notebook_sources(notebook: Path) -> list[str]:
+    """The source of every code cell of a published notebook (``_sources/<page>.ipynb``),
+    shown on its page or not (``remove-input``), but its install cell (rikin_site's, the
+    same in every notebook; its comments are not the page's)."""
+    if not notebook.is_file():
+        return []
+    cells = json.loads(notebook.read_text(encoding="utf-8"))["cells"]
+    return ["".join(c["source"]) for c in cells if c["cell_type"] == "code"
+            and rikin_site.INSTALL_TAG not in c.get("metadata", {}).get("tags", [])]
+
+
+def notebook_comments(notebook: Path) -> list[str]:
+    """The comments of :func:`notebook_sources`, as messages (rikin_comments)."""
+    return [c.text for source in notebook_sources(notebook)
+            for c in rikin_comments.code_comments(source)]
+
+
+def english_notebook_comments(english: Path, other: Path, alike: set[str]) -> list[str]:
+    """The comments of the English notebook's code cells that the other edition's notebook
+    has unchanged, but for those its catalogue translates as they are (``alike``)."""
+    theirs = set(notebook_comments(other))
+    return [c for c in dict.fromkeys(notebook_comments(english))
+            if c in theirs and c not in alike]
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", BOOK_PAGES)
+def test_no_code_comment_of_a_downloaded_notebook_is_english(page: str,
+                                                             book_html: Path) -> None:
+    """The notebook a translated page offers has every code cell's comments in the
+    edition's language, also in the cells the page never shows (``remove-input``: checks,
+    figures), and its code lines within 80 columns."""
+    name = Path("_sources") / page.replace(".html", ".ipynb")
+    english = book_html / name
+    if not english.is_file():
+        pytest.skip(f"{page} is published as no notebook")
+    for language, folder in EDITIONS.items():
+        other = book_html / folder / name
+        assert other.is_file(), f"{other}: not published"
+        left = english_notebook_comments(english, other, spelt_alike(language, page))
+        assert_none_left(left, f"{folder}/{name}", "code comments")
+        long = [line for source in notebook_sources(other) for line in source.split("\n")
+                if len(line) > rikin_comments.CODE_COLUMNS]
+        assert not long, f"{folder}/{name}: {len(long)} code lines over 80 columns: {long[:3]}"
+
+
 def _code_only(source: str) -> list[str]:
     """The lines of ``source`` that are code, without their comments."""
     lines = source.split("\n")
@@ -452,6 +500,30 @@ def test_the_comment_comparison_sees_english(tmp_path: Path) -> None:
     assert english_comments(english, half, {"q5 = 0"}) == ["the wrist centre"]
     assert english_comments(english, half, set()) == ["the wrist centre", "q5 = 0"]
     assert _code_only("x = '#1'  # a\n# b\n# c\ny = 2\n") == ["x = '#1'", "y = 2"]
+
+
+def test_the_notebook_comment_comparison_sees_a_hidden_cell(tmp_path: Path) -> None:
+    """notebook_comments reads every code cell of a downloaded notebook, those its page
+    removes too, and leaves its install cell out."""
+    def notebook(name: str, *cells: tuple[str, list[str]]) -> Path:
+        path = tmp_path / f"{name}.ipynb"
+        path.write_text(json.dumps({"cells": [
+            {"cell_type": "code", "source": source, "metadata": {"tags": tags}}
+            for source, tags in [("x = 1  # set up\n", [rikin_site.INSTALL_TAG]), *cells]
+        ] + [{"cell_type": "markdown", "source": "# the title", "metadata": {}}]}),
+            encoding="utf-8")
+        return path
+
+    english = notebook("en", ("y = 2  # the wrist centre\n", []),
+                       ("# checks: q5 = 0\nassert y\n", ["remove-input"]))
+    assert notebook_comments(english) == ["the wrist centre", "checks: q5 = 0"]
+    spanish = notebook("es", ("y = 2  # el centro de la muñeca\n", []),
+                       ("# comprobaciones: q5 = 0\nassert y\n", ["remove-input"]))
+    assert english_notebook_comments(english, spanish, set()) == []
+    shown_only = notebook("half", ("y = 2  # el centro de la muñeca\n", []),
+                          ("# checks: q5 = 0\nassert y\n", ["remove-input"]))
+    assert english_notebook_comments(english, shown_only, set()) == ["checks: q5 = 0"]
+    assert notebook_comments(tmp_path / "none.ipynb") == []
 
 
 def article_page(path: Path, body: str) -> Path:

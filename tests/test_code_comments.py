@@ -5,8 +5,9 @@
   none;
 * how a translated cell is written: a block re-wrapped, a trailing comment after its
   code, or above it when the line would pass 80 columns;
-* every comment of every cell a page shows has its translation in the page's catalogue,
-  and the Spanish source it makes keeps every line within 80 columns (the built pages are
+* every comment of every code cell of a page, shown or hidden (the downloaded notebook
+  has the hidden ones), has its translation in the page's catalogue, and the Spanish
+  source it makes keeps every line within 80 columns (the built pages and notebooks are
   checked in tests/test_book_editions.py).
 """
 
@@ -102,16 +103,22 @@ def test_a_translation_may_break_its_lines() -> None:
 
 
 # ------------------------------------------------------------------ the book's cells
-def shown_cells(page: str) -> list[str]:
-    """The sources of the page's code cells that the page shows (not ``remove-input``)."""
+def code_cells(page: str, shown_only: bool = False) -> list[str]:
+    """The sources of the page's code cells: every one (the notebook a reader downloads
+    has them all), or only those the page shows (not ``remove-input``, ``remove-cell``)."""
     cells = []
     for cell in CODE_CELL.findall((ROOT / "book" / f"{page}.md").read_text(encoding="utf-8")):
         head, body = cell.split("\n---\n", 1) if cell.startswith("---\n") else ("", cell)
         head += "\n".join(line for line in body.split("\n") if line.startswith(":"))
-        if re.search(r"remove-(?:input|cell)", head):
+        if shown_only and re.search(r"remove-(?:input|cell)", head):
             continue
         cells.append("\n".join(line for line in body.split("\n") if not line.startswith(":")))
     return cells
+
+
+def shown_cells(page: str) -> list[str]:
+    """The sources of the page's code cells that the page shows."""
+    return code_cells(page, shown_only=True)
 
 
 def catalogue(language: str, page: str) -> dict[str, str]:
@@ -122,10 +129,13 @@ def catalogue(language: str, page: str) -> dict[str, str]:
 
 @pytest.mark.parametrize("language", LANGUAGES)
 @pytest.mark.parametrize("page", PAGES)
-def test_every_shown_comment_is_translated_within_80_columns(language: str, page: str) -> None:
+def test_every_comment_is_translated_within_80_columns(language: str, page: str) -> None:
+    """Every comment of every code cell, shown or hidden (``remove-input``: the page never
+    shows it, the downloaded notebook does), has its translation in the page's catalogue,
+    and the translated source keeps every line within 80 columns."""
     strings = catalogue(language, page)
     missing, long = [], []
-    for cell in shown_cells(page):
+    for cell in code_cells(page):
         text, left = translated_source(cell, strings.get)
         missing += left
         long += [line for line in text.split("\n")
@@ -135,5 +145,28 @@ def test_every_shown_comment_is_translated_within_80_columns(language: str, page
     assert not long, f"{page}: {len(long)} lines over 80 columns in {language}: {long[:3]}"
 
 
+def test_the_catalogue_gets_the_comments_of_hidden_cells_too(tmp_path: Path) -> None:
+    """The gettext build reads every code cell's comments from the page's notebook source
+    (rikin_i18n.notebook_comment_texts), a ``remove-input`` cell's included: its
+    doctree shows no source for it, the downloaded notebook does."""
+    import rikin_i18n
+
+    page = tmp_path / "page.md"
+    page.write_text("---\njupytext:\n  text_representation:\n    format_name: myst\n"
+                    "kernelspec:\n  name: python3\n  display_name: Python 3\n---\n"
+                    "# A page\n\n"
+                    "```{code-cell} ipython3\nx = 1  # shown\n```\n\n"
+                    "```{code-cell} ipython3\n:tags: [remove-input]\n\n"
+                    "# checks: x is one\n# and stays so\nassert x == 1\n```\n",
+                    encoding="utf-8")
+    assert rikin_i18n.notebook_comment_texts(page) == [
+        (11, ["shown"]), (15, ["checks: x is one and stays so"])]
+    prose = tmp_path / "prose.md"
+    prose.write_text("# No notebook\n\n```python\nx = 1  # a code block\n```\n")
+    assert rikin_i18n.notebook_comment_texts(prose) == []
+
+
 def test_the_book_has_comments_to_translate() -> None:
     assert sum(len(code_comments(c)) for p in PAGES for c in shown_cells(p)) > 150
+    hidden = [c for p in PAGES for c in code_cells(p) if c not in shown_cells(p)]
+    assert sum(len(code_comments(c)) for c in hidden) >= 6, "no hidden cell has a comment"

@@ -25,7 +25,11 @@ The comments of the code cells a page shows are teaching text too: the gettext b
 them to the page's catalogue (one message per trailing comment or block of comment lines,
 found with :mod:`tokenize`, ``rikin_comments``), and a translated edition shows each cell's
 source with its comments translated (:class:`TranslatedComments`), while the notebook
-that runs is the English source, so the numbers stay the same.
+that runs is the English source, so the numbers stay the same. The cells a page never
+shows (``remove-input``, ``remove-cell``: checks, figures) are in the notebook a reader
+downloads all the same: their comments are read from the page's notebook source
+(:func:`notebook_comment_texts`; the doctree has no source for them) into the catalogue
+too, and the published notebook has them translated (rikin_book.translate_notebook).
 
 And what makes the site around the pages speak the edition's language:
 
@@ -63,6 +67,7 @@ from pathlib import Path
 from typing import Any
 
 from docutils import nodes
+from myst_nb.core.read import is_myst_markdown_notebook, read_myst_markdown_notebook
 from myst_nb.ext.glue.directives import PasteFigureDirective
 from myst_nb.sphinx_ import HideCodeCellNode, depart_HideCellInput, visit_HideCellInput
 from sphinx import addnodes
@@ -271,6 +276,14 @@ class ExtractCellTexts(SphinxTransform):
             texts = cell_texts(cell.get("cell_metadata")) + comment_texts(cell)
             if texts:
                 cell += _late_node(texts, self.document["source"], cell.line)
+        # the comments of the cells the page does not show (remove-input, remove-cell):
+        # the doctree has no source for them, the notebook a reader downloads has
+        shown = {text for cell in self.document.findall(nodes.container)
+                 if cell.get("nb_element") == "cell_code" for text in comment_texts(cell)}
+        for line, texts in notebook_comment_texts(Path(self.document["source"])):
+            hidden = [text for text in texts if text not in shown]
+            if hidden:
+                self.document += _late_node(hidden, self.document["source"], line)
 
 
 def _shown_sources(cell: nodes.Element) -> list[nodes.literal_block]:
@@ -284,6 +297,31 @@ def comment_texts(cell: nodes.Element) -> list[str]:
     """The messages of the comments a code cell shows (rikin_comments.code_comments)."""
     return [c.text for block in _shown_sources(cell)
             for c in rikin_comments.code_comments(block.astext())]
+
+
+def notebook_comment_texts(path: Path) -> list[tuple[int | None, list[str]]]:
+    """The comments of every code cell of the MyST notebook at ``path``, shown or not, as
+    messages (rikin_comments.code_comments): (the cell's first line, its messages) for each
+    cell with one; none when ``path`` is not a notebook (a page without code cells).
+
+    A translated edition's downloaded notebook has every cell, also those its page never
+    shows (``remove-input``, ``remove-cell``), whose source the page's doctree lacks."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError:
+        return []
+    if not is_myst_markdown_notebook(text):
+        return []
+    nb = read_myst_markdown_notebook(text, add_source_map=True, path=path)
+    lines = list(nb.metadata.get("source_map") or [])
+    found = []
+    for i, cell in enumerate(nb.cells):
+        if cell.cell_type != "code":
+            continue
+        texts = [c.text for c in rikin_comments.code_comments(cell.source)]
+        if texts:
+            found.append((lines[i] if i < len(lines) else None, texts))  # its fence, 1-based
+    return found
 
 
 def _has_message(catalogue: gettext.NullTranslations | None, message: str) -> bool:
