@@ -18,12 +18,14 @@ Loaded from ``_config.yml`` (``sphinx.local_extensions``). It does two things:
   makes them (see ``rikin_site.build_distributions``) into ``_static/dist/``, with
   ``SHA256SUMS`` and ``rikin-dist.json``.
 * **Chapters as notebooks.** Each chapter is a MyST markdown notebook, executed during
-  the build; the executed ``.ipynb`` that myst-nb writes (with outputs) is published next
-  to the page's source as ``_sources/<page>.ipynb`` and offered by the theme's download
-  button. A first cell is prepended that, when rikin is missing or too old (Colab, a fresh
-  Jupyter), installs exactly that wheel from ``html.baseurl`` (``_config.yml``), pinned to
-  its sha256. The exercise notebooks the book offers for download (``_downloads/``) get
-  the same pinned cell in place of the one ``tools/make_exercises.py`` wrote.
+  the build; the executed ``.ipynb`` that myst-nb writes (with outputs; in a cached
+  build, the outputs of a page taken from the cache are merged in from it,
+  :func:`with_cached_outputs`) is published next to the page's source as
+  ``_sources/<page>.ipynb`` and offered by the theme's download button. A first
+  cell is prepended that, when rikin is missing or too old (Colab, a fresh Jupyter),
+  installs exactly that wheel from ``html.baseurl`` (``_config.yml``), pinned to its
+  sha256. The exercise notebooks the book offers for download (``_downloads/``) get the
+  same pinned cell in place of the one ``tools/make_exercises.py`` wrote.
 * **Jupyter Markdown in them.** The chapters' MyST (targets, roles, directives) becomes
   Markdown that JupyterLab, Notebook 7 and Colab render (``rikin_markdown``), its
   cross-references links to the hosted book resolved by Sphinx (:class:`BookLinks`), and
@@ -339,6 +341,42 @@ def translate_notebook(nb: nbformat.NotebookNode, lookup: Any, language: str) ->
     nb.metadata["language"] = language
 
 
+#: The notebook metadata myst-nb takes from the cache with the outputs (its
+#: ``merge_match_into_notebook``'s default): the widgets' state draws the live panels.
+CACHED_METADATA = ("kernelspec", "language_info", "widgets")
+
+
+def with_cached_outputs(nb: nbformat.NotebookNode, cache_path: Path) -> bool:
+    """Give ``nb`` (in place) the outputs jupyter-cache keeps for its code, as the page
+    shows them; whether the cache had them.
+
+    With ``nb_execution_mode: cache`` (``tools/dev.py book --cached``), a page re-read whose
+    code the cache already ran is not executed: myst-nb 1.4 renders the page from a
+    *copy* of its notebook merged with the cached outputs (``NotebookClientCache``), and
+    writes ``jupyter_execute/<page>.ipynb`` from the notebook it read, which has none. The
+    published notebook would then offer the reader no output at all. Only the outputs,
+    execution counts and :data:`CACHED_METADATA` are taken (the cells' sources and tags
+    are the page's: the cache matched the code only)."""
+    from jupyter_cache import get_cache
+
+    if not cache_path.is_dir():
+        return False
+    cache = get_cache(str(cache_path))
+    try:
+        cached = cache.get_cache_bundle(cache.match_cache_notebook(nb).pk).nb
+    except KeyError:  # the page's code as it is now was never run into this cache
+        return False
+    code = [cell for cell in nb.cells if cell.cell_type == "code"]
+    for cell, done in zip(code, [c for c in cached.cells if c.cell_type == "code"],
+                          strict=True):
+        cell.outputs = done.get("outputs", [])
+        cell.execution_count = done.get("execution_count")
+    for key in CACHED_METADATA:
+        if key in cached.metadata:
+            nb.metadata[key] = cached.metadata[key]
+    return True
+
+
 def publish_notebook(
     app: Sphinx, pagename: str, templatename: str, context: dict[str, Any], doctree: Any
 ) -> None:
@@ -350,6 +388,9 @@ def publish_notebook(
     if not executed.is_file():
         return
     nb = nbformat.read(executed, as_version=4)
+    config = app.env.mystnb_config
+    if config.execution_mode == "cache" and config.execution_cache_path:
+        with_cached_outputs(nb, Path(config.execution_cache_path))
     for key in ("jupytext", "source_map"):  # build-time metadata, noise for a reader
         nb.metadata.pop(key, None)
     translate_notebook(nb, rikin_i18n.page_lookup(app, pagename),
