@@ -427,7 +427,8 @@ def test_translated_code_lines_fit_80_columns(page: str, book_html: Path) -> Non
 def notebook_sources(notebook: Path) -> list[str]:
     """The source of every code cell of a published notebook (``_sources/<page>.ipynb``),
     shown on its page or not (``remove-input``), but its install cell (rikin_site's, the
-    same in every notebook; its comments are not the page's)."""
+    same in every notebook, its comments not the page's: tests/test_book_spanish_text.py
+    checks them)."""
     if not notebook.is_file():
         return []
     cells = json.loads(notebook.read_text(encoding="utf-8"))["cells"]

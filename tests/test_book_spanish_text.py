@@ -215,6 +215,35 @@ def _install_source(notebook: Path) -> str:
 SPANISH_EXERCISES = sorted((ROOT / "exercises" / "es").glob("*.ipynb"))
 
 
+def english_install_comments(source: str) -> list[str]:
+    """The comments of an install cell's ``source`` left as the English cell writes them
+    (rikin_site.INSTALL_COMMENTS: its body's and its dictionaries')."""
+    import rikin_comments
+
+    return [c.text for c in rikin_comments.code_comments(source)
+            if c.text in rikin_site.INSTALL_COMMENTS]
+
+
+def test_the_install_cell_comments_are_messages() -> None:
+    """Every comment a reader reads in an install cell (English, with its dictionaries) is
+    one of its messages; a Spanish one (the exercises' catalogue) has none left."""
+    english = rikin_site.install_cell_source(
+        "https://x.org/", "0.1.0", texts={m: m + "!" for m in rikin_site.INSTALL_MESSAGES},
+        language="es", cell_texts={"side": "lado"})
+    import rikin_comments
+
+    comments = [c.text for c in rikin_comments.code_comments(english)
+                if not c.text.startswith("@title")]
+    assert len(comments) >= 4 and set(comments) <= {rikin_site.INSTALL_NOTE,
+                                                    *rikin_site.INSTALL_COMMENTS}, comments
+    assert sorted(english_install_comments(english)) == sorted(rikin_site.INSTALL_COMMENTS)
+    texts = rikin_i18n.catalogue_strings([ROOT / rikin_i18n.EXERCISE_LOCALES], "es")
+    spanish = rikin_site.install_cell_source(
+        "https://x.org/", "0.1.0", texts=texts, language="es", cell_texts={"side": "lado"})
+    assert english_install_comments(spanish) == []
+    compile(spanish, "<install cell>", "exec")
+
+
 def test_the_install_cell_has_every_message() -> None:
     """The install cell's messages are every template it says (so none is left out of
     the catalogues), and none is an f-string any more."""
@@ -237,6 +266,8 @@ def test_a_spanish_exercise_install_cell_speaks_spanish(notebook: Path, tmp_path
     says = _says(source)
     missing = [m for m in rikin_site.INSTALL_MESSAGES if m not in says]
     assert not missing, f"{notebook.name}: install messages left English: {missing}"
+    left = english_install_comments(source)
+    assert not left, f"{notebook.name}: install cell comments left English: {left}"
     for spanish in says.values():
         words = english_words(re.sub(r"\{[^{}]*\}", " ", spanish))  # not its {placeholders}
         assert not words, f"{notebook.name}: {spanish!r} reads English"
@@ -258,7 +289,7 @@ def test_an_english_exercise_install_cell_speaks_english() -> None:
 @pytest.mark.slow
 def test_the_spanish_chapter_downloads_install_cell_speaks_spanish(spanish_site: Path) -> None:
     """The install cell of every chapter notebook a Spanish reader downloads, and of the
-    exercises the Spanish edition publishes, has every message in Spanish."""
+    exercises the Spanish edition publishes, has every message and comment in Spanish."""
     notebooks = [*sorted((spanish_site / "_sources").rglob("*.ipynb")),
                  *sorted((spanish_site / rikin_site.EXERCISES_PATH).glob("*.ipynb"))]
     assert len(notebooks) >= 10, notebooks
@@ -266,6 +297,8 @@ def test_the_spanish_chapter_downloads_install_cell_speaks_spanish(spanish_site:
         says = _says(_install_source(notebook))
         missing = [m for m in rikin_site.INSTALL_MESSAGES if m not in says]
         assert not missing, f"{notebook}: install messages left English: {missing}"
+        left = english_install_comments(_install_source(notebook))
+        assert not left, f"{notebook}: install cell comments left English: {left}"
 
 
 # ------------------------------------------------------------------ the exercises' drawing

@@ -32,6 +32,9 @@ import urllib.parse
 from pathlib import Path
 from typing import Any
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import rikin_comments  # noqa: E402  (the install cell's comments; standard library only)
+
 ROOT = Path(__file__).resolve().parents[2]
 CONFIG = ROOT / "_config.yml"
 #: Where the distributions live inside the built site (relative to its root).
@@ -513,7 +516,16 @@ def _said(body: str) -> tuple[str, ...]:
 #: templates): messages too, so a Spanish notebook's install cell says them in Spanish
 #: (pip's own lines stay as pip writes them).
 INSTALL_MESSAGES = _said(INSTALL_BODY)
-INSTALL_TEXTS = (INSTALL_TITLE, INSTALL_NOTE, *INSTALL_MESSAGES)
+#: What :func:`_says_source` says of each of its dictionaries, in a comment.
+SAYS_WHAT = {"RIKIN_SAYS": "the messages below", "RIKIN_CELL_TEXTS": "what the cells print"}
+#: The install cell's code comments (rikin_comments' rules: its body's, and the one over
+#: each dictionary): messages too, so that every comment of a notebook in another
+#: language reads in it (the cell is folded, not hidden from a reader who opens it).
+INSTALL_COMMENTS = (
+    *dict.fromkeys(c.text for c in rikin_comments.code_comments(INSTALL_BODY)),
+    *(f"{what}, English -> the notebook's language" for what in SAYS_WHAT.values()),
+)
+INSTALL_TEXTS = (INSTALL_TITLE, INSTALL_NOTE, *INSTALL_MESSAGES, *INSTALL_COMMENTS)
 
 
 def _comment(text: str, width: int = 92) -> str:
@@ -553,13 +565,12 @@ def _literal_lines(text: str, indent: str, width: int = 92) -> list[str]:
     return [indent + repr(chunk) for chunk in chunks or [""]]
 
 
-def _says_source(says: dict[str, str], name: str = "RIKIN_SAYS",
-                 what: str = "the messages below") -> str:
-    """The install cell's ``RIKIN_SAYS = {...}`` line(s) (or another ``name``'s), its
-    lines short enough to read."""
+def _says_source(says: dict[str, str], name: str = "RIKIN_SAYS") -> str:
+    """The install cell's ``RIKIN_SAYS = {...}`` line(s) (or another ``name``'s of
+    :data:`SAYS_WHAT`), its lines short enough to read."""
     if not says:
         return f"{name} = {{}}\n"
-    lines = [f"{name} = {{  # {what}, English -> the notebook's language"]
+    lines = [f"{name} = {{  # {SAYS_WHAT[name]}, English -> the notebook's language"]
     for english, said in says.items():
         lines += _literal_lines(english, "    ")
         lines[-1] += ":"
@@ -589,7 +600,7 @@ def _language_source(language: str, cell_texts: dict[str, str]) -> str:
         raise SiteError(f"an install cell's language is a two-letter code other than 'en', "
                         f"got {language!r:.80}")
     return (f"RIKIN_LANGUAGE = {language!r}\n"
-            + _says_source(cell_texts, "RIKIN_CELL_TEXTS", "what the cells print"))
+            + _says_source(cell_texts, "RIKIN_CELL_TEXTS"))
 
 
 def _says(texts: dict[str, str]) -> dict[str, str]:
@@ -614,7 +625,7 @@ def install_cell_source(
 
     ``page`` is where a student downloads this notebook again (default: the book).
 
-    ``texts`` translates the cell's title and comment (:data:`INSTALL_TEXTS`, English ->
+    ``texts`` translates the cell's title and comments (:data:`INSTALL_TEXTS`, English ->
     the notebook's language) and what it prints
     (:data:`INSTALL_MESSAGES`, written into the cell as ``RIKIN_SAYS``).
 
@@ -630,11 +641,20 @@ def install_cell_source(
     to do: restart the kernel (pip changed a package this kernel had imported), download
     the notebook again (the book hosts another wheel now), or go online.
     """
-    head = _install_cell_header(book, page or book, version, wheel, extras, texts or {})
+    texts = texts or {}
+    head = _install_cell_header(book, page or book, version, wheel, extras, texts)
     if language is None:
-        return head + INSTALL_BODY
-    return (head + _language_source(language, cell_texts or {}) + INSTALL_BODY
-            + INSTALL_LANGUAGE_TAIL)
+        source = head + INSTALL_BODY
+    else:
+        source = (head + _language_source(language, cell_texts or {}) + INSTALL_BODY
+                  + INSTALL_LANGUAGE_TAIL)
+
+    def translate(message: str) -> str | None:
+        said = texts.get(message) if message in INSTALL_COMMENTS else None
+        return said if said and said != message else None
+
+    # its code comments in the notebook's language (:data:`INSTALL_COMMENTS`)
+    return rikin_comments.translated_source(source, translate, width=92)[0]
 
 
 def install_cell(book: str, version: str, wheel: str | None = None,
