@@ -16,7 +16,9 @@
   ``-90°``, ``90 deg``, ``1e-3`` (parsed, never evaluated as Python code).
 
 Angles: a value with ``pi``/``π`` is radians, one marked ``°`` or ``deg`` degrees, a bare
-number degrees unless the column's header says ``(rad)``. Lengths are in the arm's units,
+number degrees unless the column's header says ``(rad)``. A bare number that is a right angle (or
+several) in radians rounded, ``1.5708``, ``3.1416``, is refused there: read as degrees it
+would make another arm; ``1.5708°`` is read as written. Lengths are in the arm's units,
 which a header may name (``d (mm)``, ``a [m]``: ``mm``, ``m``, ``cm``, ``in``); rikin converts
 no length, so a header naming two length units, or another unit than ``units=``, is refused,
 as is an angle unit on ``d``/``a``. A cell that cannot be read is refused naming its line,
@@ -343,7 +345,31 @@ def _read(cell: _Cell, token: str, kind: str, column_unit: str = "") -> float:
         return v.number
     if v.unit in ("rad", "deg"):
         return v.number  # already radians (° multiplies by pi/180)
-    return v.number if column_unit == "rad" else math.radians(v.number)
+    if column_unit == "rad":
+        return v.number
+    _no_rounded_radians(cell, token, v.number)
+    return math.radians(v.number)
+
+
+def _no_rounded_radians(cell: _Cell, token: str, number: float) -> None:
+    """Refuse a bare number in a degree column that is a right angle (or several) in
+    radians rounded, as slides print them: 1.5708, 1.571, 3.1416, -4.712. Read as degrees
+    it would silently make another arm (a 1.5708 deg twist); ``1.5708°`` says it is meant."""
+    quarters = round(number / (math.pi / 2))
+    if quarters and abs(quarters) <= 4 and abs(number - quarters * math.pi / 2) <= 2e-3:
+        degrees, exact = f"{quarters * 90}", _quarter_pi(quarters)
+        raise cell.fail(
+            f"{token!r}, a bare number, is read as {token} degrees, yet it looks like "
+            f"{degrees} degrees in radians ({exact} rounded)",
+            f"{degrees} (or {degrees}°, or {exact}) for that angle, {token}° if you do "
+            f"mean {token} degrees, or name the column '{cell.column} (rad)' in a header "
+            "row to read its numbers as radians")
+
+
+def _quarter_pi(quarters: int) -> str:
+    """``quarters`` times pi/2 written with pi: ``pi/2``, ``-pi``, ``3*pi/2``, ``2*pi``."""
+    sign, n = ("-" if quarters < 0 else ""), abs(quarters)
+    return {1: f"{sign}pi/2", 2: f"{sign}pi", 3: f"{sign}3*pi/2", 4: f"{sign}2*pi"}[n]
 
 
 def _is_type(token: str) -> tuple[str, int] | None:
@@ -574,6 +600,17 @@ def _map_row(cell: _Cell, tokens: list[str],
     return {c: t for c, t in zip(cols, tokens, strict=True) if c != "index"}
 
 
+def _without_comment(raw: str) -> str:
+    """The line before its ``#`` comment; a ``#`` that is a cell of its own in a ``|``
+    table (``| # | θ | d | a | α |``, the joint number's column) starts none."""
+    start = 0
+    while (i := raw.find("#", start)) >= 0:
+        if not (raw[:i].rstrip().endswith("|") and raw[i + 1:].lstrip().startswith("|")):
+            return raw[:i]
+        start = i + 1
+    return raw
+
+
 def arm_from_table(text: str, convention: str = "standard", units: str = "",
                    name: str = "your arm", tool: Any = None, base: Any = None) -> SerialArm:
     """A :class:`~rikin.SerialArm` from a DH table typed as text, one row per joint.
@@ -584,8 +621,9 @@ def arm_from_table(text: str, convention: str = "standard", units: str = "",
         The table (see the module's description): rows ``type d a alpha offset``, or any
         column order under a header row naming them (``| joint | theta | d | a | alpha |``);
         cells may be expressions (``pi/2``, ``-90°``, ``q2 + 90°``). ``#`` starts a
-        comment; blank lines are skipped. For a modified-DH arm ``a`` and ``alpha`` of row
-        i are ``a_{i-1}``, ``alpha_{i-1}`` (Craig), as in :class:`~rikin.Link`.
+        comment (a ``| # |`` cell is the joint number's header); blank lines are skipped.
+        For a modified-DH arm ``a`` and ``alpha`` of row i are ``a_{i-1}``,
+        ``alpha_{i-1}`` (Craig), as in :class:`~rikin.Link`.
     convention : {"standard", "modified"}
     units : str
         Name of the length unit.
@@ -617,7 +655,7 @@ def arm_from_table(text: str, convention: str = "standard", units: str = "",
     links: list[Link] = []
     header: list[tuple[str, str]] | None = None
     for number, raw in enumerate(text.splitlines(), 1):
-        line = raw.split("#", 1)[0].strip()
+        line = _without_comment(raw).strip()
         if not line or _SEPARATOR_ROW.match(line):
             continue
         tokens = row_tokens(line)

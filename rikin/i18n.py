@@ -150,7 +150,7 @@ _SPANISH_PHRASES = {
     "Unreachable: {why}": "Inalcanzable: {why}",
     "No solution: {why}": "Sin solución: {why}",
     "classify:": "veredicto de classify:",
-    "No closed form: {why}{radians}.": "Sin forma cerrada: «{why}»{radians}.",
+    "No closed form: {why}.": "Sin forma cerrada: «{why}».",
     " rikin.ik.ik_numerical cannot take this arm: {why}":
         " rikin.ik.ik_numerical no admite este brazo: {why}",
     "it found one solution": "ha encontrado una solución",
@@ -164,11 +164,6 @@ _SPANISH_PHRASES = {
     (" rikin.ik.ik_numerical (Levenberg-Marquardt desde un punto de partida con semilla "
      "fija, para la posición del TCP): {how}; ik_numerical_multistart encuentra más, sin "
      "garantía de hallarlas todas."),
-    "row {row}'s {name} {value}": "{name} de la fila {row}, {value}",
-    (" ({found}: the panel reads a bare number as degrees, not radians; for a right angle "
-     "type 90 (or 90°, or pi/2))"):
-    (" ({found}: el panel lee un número sin unidad como grados, no como radianes; para un "
-     "ángulo recto escribe 90 (o 90°, o pi/2))"),
     "{name}: ik_numerical's solution": "{name}: la solución de ik_numerical",
     "{name}: the arm at q = 0": "{name}: el brazo en q = 0",
     "every IK solution of the target, drawn":

@@ -956,8 +956,7 @@ def _numerical_state(arm: SerialArm, verdict: Any, T: FloatArray,
     """The panel's state for an arm without a closed form: the reason, and one solution of
     :func:`rikin.ik.ik_numerical` (the TCP position only for an arm of fewer than six
     joints, which cannot match a whole pose), or why it could not try."""
-    why = phrase("No closed form: {why}{radians}.", why=verdict.reason,
-                 radians=_radians_typed_as_degrees(arm))
+    why = phrase("No closed form: {why}.", why=verdict.reason)
     mask = None if arm.n >= 6 else (1, 1, 1, 0, 0, 0)
     try:
         num = ik_numerical(arm, T, rng=0, mask=mask)
@@ -972,25 +971,6 @@ def _numerical_state(arm: SerialArm, verdict: Any, T: FloatArray,
         " rikin.ik.ik_numerical (Levenberg-Marquardt from a seeded start, for the TCP "
         "position): {how}; ik_numerical_multistart finds more, with no guarantee of all.",
         how=how), numerical=num, typed_q=typed)
-
-
-def _radians_typed_as_degrees(arm: SerialArm) -> str:
-    """A clause naming the table's angles that read as a right angle in radians typed into
-    the panel's degree cells (1.571 for pi/2: 1.571 deg), or ``""``."""
-    found = []
-    for row, link in enumerate(arm.links, start=1):
-        angles = (("alpha", link.alpha),
-                  ("offset", link.offset) if link.is_revolute else ("theta", link.theta))
-        for name, value in angles:
-            typed = math.degrees(float(value))
-            quarters = round(typed / (math.pi / 2))
-            if quarters and abs(typed - quarters * math.pi / 2) <= 2e-3:
-                found.append(phrase("row {row}'s {name} {value}", row=row, name=name,
-                                    value=f"{typed:g}"))
-    if not found:
-        return ""
-    return phrase(" ({found}: the panel reads a bare number as degrees, not radians; for a "
-                  "right angle type 90 (or 90°, or pi/2))", found=", ".join(found))
 
 
 def _sets_rotation(arm: SerialArm, verdict: Any) -> bool:
