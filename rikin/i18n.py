@@ -223,6 +223,8 @@ _SPANISH_PHRASES = {
         "{name}: objetivo fuera de alcance\n(el brazo en q = 0, como escala)",
     "{name} at the sliders' joint values":
         "{name} con los valores articulares de los deslizadores",
+    # the legend of plot_two_link_triangle
+    "elbow {branch}": "codo {branch}",
     # a panel's still picture (rikin.widgets.STILL_NOTE)
     ("A still picture of the live panel: this page cannot show widgets yet. After rikin's "
      "first install, reload the page (F5), then run the notebook again (Run All): "

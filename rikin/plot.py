@@ -1001,8 +1001,9 @@ def plot_two_link_triangle(L1: float, L2: float, target_uv: Any, elbow: str = "b
         a, b = float(A[s]), float(B[s])
         E = l1 * np.array([np.cos(a), np.sin(a)])
         colour = "tab:blue" if names[s] == "up" else "tab:purple"
-        text = (f"elbow {names[s]}: $\\theta_1$ = {np.degrees(a):.2f}°, "
-                f"${angle_labels[2]}$ = {np.degrees(b):.2f}°")
+        text = (phrase("elbow {branch}", branch=word(names[s]))
+                + f": $\\theta_1$ = {np.degrees(a):.2f}°, ${angle_labels[2]}$ = "
+                f"{np.degrees(b):.2f}°")
         _draw_chain(ax, E, P, "-" if n_drawn == 0 else "--", colour, text)
         if n_drawn == 0:
             _annotate_triangle(ax, P, E, a, b, (l1, l2), colour, labels, angle_labels)

@@ -172,6 +172,25 @@ def test_every_phrase_keeps_its_fields():
     assert not bad
 
 
+def test_the_two_link_triangles_legend_speaks_spanish(spanish):
+    """The law-of-cosines figure (chapter planar, Figure 4) named its chains "elbow up" and
+    "elbow down" in the Spanish edition too; the angles stay as in English."""
+    import matplotlib.pyplot as plt
+
+    from rikin import plot as rplot
+
+    def legend(lang):
+        rikin.i18n.set_language(lang)
+        ax = rplot.plot_two_link_triangle(10, 10, [15.0, 5.0])
+        return [t.get_text() for t in ax.get_legend().get_texts()]
+
+    spanish_texts, english_texts = legend("es"), legend("en")
+    plt.close("all")
+    assert [t.split(":")[0] for t in english_texts] == ["elbow up", "elbow down"]
+    assert [t.split(":")[0] for t in spanish_texts] == ["codo arriba", "codo abajo"]
+    assert _numbers(spanish_texts) == _numbers(english_texts)
+
+
 def test_drawings_of_one_arm_speak_spanish(spanish):
     import matplotlib.pyplot as plt
 
