@@ -17,8 +17,9 @@
 
 Angles: a value with ``pi``/``π`` is radians, one marked ``°`` or ``deg`` degrees, a bare
 number degrees unless the column's header says ``(rad)``. A bare number that is a right angle (or
-several) in radians rounded, ``1.5708``, ``3.1416``, is refused there: read as degrees it
-would make another arm; ``1.5708°`` is read as written. Lengths are in the arm's units,
+several) in radians rounded, ``1.5708``, ``3.1416``, is refused under a header that names
+no unit: read as degrees it would make another arm; ``1.5708°`` (or a ``(deg)`` header) is
+read as written. Lengths are in the arm's units,
 which a header may name (``d (mm)``, ``a [m]``: ``mm``, ``m``, ``cm``, ``in``); rikin converts
 no length, so a header naming two length units, or another unit than ``units=``, is refused,
 as is an angle unit on ``d``/``a``. A cell that cannot be read is refused naming its line,
@@ -347,7 +348,8 @@ def _read(cell: _Cell, token: str, kind: str, column_unit: str = "") -> float:
         return v.number  # already radians (° multiplies by pi/180)
     if column_unit == "rad":
         return v.number
-    _no_rounded_radians(cell, token, v.number)
+    if not column_unit:  # a header's "(deg)" says what its numbers are
+        _no_rounded_radians(cell, token, v.number)
     return math.radians(v.number)
 
 

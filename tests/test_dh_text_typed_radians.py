@@ -62,8 +62,8 @@ def test_the_same_table_solves_when_its_angles_say_their_unit():
     # a (rad) column reads the rounded number as radians; "1.5708°" is taken as written
     rad = arm_from_table(_ur5e("1.5708", " (rad)"), units="m")
     assert rad.links[0].alpha == pytest.approx(1.5708, abs=0)
-    assert arm_from_table(_ur5e("1.5708°")).links[0].alpha == pytest.approx(
-        np.radians(1.5708))
+    for text in (_ur5e("1.5708°"), _ur5e("1.5708", " (deg)")):
+        assert arm_from_table(text).links[0].alpha == pytest.approx(np.radians(1.5708))
     res = exact.ik(exact.fk(q))
     assert len(res) == 8 and np.abs(res.q - q).max(axis=1).min() < 1e-9
 
