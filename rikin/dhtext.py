@@ -16,13 +16,13 @@
   ``-90°``, ``90 deg``, ``1e-3`` (parsed, never evaluated as Python code).
 
 Angles: a value with ``pi``/``π`` is radians, one marked ``°`` or ``deg`` degrees, a bare
-number degrees unless the column's header says ``(rad)``. A bare number that is a right angle (or
-several) in radians rounded, ``1.5708``, ``3.1416``, is refused under a header that names
-no unit: read as degrees it would make another arm; ``1.5708°`` (or a ``(deg)`` header) is
-read as written. Lengths are in the arm's units,
-which a header may name (``d (mm)``, ``a [m]``: ``mm``, ``m``, ``cm``, ``in``); rikin converts
-no length, so a header naming two length units, or another unit than ``units=``, is refused,
-as is an angle unit on ``d``/``a``. A cell that cannot be read is refused naming its line,
+number degrees unless the column's header says ``(rad)``. A bare number that is a right
+angle (or several) in radians rounded, ``1.5708``, ``3.1416``, is refused under a header
+that names no unit: read as degrees it would make another arm; ``1.5708°`` (or a ``(deg)``
+header) is read as written. Lengths are in the arm's units, which a header may name
+(``d (mm)``, ``a [m]``: ``mm``, ``m``, ``cm``, ``in``); rikin converts no length, so a
+header naming two length units, or another unit than ``units=``, is refused, as is an
+angle unit on ``d``/``a``. A cell that cannot be read is refused naming its line,
 its column and how to write it.
 
 A joint its data sheet counts the other way (against the DH z axis: KUKA's A1, A4, A6;
