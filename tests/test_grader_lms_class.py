@@ -309,3 +309,24 @@ def test_a_zip_and_an_exported_script_are_rows_refused_counted_and_logged(tmp_pa
     assert "bob.zip: not graded: a .zip" in log and "carol.py: not graded: an exported" in log
     fb = (out / "feedback" / "bob.md").read_text()
     assert "unzip it first" in fb
+
+
+def test_lms_column_given_on_a_later_run_is_found_in_the_kept_roster(tmp_path, monkeypatch):
+    """The roster is kept in the gradebook, so the run that follows the note "pass
+    --lms-column" may leave --roster out: the part given is then looked up among the kept
+    roster's columns, and the LMS file gets the header as downloaded, with Blackboard's
+    ``|12345`` (a bare "HW 3" would make Blackboard add a new column)."""
+    only = {2, 3}
+    people = L.make_class()
+    folder, roster = L.write(people, "blackboard", tmp_path, only)
+    header = "HW 3 [Total Pts: 5 Score] |12345"
+    roster.write_text(roster.read_text(encoding="utf-8").replace(L.BLACKBOARD_COLUMN, header))
+    monkeypatch.setattr(api, "_run_pool", L.fake_pool)
+    out = tmp_path / "out"
+    kw = dict(unsafe_no_sandbox=True, quiet=True)
+    report = api.grade(str(ASSIGNMENT), [folder], out, roster=str(roster), **kw)
+    assert any("pass --lms-column" in n for n in report.notes)
+    api.grade(str(ASSIGNMENT), [folder], out, lms_column="HW 3", **kw)
+    head, body = _lms_table(out, "blackboard")
+    assert head[3] == header
+    assert {r[2] for r in body} == {people[2].username, people[3].username}

@@ -741,6 +741,10 @@ def _class_settings(
         gb.set_setting(assignment, "missing", missing)
     if ros is not None:
         gb.set_roster(assignment, ros.kind, ros.path, [(e.key, e.as_dict()) for e in ros.entries])
+        kept = {"path": ros.path, "kind": ros.kind, "columns": ros.columns}
+        gb.set_setting(assignment, "roster_columns", json.dumps(kept))
+    elif lms_column:  # the roster kept from an earlier run: its columns, as downloaded
+        ros = _kept_columns(gb, assignment)
     if ros is not None or lms_column:
         column, note = (
             assignment_column(ros, lms_column or "", assignment)
@@ -752,6 +756,19 @@ def _class_settings(
         if column:
             gb.set_setting(assignment, "lms_column", column)
     return notes
+
+
+def _kept_columns(gb: Gradebook, assignment: str) -> Roster | None:
+    """The assignment columns of the roster an earlier run was given (no students), so
+    that ``--lms-column`` alone finds the header as the LMS wrote it; None when the
+    gradebook kept none (no roster yet, or one kept by a grader that did not record them).
+    """
+    try:
+        kept = json.loads(gb.setting(assignment, "roster_columns", "") or "{}")
+        columns = [str(c) for c in kept["columns"]]
+        return Roster(str(kept["path"]), str(kept["kind"]), [], columns)
+    except (ValueError, KeyError, TypeError):
+        return None
 
 
 _LMS_TITLES = {
