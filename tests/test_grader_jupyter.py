@@ -340,3 +340,26 @@ def test_cells_compiled_in_the_zygote_run_as_the_notebooks_own(tmp_path):
     stop = ends[6]["timed_out"]
     assert stop["function"] == "g" and stop["stack"] == ["g"]
     assert ends[7]["error"] is None and ends[7]["output"] == "Out[7]: 0.25\n"
+
+
+# ------------------------------------------------------------------ a failed shell command
+def test_a_failed_pip_magic_is_shown_as_written_with_the_whole_reason():
+    """``%pip install x`` runs ``<the grader's python> -m pip install x``: the note shows
+    the command as the student wrote it (never the grader's interpreter path), and the
+    reason reaches the feedback whole (the grader keeps a note's first characters only),
+    even after a long command, which is shortened instead."""
+    import sys
+
+    from rikingrade.runner import _cell_report
+    from rikingrade.sandbox import child
+
+    runner = child.Runner(None, 0)
+    reason = ("grading runs offline, so nothing can be downloaded or installed (the grader "
+              "has numpy, sympy, matplotlib and rikin)")
+    runner.note_command(f"{sys.executable} -m pip install modern_robotics", 1)
+    runner.note_command("pip install " + " ".join(f"package-number-{i}" for i in range(20)), 1)
+    magic, long = _cell_report(3, {"notes": runner.notes}).notes
+    assert magic == (
+        f'the shell command "%pip install modern_robotics" exited with status 1: {reason}')
+    assert long.startswith('the shell command "pip install package-number-0 ')
+    assert long.endswith(f'..." exited with status 1: {reason}')

@@ -787,10 +787,15 @@ def _int(v: object) -> int | None:
     return v if isinstance(v, int) and not isinstance(v, bool) else None
 
 
+#: Characters kept of each note a child sends on a cell (a failed shell command's, with
+#: its reason: see ``MAX_SHOWN_COMMAND`` in the child).
+MAX_NOTE = 300
+
+
 def _cell_report(n: int, msg: dict) -> CellReport:
     err = msg.get("error")
     raw_notes = msg.get("notes")
-    notes = [_text(x, 200) for x in raw_notes[:10]] if isinstance(raw_notes, list) else []
+    notes = [_text(x, MAX_NOTE) for x in raw_notes[:10]] if isinstance(raw_notes, list) else []
     output = _text(msg.get("output"), 20000)
     raw_sec = msg.get("seconds")
     sec = 0.0

@@ -348,6 +348,9 @@ def _no_input(*args, **kwargs):
 
 # ----------------------------------------------------------------------------- IPython
 SHELL = None  # IPython's InteractiveShell, made once in the zygote (None: IPython missing)
+#: Characters of a failed shell command a note shows (the note, reason included, must fit
+#: the grader's limit on a note, rikingrade.runner.MAX_NOTE).
+MAX_SHOWN_COMMAND = 60
 #: Shell commands that need the network (``!pip install``, ``%pip``, ``!wget`` ...).
 NETWORK_WORDS = ("pip", "conda", "mamba", "wget", "curl", "git", "apt", "apt-get", "uv")
 
@@ -972,7 +975,11 @@ class Runner:
         first = os.path.basename(words[0]) if words else ""
         if first.startswith("python") and words[1:3] == ["-m", "pip"]:
             first = "pip"
-        shown = " ".join(words)[:80]
+            if words[0].strip("'\"") == sys.executable:  # what %pip runs: shown as written
+                words = ["%pip", *words[3:]]
+        shown = " ".join(words)
+        if len(shown) > MAX_SHOWN_COMMAND:
+            shown = shown[: MAX_SHOWN_COMMAND - 3] + "..."
         why = (
             ": grading runs offline, so nothing can be downloaded or installed (the grader "
             "has numpy, sympy, matplotlib and rikin)"
