@@ -725,6 +725,32 @@ def test_canvas_late_mark_decides_and_file_times_are_checked(tmp_path):
     assert days == {"a": 0, "b": 0, "c": 2, "e": 1}
 
 
+def test_canvas_late_mark_within_the_grace_minutes_is_on_time(tmp_path):
+    """Canvas marks LATE anything after its due time; it knows nothing of --grace-minutes.
+    A LATE file whose kept time is after the due time but within the grace agrees with
+    the mark and is on time by the instructor's rule: no day counted, and the note does
+    not call its time "before the due date"."""
+    from rikingrade.intake import time_notes
+
+    due = 1000 * DAY
+    d = tmp_path / "kept"
+    touch(d / "a_100_1_scara.ipynb", mtime=due - 3600)
+    touch(d / "g_LATE_101_2_scara.ipynb", mtime=due + 10 * 60)  # in the 15 min grace
+    touch(d / "h_LATE_102_3_scara.ipynb", mtime=due + 20 * 60)  # after it
+    touch(d / "e_LATE_103_4_scara.ipynb", mtime=due - 60)  # LATE, file time on time
+    subs, _ = discover([d], NB)
+    notes = "\n".join(time_notes(subs, {"due": due, "grace_minutes": 15.0}))
+    assert "1 Canvas submission(s) marked LATE by Canvas have a file time before" in notes
+    before = next(n for n in notes.splitlines() if "file time before" in n)
+    assert "(e_103)" in before and "g_101" not in before
+    assert "1 Canvas submission(s) marked LATE by Canvas were handed in within the 15 min" in notes
+    rules = Rules(due=due, per_day=10, grace_minutes=15)
+    grades = {s.student[0]: apply(5, 5, s.submitted_at, s.time_source, rules, lms_late=s.late)
+              for s in subs}
+    assert {k: g.late_days for k, g in grades.items()} == {"a": 0, "g": 0, "h": 1, "e": 1}
+    assert grades["g"].final == 5 and "within the 15 min grace" in " ".join(grades["g"].notes)
+
+
 def test_names_in_their_order_before_the_same_words_reversed():
     """Li Wei and Wei Li are two students (a Moodle export has no participant id): each
     download name is its own row's; a name only the other way round still finds its row."""

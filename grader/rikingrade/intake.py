@@ -216,7 +216,8 @@ def time_notes(subs: list[Submission], policy) -> list[str]:
     canvas = [
         s for s in subs if s.lms == "canvas" and not s.refused and s.time_source != UNRELIABLE_TIME
     ]
-    early = [s for s in canvas if s.late and (s.submitted_at or 0.0) <= due + grace]
+    early = [s for s in canvas if s.late and (s.submitted_at or 0.0) <= due]
+    graced = [s for s in canvas if s.late and due < (s.submitted_at or 0.0) <= due + grace]
     late = [s for s in canvas if not s.late and (s.submitted_at or 0.0) > due + grace]
     if late:
         notes.append(
@@ -227,5 +228,11 @@ def time_notes(subs: list[Submission], policy) -> list[str]:
         notes.append(
             f"{len(early)} Canvas submission(s) marked LATE by Canvas have a file time before "
             f"the due date ({_examples(early)}): Canvas's mark is used, each counts 1 day late"
+        )
+    if graced:
+        notes.append(
+            f"{len(graced)} Canvas submission(s) marked LATE by Canvas were handed in within the "
+            f"{grace / 60:g} min grace after the due date, by their file time "
+            f"({_examples(graced)}): on time (Canvas's mark knows no grace)"
         )
     return notes

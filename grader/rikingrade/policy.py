@@ -168,10 +168,18 @@ def _lms_mark(
 ) -> None:
     """The late penalty from the LMS's mark (Canvas's LATE): its download gives no time, so
     a late submission counts the days its file time gives when that time can be trusted
-    and is after the due time, else one day."""
+    and is after the due time plus the grace (none when it is within the grace, which the
+    LMS does not know), else one day."""
     if not late:
         return
-    late_s = (submitted_at or 0.0) - due - rules.grace_minutes * 60
+    grace = rules.grace_minutes
+    if grace and submitted_at is not None and due < submitted_at <= due + grace * 60:
+        g.notes.append(  # the LMS knows no grace: after the due time, as it says, yet on time
+            f"Marked late by the LMS, but handed in {show_time(submitted_at)}, within the "
+            f"{grace:g} min grace after the due time {show_time(due)}: on time."
+        )
+        return
+    late_s = (submitted_at or 0.0) - due - grace * 60
     g.late_days = math.ceil(late_s / 86400) if submitted_at is not None and late_s > 0 else 1
     if rules.per_day <= 0:
         g.notes.append("Marked late by the LMS (no late penalty).")
