@@ -518,6 +518,22 @@ def test_brightspace_times_every_hour_and_minute():
                     assert got == want, (name, got)
 
 
+def test_brightspace_index_beside_a_folder_per_submission_is_read_not_graded(tmp_path):
+    """Brightspace's download with a folder per submission keeps ``index.html`` beside the
+    folders: it is the LMS's own record, never a student ("index", refused, graded 0)."""
+    bs = tmp_path / "bs"
+    for k, (who, when) in enumerate([("Jane Doe", "1:10 PM"), ("Bo Li", "12:05 AM")]):
+        touch(bs / f"8101{k}-70000{k} - {who} - Dec 4, 2026 {when}" / NB)
+    touch(bs / "index.html", "<html><body><table><tr><th>Submitted By</th></tr>"
+          "</table></body></html>")
+    subs, _ = discover([bs], NB)
+    assert sorted(s.student for s in subs) == ["Bo_Li", "Jane_Doe"]
+    assert not any(s.refused for s in subs)
+    times = {s.student: datetime.fromtimestamp(s.submitted_at) for s in subs}
+    assert times == {"Jane_Doe": datetime(2026, 12, 4, 13, 10),
+                     "Bo_Li": datetime(2026, 12, 4, 0, 5)}
+
+
 def _bb_record(folder, user, stamp, name, files=("scara.ipynb",), prefix="HW_3 IK"):
     stem = f"{prefix}_{user}_attempt_{stamp}"
     lines = [f"Name: {name} ({user})", "Assignment: HW 3 IK", "Date Submitted: x", ""]

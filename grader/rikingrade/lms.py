@@ -498,12 +498,18 @@ class Download:
     notes: list[str] = field(default_factory=list)
 
     @classmethod
-    def read(cls, folder: Path, names: list[str], usernames=(), reader=_read_text) -> Download:
+    def read(
+        cls, folder: Path, names: list[str], usernames=(), reader=_read_text, folders=()
+    ) -> Download:
         """Read the LMS's records among ``names`` (the folder's file names).
 
-        ``usernames`` are the roster's Blackboard usernames, if any.
+        ``usernames`` are the roster's Blackboard usernames, if any; ``folders`` the names
+        of the folder's sub-folders (Brightspace's folder per submission).
         """
         d = cls(usernames=tuple(u for u in usernames if u))
+        brightspace = any(_brightspace(n, True) for n in names) or any(
+            _brightspace(n, False) for n in folders
+        )
         for name in names:
             p = _blackboard(name)
             if p is not None and p.kind == "record":
@@ -518,7 +524,7 @@ class Download:
                     d.prefixes.add(rec.prefix)
                 for stored in rec.files:
                     d.records[stored] = rec
-            elif name == BRIGHTSPACE_INDEX and any(_brightspace(n, True) for n in names):
+            elif name == BRIGHTSPACE_INDEX and brightspace:
                 text = reader(folder / name)
                 d.index = read_brightspace_index(text or "")
                 d.consumed.add(name)  # Brightspace's own file, whatever it holds

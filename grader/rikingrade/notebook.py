@@ -710,14 +710,19 @@ def _looks_like_a_class(d: Path) -> str:
     return ""
 
 
-def _download(p: Path, files: list[Path], other: list[Path], notes: list[str], roster):
+def _download(
+    p: Path, files: list[Path], other: list[Path], notes: list[str], roster, dirs=()
+):
     """The LMS's records in the class folder ``p`` (Blackboard's .txt, Brightspace's
-    index.html), read once, and the students whose Blackboard attempt has no file."""
+    index.html, beside its files or its folders ``dirs``), read once, and the students
+    whose Blackboard attempt has no file."""
     from . import lms
 
     usernames = [e.username.lstrip("#") for e in roster or () if e.username]
     usernames += [e.login for e in roster or () if e.login]
-    d = lms.Download.read(p, [os.fsdecode(o.name) for o in files + other], usernames)
+    names = [os.fsdecode(o.name) for o in files + other]
+    folders = [os.fsdecode(d.name) for d in dirs]
+    d = lms.Download.read(p, names, usernames, folders=folders)
     notes += d.notes
     textonly = []
     for rec in d.attempts:  # an attempt with no file: the student handed in only text
@@ -799,7 +804,7 @@ def _class(p: Path, expected: str, notes: list[str], roster=None) -> list[_Found
                 f"{shown(p)} holds {why}: it looks like a class, not one student's work. "
                 f"Pass {shown(d)} itself."
             )
-    download, textonly = _download(p, files, other, notes, roster)
+    download, textonly = _download(p, files, other, notes, roster, student_dirs)
     handed = [o for o in other if os.fsdecode(o.name) not in download.consumed]
     lms_named = [o for o in handed if download.owner(os.fsdecode(o.name)) is not None]
     if not files and not student_dirs and not refused and not lms_named:
