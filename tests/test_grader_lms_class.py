@@ -330,3 +330,29 @@ def test_lms_column_given_on_a_later_run_is_found_in_the_kept_roster(tmp_path, m
     head, body = _lms_table(out, "blackboard")
     assert head[3] == header
     assert {r[2] for r in body} == {people[2].username, people[3].username}
+
+
+def test_override_names_a_student_by_any_id_the_download_or_roster_gave(tmp_path, monkeypatch):
+    """``rikin-grade override`` takes the student as --extensions does: the id in
+    grades.csv, or their LMS id, SIS id or login, e-mail or name (case aside); a
+    name two students share is refused with both ids, never guessed."""
+    from rikingrade import cli
+
+    people = L.make_class()
+    only = {2, 3}
+    folder, roster = L.write(people, "canvas", tmp_path, only)
+    monkeypatch.setattr(api, "_run_pool", L.fake_pool)
+    out = tmp_path / "out"
+    api.grade(str(ASSIGNMENT), [folder], out, roster=str(roster), unsafe_no_sandbox=True,
+              quiet=True)
+    a, b = people[2], people[3]
+    by = {"login": a.username, "name": f"{a.last.upper()}, {a.first}", "sis": f"S{b.idx:04d}"}
+    for what, given in by.items():
+        code = cli.main(["override", L.EXERCISE, given, "--out", str(out), "--score", "1",
+                         "--reason", f"by {what}"])
+        assert code == 0, (what, given)
+    head, body = _lms_table(out, "canvas")
+    got = {r[1]: r[5] for r in body[1:]}
+    assert got == {a.canvas_id: "1", b.canvas_id: "1"}
+    assert cli.main(["override", L.EXERCISE, "nobody-at-all", "--out", str(out), "--score",
+                     "1", "--reason", "x"]) == 2

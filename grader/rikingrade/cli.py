@@ -330,7 +330,12 @@ def override_parser() -> argparse.ArgumentParser:
         "reason is recorded in the gradebook and shown in their feedback. The views "
         "(grades.csv, LMS files, feedback, report) are rewritten.",
     )
-    p.add_argument("student", metavar="STUDENT", help="student id, as in grades.csv")
+    p.add_argument(
+        "student",
+        metavar="STUDENT",
+        help="student id, as in grades.csv, or an id of theirs from the download or the "
+        "roster (LMS id, SIS id or login, e-mail, username, name)",
+    )
     what = p.add_mutually_exclusive_group(required=True)
     what.add_argument("--score", type=float, help="the grade to give")
     what.add_argument("--excused", action="store_true", help="excuse the student")
@@ -388,15 +393,49 @@ def _paths(ns) -> tuple[Path, Path]:
     return out, Path(ns.gradebook).resolve() if ns.gradebook else out / "gradebook.sqlite"
 
 
+_ROSTER_IDS = ("id", "name", "email", "sis_id", "login", "canvas_id", "moodle_id")
+
+
+def _named_students(gb, assignment: str, given: str) -> list[str]:
+    """The graded students ``given`` names: the id in grades.csv, else every student one
+    of whose ids is ``given`` (case aside), as the download or the roster gave it: LMS id,
+    SIS id or login, e-mail, Blackboard or Brightspace username, OrgDefinedId, name."""
+    import unicodedata
+
+    from .roster import bare
+
+    known = {r["student"] for r in gb.current(assignment)}
+    if given in known:
+        return [given]
+    want = unicodedata.normalize("NFC", given).strip().casefold()
+    entries = dict(gb.roster(assignment)[1])
+    found = []
+    for sid, st in gb.students().items():
+        if sid not in known:
+            continue
+        e = entries.get(st["roster_key"]) or {}
+        ids = [st[k] for k in ("name", "email", "sis_id", "login", "canvas_id", "moodle_id")]
+        ids += [st["lms_id"], *(e.get(k) for k in _ROSTER_IDS)]
+        ids += [bare(str(e.get(k) or "")) for k in ("username", "org_id")]
+        if any(str(x or "").strip().casefold() == want for x in ids):
+            found.append(sid)
+    return sorted(found)
+
+
 def _override(gb, ns) -> int:
-    known = {r["student"] for r in gb.current(ns.assignment)}
-    if ns.student not in known:
+    named = _named_students(gb, ns.assignment, ns.student)
+    if len(named) != 1:
+        known = sorted({r["student"] for r in gb.current(ns.assignment)})
         print(
-            f"rikin-grade: no student {ns.student!r} graded for {ns.assignment} "
-            f"(known: {', '.join(sorted(known)[:8])}{' ...' if len(known) > 8 else ''})",
+            f"rikin-grade: {ns.student!r} names {len(named)} students graded for "
+            f"{ns.assignment} ({', '.join(named)}): pass the id in grades.csv"
+            if named
+            else f"rikin-grade: no student {ns.student!r} graded for {ns.assignment} "
+            f"(known: {', '.join(known[:8])}{' ...' if len(known) > 8 else ''})",
             file=sys.stderr,
         )
         return EXIT_USAGE
+    ns.student = named[0]
     kind = "excused" if ns.excused else "cleared" if ns.clear else "score"
     max_score = gb.max_score(ns.assignment)
     if kind == "score" and not 0 <= ns.score <= max_score:
