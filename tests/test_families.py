@@ -45,6 +45,21 @@ def scara_wrist(L, modified=False):
     return SerialArm(scara(L).links + WRIST + (Link(d=L[3]),))
 
 
+def scara4(L, modified=False):
+    """A four-axis SCARA (RRPR: the quill, then the tool's roll about it)."""
+    if modified:
+        return SerialArm((Link(d=L[0]), Link(a=L[1]), Link("P", a=L[2], alpha=pi),
+                          Link(d=0.1 * L[3], offset=0.4)), convention="modified")
+    return SerialArm((Link(d=L[0], a=L[1]), Link(a=L[2], alpha=pi), Link("P"),
+                      Link(d=0.2 * L[3], offset=0.4)))
+
+
+def scara4_roll_first(L, modified=False):
+    """A four-axis SCARA typed with the roll before the quill (RRRP)."""
+    return SerialArm((Link(d=L[0], a=L[1]), Link(a=L[2], alpha=pi), Link(offset=0.3),
+                      Link("P", d=0.1 * L[3])))
+
+
 def cylindrical(L, modified=False):
     if modified:
         return SerialArm((Link(d=L[0]), Link("P", theta=pi / 2), Link("P", alpha=pi / 2, d=L[1])),
@@ -102,6 +117,8 @@ FAMILIES = {
     "angular 3R": (angular_3r, "angular (anthropomorphic) 3R", 4, "position"),
     "SCARA": (scara, "SCARA", 2, "position"),
     "SCARA with a wrist": (scara_wrist, "SCARA with a spherical wrist", 4, "pose"),
+    "four-axis SCARA": (scara4, "four-axis SCARA", 2, "pose"),
+    "four-axis SCARA, roll first": (scara4_roll_first, "four-axis SCARA", 2, "pose"),
     "cylindrical": (cylindrical, "cylindrical arm", 2, "position"),
     "cylindrical with a wrist": (cylindrical_wrist, "cylindrical arm with a spherical wrist", 4,
                                  "pose"),
@@ -112,7 +129,7 @@ FAMILIES = {
     "cartesian with a wrist": (cartesian_wrist, "cartesian arm with a spherical wrist", 2,
                                "pose"),
 }
-MODIFIED = ("planar 3R", "SCARA", "cylindrical")
+MODIFIED = ("planar 3R", "SCARA", "cylindrical", "four-axis SCARA")
 
 
 def typed(name, rng, modified=False):
@@ -193,7 +210,8 @@ def test_every_family_at_any_size_rikin_takes(s):
 
 @pytest.mark.parametrize("name", ["planar 3R", "SCARA", "Stanford", "SCARA with a wrist",
                                   "cylindrical with a wrist", "spherical", "angular 3R",
-                                  "cartesian with a wrist"])
+                                  "cartesian with a wrist", "four-axis SCARA",
+                                  "four-axis SCARA, roll first"])
 def test_every_solution_a_numerical_solver_finds_is_in_the_closed_forms_set(name):
     """The done-when of issue 29 for the course families: the numerical solver, started
     from 40 random joint vectors, finds no solution the closed form lacks, and for these
@@ -383,8 +401,14 @@ NEAR_MISSES = {
         r"the flange origin is 0\.15 off axis 1's plane"),
     "a redundant 7R": (SerialArm(tuple(Link(a=0.3, alpha=pi / 2) for _ in range(7))),
                        r"it has 7 joints, more than the six a pose fixes"),
-    "an RRPR": (SerialArm((Link(a=1.0), Link(a=1.0), Link("P"), Link())),
-                r"it has 4 joints, RRPR, and no course family has those"),
+    "an RRRR": (SerialArm((Link(a=1.0), Link(a=1.0), Link(alpha=pi / 2), Link())),
+                r"it has 4 joints, RRRR, and no course family has those"),
+    "four-axis SCARA whose quill leans 0.3 deg": (
+        SerialArm((Link(a=1.0), Link(a=1.0, alpha=np.radians(0.3)), Link("P"), Link())),
+        r"the quill \(joint 3\) is 0\.3 deg from axis 1"),
+    "four-axis SCARA whose roll axis is axis 2": (
+        SerialArm((Link(a=1.0), Link(), Link("P"), Link(d=0.1))),
+        r"the roll axis \(joint 4\) is axis 2's line, so joint 2 cannot move it"),
     "cylindrical arm whose slides move along axis 1 only": (
         SerialArm((Link(d=1.0), Link("P"), Link("P"))),
         r"the slides cannot change the distance from axis 1"),

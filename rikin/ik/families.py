@@ -48,6 +48,8 @@ from .positioning import (
     WristedSolver,
 )
 from .prismatic import PPRRRSolver, RPRRRSolver
+from .rolled_scara import TYPES as ROLLED_SCARA_TYPES
+from .rolled_scara import RolledScaraSolver
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
@@ -71,6 +73,7 @@ FAMILIES = (
     ("cylindrical with a spherical wrist", "RPPRRR", 4),
     ("spherical with a spherical wrist (the Stanford arm)", "RRPRRR", 8),
     ("SCARA with a spherical wrist", "RRPRRR", 4),
+    ("four-axis SCARA (the tool turns about the vertical)", "RRPR, RRRP", 2),
     ("PPRRR of the notes (5 DOF)", "PPRRR", 2),
     ("RPRRR of the notes (5 DOF)", "RPRRR", 4),
     ("6R with a spherical wrist (Pieper)", "RRRRRR", 8),
@@ -194,6 +197,8 @@ def _recognise(arm: SerialArm) -> Family | str | None:
         return _wristed(arm, ax)
     if types in ("PPRRR", "RPRRR"):
         return _notes_5dof(arm)
+    if types in ROLLED_SCARA_TYPES:
+        return _rolled_scara(arm, ax)
     slides = [i + 1 for i, t in enumerate(types) if t == "P"]
     which = ""
     if n == 6:  # the six-joint closed forms are for six revolute joints
@@ -343,6 +348,34 @@ def _notes_5dof(arm: SerialArm) -> Family | str:
                       "(one linear system), then the spherical wrist, two ways", 2, solver)
     return Family("RPRRR of the notes (5 DOF)", "joint 1 and the slide place the wrist centre "
                   "in its plane (two ways), then the spherical wrist, two ways", 4, solver)
+
+
+def _rolled_scara(arm: SerialArm, ax: ZeroAxes) -> Family | str:
+    """A four-axis SCARA (every axis parallel, the roll axis apart from axis 2), or why not."""
+    roll = 3 if arm.joint_types == "RRPR" else 2
+    names = {1: "axis 2", roll: "the roll axis", 5 - roll: "the quill"}
+    for j in (1, 2, 3):
+        if not _parallel(ax.w[j], ax.w[0]):
+            return (f"{names[j]} (joint {j + 1}) is {_angle(ax.w[j], ax.w[0]):.4g} deg from "
+                    "axis 1: a four-axis SCARA's axes and quill are all parallel")
+    for j, why in ((1, "axes 1 and 2 are the same line, so joints 1 and 2 do the same motion"),
+                   (roll, f"the roll axis (joint {roll + 1}) is axis 2's line, so joint 2 "
+                          "cannot move it")):
+        off = ax.r[j] - ax.r[j - 1 if j == 1 else 1]
+        if float(np.linalg.norm(off - (off @ ax.w[0]) * ax.w[0])) <= GEOMETRY_TOL * arm.scale:
+            return why
+    solver = RolledScaraSolver(arm, ax)
+    try:
+        solver.check(arm)
+    except InputError:
+        return "rikin could not fit the four-axis SCARA to this table (its FK check failed)"
+    how = ("the roll axis is placed as a SCARA places its TCP (the height gives the quill, "
+           "then the planar two-link chain, elbow right or left), then the roll from the "
+           "tool's heading")
+    return Family(ROLLED_SCARA, how, 2, solver)
+
+
+ROLLED_SCARA = "four-axis SCARA (the tool turns about the vertical)"
 
 
 # ------------------------------------------------------------------ the lesson solvers, fitted

@@ -204,10 +204,11 @@ def _clean_target(T: Any) -> tuple[FloatArray, float]:
 
 
 def _nearest_reachable(arm: SerialArm) -> Any:
-    """The closed-form solver's ``nearest_reachable`` for a whole pose: of a 5-DOF arm, which
-    reaches only a 5-dimensional set of poses (the PPRRR and RPRRR lesson arms), or of a 6R
-    with a closed form, whose rounded poses near its reach can miss it; else None."""
-    if arm.n not in (5, 6):
+    """The closed-form solver's ``nearest_reachable`` for a whole pose: of a 4- or 5-DOF arm,
+    which reaches only a 4- or 5-dimensional set of poses (the four-axis SCARA; the PPRRR and
+    RPRRR lesson arms), or of a 6R with a closed form, whose rounded poses near its reach can
+    miss it; else None."""
+    if arm.n not in (4, 5, 6):
         return None
     try:
         solver = _solver(arm)  # the lesson arm's, else the general 6R one
