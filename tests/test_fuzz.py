@@ -533,6 +533,8 @@ def _api_cases() -> list[Case]:
                            Lk(d=0.0823)), name="UR5")
     skew = rikin.SerialArm(tuple(Lk(a=0.3 + 0.1 * i, d=0.2 - 0.05 * i, alpha=0.4 + 0.3 * i)
                                  for i in range(6)), name="general 6R")
+    scara4 = rikin.SerialArm((Lk(d=0.4, a=0.325), Lk(a=0.275, alpha=np.pi), Lk("P"),
+                              Lk(d=0.05)), name="four-axis SCARA")
     Tp = puma.fk(np.full(6, 0.4))
     l_sym = sympy.Symbol("l", positive=True)
     q_sym = sympy.Symbol("q1", real=True)
@@ -1024,6 +1026,10 @@ def _api_cases() -> list[Case]:
           fn=general6r.General6RSolver, **obj),
         C("ur5 (user-built).ik", "target", ur5.ik, ur5.fk(np.full(6, 0.3)), fn=SA.ik),
         C("general 6R (user-built).ik", "target", skew.ik, skew.fk(np.full(6, 0.3)), fn=SA.ik),
+        C("four-axis SCARA (user-built).ik", "target", scara4.ik, scara4.fk(np.full(4, 0.3)),
+          fn=SA.ik),
+        C("four-axis SCARA (user-built).ik_batch", "T", scara4.ik_batch,
+          scara4.fk(np.full(4, 0.3))[None], fn=SA.ik_batch),
         C("puma (user-built).ik", "target", puma.ik, Tp, fn=SA.ik),
         C("puma (user-built).ik_batch", "T", puma.ik_batch, Tp[None], fn=SA.ik_batch),
         C("ik.solve within_limits", "within_limits",

@@ -43,8 +43,6 @@ from .reach import _turn, rounding_note, rounding_size
 if TYPE_CHECKING:  # pragma: no cover
     from ..dh import SerialArm
 
-__all__ = ["RolledScaraSolver", "TYPES"]
-
 #: The joint types of the four-axis SCARA: the roll after the quill, or before it.
 TYPES = ("RRPR", "RRRP")
 
