@@ -60,6 +60,16 @@ def scara4_roll_first(L, modified=False):
                       Link("P", d=0.1 * L[3])))
 
 
+def pitched(L, modified=False):
+    """A four-axis articulated arm (a waist, then shoulder, elbow and wrist pitch axes),
+    with a shoulder offset along the pitch axes, as the small lab arms have."""
+    if modified:
+        return SerialArm((Link(d=L[0]), Link(alpha=pi / 2, d=0.1 * L[3]), Link(a=L[1], offset=0.3),
+                          Link(a=L[2])), convention="modified", tool=rikin.transl(0.2 * L[3], 0, 0))
+    return SerialArm((Link(d=L[0], alpha=pi / 2), Link(a=L[1], d=0.1 * L[3], offset=-0.3),
+                      Link(a=L[2], offset=0.3), Link(a=0.2 * L[3])))
+
+
 def cylindrical(L, modified=False):
     if modified:
         return SerialArm((Link(d=L[0]), Link("P", theta=pi / 2), Link("P", alpha=pi / 2, d=L[1])),
@@ -119,6 +129,7 @@ FAMILIES = {
     "SCARA with a wrist": (scara_wrist, "SCARA with a spherical wrist", 4, "pose"),
     "four-axis SCARA": (scara4, "four-axis SCARA", 2, "pose"),
     "four-axis SCARA, roll first": (scara4_roll_first, "four-axis SCARA", 2, "pose"),
+    "four-axis articulated": (pitched, "four-axis articulated arm", 2, "pose"),
     "cylindrical": (cylindrical, "cylindrical arm", 2, "position"),
     "cylindrical with a wrist": (cylindrical_wrist, "cylindrical arm with a spherical wrist", 4,
                                  "pose"),
@@ -129,7 +140,7 @@ FAMILIES = {
     "cartesian with a wrist": (cartesian_wrist, "cartesian arm with a spherical wrist", 2,
                                "pose"),
 }
-MODIFIED = ("planar 3R", "SCARA", "cylindrical", "four-axis SCARA")
+MODIFIED = ("planar 3R", "SCARA", "cylindrical", "four-axis SCARA", "four-axis articulated")
 
 
 def typed(name, rng, modified=False):
@@ -211,7 +222,7 @@ def test_every_family_at_any_size_rikin_takes(s):
 @pytest.mark.parametrize("name", ["planar 3R", "SCARA", "Stanford", "SCARA with a wrist",
                                   "cylindrical with a wrist", "spherical", "angular 3R",
                                   "cartesian with a wrist", "four-axis SCARA",
-                                  "four-axis SCARA, roll first"])
+                                  "four-axis SCARA, roll first", "four-axis articulated"])
 def test_every_solution_a_numerical_solver_finds_is_in_the_closed_forms_set(name):
     """The done-when of issue 29 for the course families: the numerical solver, started
     from 40 random joint vectors, finds no solution the closed form lacks, and for these
@@ -401,8 +412,12 @@ NEAR_MISSES = {
         r"the flange origin is 0\.15 off axis 1's plane"),
     "a redundant 7R": (SerialArm(tuple(Link(a=0.3, alpha=pi / 2) for _ in range(7))),
                        r"it has 7 joints, more than the six a pose fixes"),
-    "an RRRR": (SerialArm((Link(a=1.0), Link(a=1.0), Link(alpha=pi / 2), Link())),
-                r"it has 4 joints, RRRR, and no course family has those"),
+    "an RPRP": (SerialArm((Link(a=1.0), Link("P", alpha=pi / 2), Link(a=1.0), Link("P"))),
+                r"it has 4 joints, RPRP, and no course family has those"),
+    "four-axis articulated arm whose wrist axis leans 0.5 deg": (
+        SerialArm((Link(d=1.0, alpha=pi / 2), Link(a=1.0), Link(a=1.0, alpha=np.radians(0.5)),
+                   Link(a=0.3))),
+        r"axes 2 and 4 are 0\.5 deg from parallel"),
     "four-axis SCARA whose quill leans 0.3 deg": (
         SerialArm((Link(a=1.0), Link(a=1.0, alpha=np.radians(0.3)), Link("P"), Link())),
         r"the quill \(joint 3\) is 0\.3 deg from axis 1"),

@@ -535,6 +535,8 @@ def _api_cases() -> list[Case]:
                                  for i in range(6)), name="general 6R")
     scara4 = rikin.SerialArm((Lk(d=0.4, a=0.325), Lk(a=0.275, alpha=np.pi), Lk("P"),
                               Lk(d=0.05)), name="four-axis SCARA")
+    pitched = rikin.SerialArm((Lk(d=0.077, alpha=half), Lk(a=0.13, offset=-1.3855),
+                               Lk(a=0.124, offset=1.3855), Lk(a=0.126)), name="four-axis arm")
     Tp = puma.fk(np.full(6, 0.4))
     l_sym = sympy.Symbol("l", positive=True)
     q_sym = sympy.Symbol("q1", real=True)
@@ -1030,6 +1032,8 @@ def _api_cases() -> list[Case]:
           fn=SA.ik),
         C("four-axis SCARA (user-built).ik_batch", "T", scara4.ik_batch,
           scara4.fk(np.full(4, 0.3))[None], fn=SA.ik_batch),
+        C("four-axis articulated arm (user-built).ik", "target", pitched.ik,
+          pitched.fk(np.full(4, 0.3)), fn=SA.ik),
         C("puma (user-built).ik", "target", puma.ik, Tp, fn=SA.ik),
         C("puma (user-built).ik_batch", "T", puma.ik_batch, Tp[None], fn=SA.ik_batch),
         C("ik.solve within_limits", "within_limits",

@@ -37,6 +37,7 @@ from .anthropomorphic import Angular3RSolver, RRRGeometry
 from .axes import ZeroAxes, zero_axes
 from .decoupled import wrist_model
 from .fitted import Fitted
+from .pitched import PitchedArmSolver
 from .planar import Planar2RSolver, Planar3RSolver
 from .positioning import (
     Cartesian,
@@ -74,6 +75,7 @@ FAMILIES = (
     ("spherical with a spherical wrist (the Stanford arm)", "RRPRRR", 8),
     ("SCARA with a spherical wrist", "RRPRRR", 4),
     ("four-axis SCARA (the tool turns about the vertical)", "RRPR, RRRP", 2),
+    ("four-axis articulated arm (a waist, then three parallel pitch axes)", "RRRR", 2),
     ("PPRRR of the notes (5 DOF)", "PPRRR", 2),
     ("RPRRR of the notes (5 DOF)", "RPRRR", 4),
     ("6R with a spherical wrist (Pieper)", "RRRRRR", 8),
@@ -199,6 +201,8 @@ def _recognise(arm: SerialArm) -> Family | str | None:
         return _notes_5dof(arm)
     if types in ROLLED_SCARA_TYPES:
         return _rolled_scara(arm, ax)
+    if types == "RRRR":
+        return _pitched(arm, ax)
     slides = [i + 1 for i, t in enumerate(types) if t == "P"]
     which = ""
     if n == 6:  # the six-joint closed forms are for six revolute joints
@@ -376,6 +380,32 @@ def _rolled_scara(arm: SerialArm, ax: ZeroAxes) -> Family | str:
 
 
 ROLLED_SCARA = "four-axis SCARA (the tool turns about the vertical)"
+PITCHED = "four-axis articulated arm (a waist, then three parallel pitch axes)"
+
+
+def _pitched(arm: SerialArm, ax: ZeroAxes) -> Family | str:
+    """A four-axis articulated arm (axes 2-4 parallel, not parallel to axis 1, on three
+    lines), or why not."""
+    for j in (2, 3):
+        if not _parallel(ax.w[j], ax.w[1]):
+            return (f"axes 2 and {j + 1} are {_angle(ax.w[j], ax.w[1]):.4g} deg from parallel: "
+                    "a four-axis articulated arm pitches about three parallel axes")
+    if _parallel(ax.w[1], ax.w[0]):
+        return "all four axes are parallel: a planar arm with one joint too many"
+    for i, j in ((1, 2), (2, 3)):
+        off = ax.r[j] - ax.r[i]
+        if float(np.linalg.norm(off - (off @ ax.w[1]) * ax.w[1])) <= GEOMETRY_TOL * arm.scale:
+            return (f"axes {i + 1} and {j + 1} are the same line, so joints {i + 1} and {j + 1} "
+                    "do the same motion")
+    solver = PitchedArmSolver(arm, ax)
+    try:
+        solver.check(arm)
+    except InputError:
+        return ("rikin could not fit the four-axis articulated arm to this table (its FK check "
+                "failed)")
+    how = ("the tool's pitch axis gives the waist (q1), joints 2-3 place axis 4 as a planar "
+           "two-link chain (elbow up or down), then q4 from the tool's pitch")
+    return Family(PITCHED, how, 2, solver)
 
 
 # ------------------------------------------------------------------ the lesson solvers, fitted
