@@ -15,6 +15,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from test_rolled_scara import assert_both_elbows
 
 import rikin
 from rikin import InputError, Link, SerialArm, UnreachableError
@@ -69,17 +70,7 @@ def test_every_solution_reaches_the_target_and_the_generating_joints_are_among_t
     assert c.solutions == 2
     rng = np.random.default_rng([5, len(name)])
     for _ in range(25):
-        q = rng.uniform(-pi, pi, 4)
-        T = arm.fk(q)
-        res = arm.ik(T)
-        F = arm.fk(res.q)
-        assert np.abs(F[:, :3, 3] - T[:3, 3]).max() <= 1e-9 * arm.scale
-        assert np.abs(F[:, :3, :3] - T[:3, :3]).max() <= 1e-9
-        assert near(arm, res.q, q), "the joints that made the pose are missing"
-        assert len(res) == 2 and sorted(b.elbow for b in res.branches) == ["down", "up"]
-        batch = arm.ik_batch(T[None])
-        got = batch.q[0][batch.valid[0]]
-        assert len(got) == 2 and all(near(arm, got, row) for row in res.q)
+        assert_both_elbows(arm, rng.uniform(-pi, pi, 4), {"up", "down"})
 
 
 def test_the_elbow_up_solution_has_its_elbow_above_the_shoulder_wrist_line():

@@ -80,17 +80,22 @@ def test_every_solution_reaches_the_target_and_the_generating_joints_are_among_t
     assert c.closed_form and c.family.startswith("four-axis SCARA") and c.solutions == 2
     rng = np.random.default_rng([4, len(name)])
     for _ in range(25):
-        q = random_q(arm, rng)
-        T = arm.fk(q)
-        res = arm.ik(T)
-        F = arm.fk(res.q)
-        assert np.abs(F[:, :3, 3] - T[:3, 3]).max() <= 1e-9 * arm.scale
-        assert np.abs(F[:, :3, :3] - T[:3, :3]).max() <= 1e-9
-        assert near(arm, res.q, q), "the joints that made the pose are missing"
-        assert len(res) == 2 and {b.elbow for b in res.branches} == {"right", "left"}
-        batch = arm.ik_batch(T[None])
-        got = batch.q[0][batch.valid[0]]
-        assert len(got) == 2 and all(near(arm, got, row) for row in res.q)
+        assert_both_elbows(arm, random_q(arm, rng), {"right", "left"})
+
+
+def assert_both_elbows(arm, q, elbows):
+    """arm.ik of the pose of ``q``: two solutions, each reaching it by FK, ``q`` among them,
+    the two ``elbows`` labels, and ik_batch giving the same two."""
+    T = arm.fk(q)
+    res = arm.ik(T)
+    F = arm.fk(res.q)
+    assert np.abs(F[:, :3, 3] - T[:3, 3]).max() <= 1e-9 * arm.scale
+    assert np.abs(F[:, :3, :3] - T[:3, :3]).max() <= 1e-9
+    assert near(arm, res.q, q), "the joints that made the pose are missing"
+    assert len(res) == 2 and {b.elbow for b in res.branches} == elbows
+    batch = arm.ik_batch(T[None])
+    got = batch.q[0][batch.valid[0]]
+    assert len(got) == 2 and all(near(arm, got, row) for row in res.q)
 
 
 def test_the_data_sheets_limits_choose_among_the_solutions():

@@ -17,7 +17,9 @@ The subproblems (Paden and Kahan):
 * :func:`turn_angle` (subproblem 1): the angle about an axis that turns one vector
   onto another;
 * :func:`two_turns` (subproblem 2): the angles about two axes through one point that
-  turn one vector onto another, up to two ways.
+  turn one vector onto another, up to two ways;
+* :func:`turn_between`: the angle about an axis that best turns one rotation onto
+  others (the heading of a SCARA's tool, the pitch of an articulated arm's).
 """
 
 from __future__ import annotations
@@ -88,6 +90,16 @@ def turn_angle(w: FloatArray, a: FloatArray, b: FloatArray, free: FloatArray | f
     cos = np.einsum("...i,...i->...", a_perp, b_perp)
     degenerate = (sin == 0.0) & (cos == 0.0)
     return np.where(degenerate, free, np.arctan2(sin, cos)), degenerate
+
+
+def turn_between(w: FloatArray, A: FloatArray, R: FloatArray) -> FloatArray:
+    """The angles ``(N,)`` about the unit axis ``w (3,)`` that best turn the rotation ``A (3,
+    3)`` onto each ``R (N, 3, 3)``, column by column (the least squares angle; exact where
+    ``R`` is such a turn of ``A``): ``atan2`` of the summed sines and cosines of the
+    columns' turns, their parts along ``w`` left out."""
+    sin = np.einsum("k,nk->n", w, np.cross(A.T[None], np.swapaxes(R, -1, -2)).sum(axis=1))
+    cos = np.einsum("ij,nij->n", A, R) - (np.swapaxes(R, -1, -2) @ w) @ (A.T @ w)
+    return np.arctan2(sin, cos)
 
 
 def two_turns(w1: FloatArray, w2: FloatArray, u: FloatArray, v: FloatArray

@@ -35,7 +35,7 @@ from .._validate import FloatArray
 from ..errors import InputError
 from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL
 from .api import ClosedForm
-from .axes import ZeroAxes, rotate, turn_angle
+from .axes import ZeroAxes, rotate, turn_angle, turn_between
 from .base import RawSolutions
 from .positioning import FIT_TOL, Scara
 from .reach import _turn, rounding_note, rounding_size
@@ -101,14 +101,6 @@ class PitchedArmSolver(ClosedForm):
         off = np.abs(np.arcsin(np.clip(u @ self.w1, -1.0, 1.0)) - math.asin(self.level))
         return q1, off
 
-    def _pitch(self, R: FloatArray) -> FloatArray:
-        """The turn ``(N,)`` about ``w`` that best carries ``R_n(0)`` onto each ``R (N, 3,
-        3)`` (the targets' rotations with the waist turned back), column by column."""
-        A, w = self.R_n0, self.w
-        sin = np.einsum("k,nk->n", w, np.cross(A.T[None], np.swapaxes(R, -1, -2)).sum(axis=1))
-        cos = np.einsum("ij,nij->n", A, R) - (np.swapaxes(R, -1, -2) @ w) @ (A.T @ w)
-        return np.arctan2(sin, cos)
-
     def _unturned(self, T_0_n: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray,
                                                     FloatArray]:
         """``q1``, the pitch axis' tilt, the point ``c`` and the rotation of each target
@@ -128,7 +120,8 @@ class PitchedArmSolver(ClosedForm):
         q = np.empty(placed.q.shape[:2] + (4,))
         q[..., 0] = q1[:, None]
         q[..., 1:3] = placed.q[..., :2]
-        q[..., 3] = s4 * (self._pitch(back)[:, None] - q[..., 1] - s3 * q[..., 2])
+        pitch = turn_between(self.w, self.R_n0, back)[:, None]
+        q[..., 3] = s4 * (pitch - q[..., 1] - s3 * q[..., 2])
         # a target off the arm's plane or with its pitch axis not level: no solution (a
         # rounded one goes to nearest_reachable), as the 5-DOF arms' wrist centre off theirs
         tol = 10 * REACH_TOL

@@ -35,7 +35,7 @@ from .._validate import FloatArray
 from ..errors import InputError
 from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL
 from .api import ClosedForm
-from .axes import ZeroAxes
+from .axes import ZeroAxes, turn_between
 from .base import RawSolutions
 from .positioning import FIT_TOL, Scara
 from .reach import _turn, rounding_note, rounding_size
@@ -95,20 +95,11 @@ class RolledScaraSolver(ClosedForm):
             raise InputError(f"{arm.name}: rikin could not fit the four-axis SCARA to this "
                              "table (it misses the joints that made a pose)")
 
-    def _heading(self, R: FloatArray) -> FloatArray:
-        """``psi (N,)``: the turn about ``w`` that best carries ``R_n(0)`` onto each
-        ``R (N, 3, 3)``, column by column (exact when ``R`` is such a turn of it)."""
-        A, w = self.R_n0, self.w
-        sin = np.einsum("k,nk->n", w, np.cross(A.T[None], np.swapaxes(R, -1, -2)).sum(axis=1))
-        Aw, Rw = A.T @ w, np.swapaxes(R, -1, -2) @ w  # each column's part along w
-        cos = np.einsum("ij,nij->n", A, R) - Rw @ Aw
-        return np.arctan2(sin, cos)
-
     def solve(self, arm: SerialArm, T_0_n: FloatArray, hint: FloatArray | None) -> RawSolutions:
         """Both solutions of each flange pose ``T_0_n (N, 4, 4)`` (frame 0)."""
         p = T_0_n[:, :3, :3] @ self.c_n + T_0_n[:, :3, 3]
         placed = self.family.place(p, hint)  # (N, 2, 3): q1, q2 and the quill
-        psi = self._heading(T_0_n[:, :3, :3])
+        psi = turn_between(self.w, self.R_n0, T_0_n[:, :3, :3])
         s2, s_roll = self.senses
         roll = s_roll * (psi[:, None] - placed.q[..., 0] - s2 * placed.q[..., 1])
         q = np.empty(placed.q.shape[:2] + (4,))
