@@ -326,10 +326,30 @@ def test_lms_column_given_on_a_later_run_is_found_in_the_kept_roster(tmp_path, m
     kw = dict(unsafe_no_sandbox=True, quiet=True)
     report = api.grade(str(ASSIGNMENT), [folder], out, roster=str(roster), **kw)
     assert any("pass --lms-column" in n for n in report.notes)
-    api.grade(str(ASSIGNMENT), [folder], out, lms_column="HW 3", **kw)
+    assert report.summary["lms_column"] == 1  # the run asks for the instructor: exit 1
+    report = api.grade(str(ASSIGNMENT), [folder], out, lms_column="HW 3", **kw)
+    assert report.summary["lms_column"] == 0
     head, body = _lms_table(out, "blackboard")
     assert head[3] == header
     assert {r[2] for r in body} == {people[2].username, people[3].username}
+
+
+def test_a_run_that_cannot_tell_the_assignments_roster_column_exits_1(tmp_path, monkeypatch):
+    """A Blackboard roster whose columns do not name the exercise: the LMS file would get a
+    header of rikin's, which Blackboard adds as a new column, so the run says which
+    --lms-column to pass and ends with exit status 1 (the instructor must look); with the
+    column given, 0."""
+    from rikingrade import cli
+
+    people = L.make_class()
+    folder, roster = L.write(people, "blackboard", tmp_path, {2, 3})
+    roster.write_text(roster.read_text(encoding="utf-8").replace(
+        L.BLACKBOARD_COLUMN, "HW 3 [Total Pts: 5 Score] |12345"))
+    monkeypatch.setattr(api, "_run_pool", L.fake_pool)
+    out = tmp_path / "out"
+    args = [str(ASSIGNMENT), str(folder), "--out", str(out), "--unsafe-no-sandbox", "--quiet"]
+    assert cli.main(args + ["--roster", str(roster)]) == 1
+    assert cli.main(args + ["--lms-column", "HW 3"]) == 0
 
 
 def test_override_names_a_student_by_any_id_the_download_or_roster_gave(tmp_path, monkeypatch):

@@ -40,7 +40,15 @@ from .pool import run_pool as _run_pool
 from .probe import check_sandbox
 from .progress import Progress, summarize, summary_text
 from .report import INVALID, SubmissionResult
-from .roster import Roster, RosterEntry, RosterError, assignment_column, load_roster, read_table
+from .roster import (
+    COLUMN_NOTE,
+    Roster,
+    RosterEntry,
+    RosterError,
+    assignment_column,
+    load_roster,
+    read_table,
+)
 from .runner import RunOptions
 from .safetext import SafeFormatter
 from .sandbox import Limits, SandboxConfig
@@ -624,6 +632,8 @@ def _summary(
             "state": state,
             # students the roster could not tell apart (reported by name, not matched)
             "ambiguous": sum(n.startswith("ambiguous:") for n in notes),
+            # no one roster column for the assignment: the LMS files' header is a guess
+            "lms_column": sum(n.startswith(COLUMN_NOTE) for n in notes),
         }
     )
     return summary

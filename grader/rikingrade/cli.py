@@ -69,8 +69,10 @@ report) are rewritten from it after each run, even after Ctrl-C. The instructor'
 exit status: 0 graded (whatever the scores), 1 some submissions hit a grader error, were
 refused (a link, a file its folder's owner may not read, a .zip, a script or anything else
 that is not a notebook: see the notes and the log) or could not be told apart on the roster
-(see the notes), 2 bad arguments, assignment, submissions folder or roster, gradebook in use
-or damaged (the message gives the command that repairs it), 3 the sandbox is unavailable.
+(see the notes), or the roster has no one column for the assignment (the note says which
+to pass as --lms-column), 2 bad arguments, assignment, submissions folder or roster,
+gradebook in use or damaged (the message gives the command that repairs it), 3 the sandbox
+is unavailable.
 """
 
 # (parameter of api.grade, help). Defaults are read from the function's signature.
@@ -582,7 +584,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         kw = vars(grade_parser().parse_args(args_list))
         report = grade(kw.pop("assignment"), kw.pop("submissions"), kw.pop("out"), **kw)
         s = report.summary
-        attention = s.get("grader_errors") or s.get("refused") or s.get("ambiguous")
+        attention = (s.get("grader_errors") or s.get("refused") or s.get("ambiguous")
+                     or s.get("lms_column"))
         return EXIT_GRADER_ERRORS if attention else EXIT_OK
     except (
         AssignmentError,

@@ -370,8 +370,14 @@ def read_roster(path: str | Path) -> list[RosterEntry]:
     return load_roster(path).entries
 
 
+#: How a note of :func:`assignment_column` begins: the run then ends with exit status 1
+#: (the LMS file's header is not one the roster has, so the LMS would add a new column).
+COLUMN_NOTE = "LMS column: "
+
+
 def assignment_column(roster: Roster, wanted: str, exercise: str) -> tuple[str, str]:
-    """The roster's column for this assignment, and a note ('' when sure).
+    """The roster's column for this assignment, and a note ('' when sure; else it begins
+    with ``COLUMN_NOTE``).
 
     ``wanted`` (``--lms-column``) is the header itself or a part of it found in one column
     only; without it, the one column whose header holds the exercise's name.
@@ -384,7 +390,9 @@ def assignment_column(roster: Roster, wanted: str, exercise: str) -> tuple[str, 
             return some[0], ""
         if not cols or not some:
             return wanted, ""  # not in this export: used as written
-        return "", f"--lms-column {wanted!r} fits {len(some)} columns of {roster.path}: " + (
+        return "", COLUMN_NOTE + f"--lms-column {wanted!r} fits {len(some)} columns of " + (
+            f"{roster.path}: "
+        ) + (
             "; ".join(some)
         )
     some = [c for c in cols if exercise.lower() in c.lower()]
@@ -394,7 +402,8 @@ def assignment_column(roster: Roster, wanted: str, exercise: str) -> tuple[str, 
         return "", ""
     listed = "; ".join(some or cols)
     return "", (
-        f"which column of {roster.path} is this assignment? "
+        COLUMN_NOTE
+        + f"which column of {roster.path} is this assignment? "
         + (f"{len(some)} fit" if some else "none holds " + repr(exercise))
         + f" ({listed}): pass --lms-column"
     )
