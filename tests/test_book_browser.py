@@ -986,6 +986,28 @@ def test_tables_fit_a_phone(page: str, loaded: LoadedPages) -> None:
                                f"{PHONE_PX}px: {w['text']!r}" for w in wide)
 
 
+_PRINTED_ROWS = r"""
+return Array.from(document.querySelectorAll('article.bd-article div.cell_output div.output pre'))
+  .filter(pre => pre.clientWidth > 0
+                 && pre.textContent.split('\n').filter(l => /\S {2,}\S/.test(l)).length >= 2)
+  .filter(pre => getComputedStyle(pre).whiteSpace !== 'pre')
+  .map(pre => ({white: getComputedStyle(pre).whiteSpace,
+                text: pre.textContent.trim().slice(0, 60)}));
+"""
+
+
+@pytest.mark.book
+@pytest.mark.slow
+@pytest.mark.parametrize("page", COURSE_PAGES)
+def test_printed_tables_keep_their_rows_on_a_phone(page: str, loaded: LoadedPages) -> None:
+    """At 390 px a table a cell prints (two or more lines in columns: the IK tables, DH
+    tables) keeps each row on one line and scrolls sideways in its own box: wrapped, its
+    rows broke mid-row and the columns fell apart."""
+    wrapped = loaded.phone(page)["printed_rows"]
+    assert not wrapped, "\n".join(f"{page}: a printed table wraps its rows ({w['white']}) "
+                                  f"at {PHONE_PX}px: {w['text']!r}" for w in wrapped)
+
+
 # ------------------------------------------------------------------ one load per view of a page
 class _Values:
     """The results of the checks run on one load of a page, by name; a check that raised
@@ -1075,14 +1097,15 @@ class LoadedPages:
         return values
 
     def _phone(self, page: str) -> _Values:
-        """Opened at 390 px: the leftover markup, the tables, and half a second later the
-        interactive figures' text."""
+        """Opened at 390 px: the leftover markup, the tables, the printed tables' rows, and
+        half a second later the interactive figures' text."""
         driver, values = self.driver, _Values()
         try:
             _set_width(driver, PHONE_PX)
             _open(driver, f"{self.server}/{page}")
             values.run("leftover", driver.execute_script, _LEFTOVER)
             values.run("tables", driver.execute_script, _TABLES_SCROLL)
+            values.run("printed_rows", driver.execute_script, _PRINTED_ROWS)
             time.sleep(0.5)
             values.run("clipping", driver.execute_script, _INTERACTIVE_CLIPPING)
         finally:

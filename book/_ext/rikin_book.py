@@ -34,6 +34,11 @@ Loaded from ``_config.yml`` (``sphinx.local_extensions``). It does two things:
   exercise on the exercises page, gets links that open it in Colab and in JupyterLab on
   Binder, from one key (``rikin_launch_repository``); a build whose ``html.baseurl`` is a
   loopback address says on every page that it is a local preview.
+* **Printed tables keep their columns on a phone.** A cell's printed output whose lines
+  hold columns (two or more lines with a run of spaces between words: the IK tables, DH
+  tables) gets the class ``rikin-columns`` (:class:`TabularOutputs`); below 600 px the
+  stylesheet keeps its lines and lets it scroll sideways in its own box, where the prose
+  a cell prints still wraps.
 * **Figures without plotly.js in the build.** The kernels that execute the chapters get
   ``RIKIN_BOOK_BUILD=1`` (their figures' HTML carries no plotly.js: the page loads it).
 """
@@ -53,8 +58,10 @@ from pathlib import Path
 from typing import Any
 
 import nbformat
+from docutils import nodes
 from sphinx.application import Sphinx
 from sphinx.errors import ExtensionError
+from sphinx.transforms.post_transforms import SphinxPostTransform
 from sphinx.util import logging
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -536,6 +543,24 @@ def drop_thebe_scripts(
         context["script_files"] = [js for js in context["script_files"] if not is_thebe(js)]
 
 
+#: A line with columns: two words (or numbers) apart by a run of two spaces or more.
+_COLUMNS = re.compile(r"\S {2,}\S")
+
+
+class TabularOutputs(SphinxPostTransform):
+    """Mark the printed outputs that are tables (see the module's description)."""
+
+    default_priority = 400
+
+    def run(self, **kwargs: Any) -> None:
+        for node in self.document.findall(nodes.literal_block):
+            if "output" not in node["classes"]:
+                continue
+            lines = node.astext().splitlines()
+            if sum(bool(_COLUMNS.search(line)) for line in lines) >= 2:
+                node["classes"].append("rikin-columns")
+
+
 def setup(app: Sphinx) -> dict[str, Any]:
     # the kernels that execute the chapters inherit this: their interactive figures carry
     # no plotly.js (the pages load it from _static; see rikin.interactive.BOOK_BUILD_ENV)
@@ -544,6 +569,7 @@ def setup(app: Sphinx) -> dict[str, Any]:
     app.connect("config-inited", set_mathjax_path)
     app.connect("config-inited", add_book_static)
     app.add_css_file(BOOK_CSS)
+    app.add_post_transform(TabularOutputs)
     app.add_js_file(BOOK_JS)
     app.connect("builder-inited", build_rikin_dists)
     app.connect("build-finished", copy_mathjax)
