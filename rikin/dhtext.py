@@ -57,6 +57,7 @@ import numpy as np
 from ._validate import as_text
 from .dh import Link, SerialArm
 from .errors import InputError
+from .tolerances import ROUNDED_RIGHT_ANGLE
 
 __all__ = ["arm_from_table", "row_tokens"]
 
@@ -358,7 +359,8 @@ def _no_rounded_radians(cell: _Cell, token: str, number: float) -> None:
     radians rounded, as slides print them: 1.5708, 1.571, 3.1416, -4.712. Read as degrees
     it would silently make another arm (a 1.5708 deg twist); ``1.5708°`` says it is meant."""
     quarters = round(number / (math.pi / 2))
-    if quarters and abs(quarters) <= 4 and abs(number - quarters * math.pi / 2) <= 2e-3:
+    off = abs(number - quarters * math.pi / 2)
+    if quarters and abs(quarters) <= 4 and off <= ROUNDED_RIGHT_ANGLE:
         degrees, exact = f"{quarters * 90}", _quarter_pi(quarters)
         raise cell.fail(
             f"{token!r}, a bare number, is read as {token} degrees, yet it looks like "

@@ -91,3 +91,11 @@ DEGREES_FAR = 8 * 3.141592653589793
 #: An angle beyond this (rad) has lost its fractional turn to rounding
 #: (spacing of doubles there ~1e-10 rad): refused as meaningless.
 MAX_ANGLE = 1e6
+
+#: An angle of a DH table (twist, revolute offset, prismatic theta) this far or less (rad)
+#: from a multiple of 90 deg was most likely a right angle typed rounded: 1.571 for pi/2
+#: or 3.142 for pi (3 decimals leave up to 5e-4 rad, 3.14 leaves 1.6e-3). A lean of
+#: 0.3 deg (5.2e-3 rad) is a lean. The families name such angles when an arm is in none
+#: (``rikin.ik.families``); the typed-table reader refuses such a number under a header in
+#: degrees (``rikin.dhtext``: read as degrees it would be another arm).
+ROUNDED_RIGHT_ANGLE = 2e-3

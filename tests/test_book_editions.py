@@ -391,12 +391,22 @@ _ENGLISH_WORDS = frozenset("the and with of is are to for this that from by on w
                            "then there as in".split())
 
 
-def english_comments(english_html: Path, other_html: Path, alike: set[str]) -> list[str]:
-    """The comments of the English page's code cells that the other edition's page shows
+def left_english(english: list[str], other: list[str], alike: set[str]) -> list[str]:
+    """The English edition's comments (each once, in order) that the other edition has
     unchanged, but for those its catalogue translates as they are (``alike``)."""
-    other = set(shown_comments(other_html))
-    return [c for c in dict.fromkeys(shown_comments(english_html))
-            if c in other and c not in alike]
+    theirs = set(other)
+    return [c for c in dict.fromkeys(english) if c in theirs and c not in alike]
+
+
+def english_comments(english_html: Path, other_html: Path, alike: set[str]) -> list[str]:
+    """:func:`left_english` of the comments two editions' pages show."""
+    return left_english(shown_comments(english_html), shown_comments(other_html), alike)
+
+
+def long_code_lines(sources: list[str]) -> list[str]:
+    """The lines of code cells' ``sources`` wider than the book's 80 columns."""
+    return [line for source in sources for line in source.split("\n")
+            if len(line) > rikin_comments.CODE_COLUMNS]
 
 
 @pytest.mark.book
@@ -421,8 +431,7 @@ def test_translated_code_lines_fit_80_columns(page: str, book_html: Path) -> Non
     english = shown_sources(book_html / page)
     for folder in EDITIONS.values():
         shown = shown_sources(book_html / folder / page)
-        long = [line for source in shown for line in source.split("\n")
-                if len(line) > rikin_comments.CODE_COLUMNS]
+        long = long_code_lines(shown)
         assert not long, f"{folder}/{page}: {len(long)} code lines over 80 columns: {long[:3]}"
         assert [_code_only(s) for s in shown] == [_code_only(s) for s in english], (
             f"{folder}/{page}: a code cell shows other code than the English page")
@@ -447,11 +456,8 @@ def notebook_comments(notebook: Path) -> list[str]:
 
 
 def english_notebook_comments(english: Path, other: Path, alike: set[str]) -> list[str]:
-    """The comments of the English notebook's code cells that the other edition's notebook
-    has unchanged, but for those its catalogue translates as they are (``alike``)."""
-    theirs = set(notebook_comments(other))
-    return [c for c in dict.fromkeys(notebook_comments(english))
-            if c in theirs and c not in alike]
+    """:func:`left_english` of the comments of two editions' notebooks."""
+    return left_english(notebook_comments(english), notebook_comments(other), alike)
 
 
 @pytest.mark.book
@@ -470,8 +476,7 @@ def test_no_code_comment_of_a_downloaded_notebook_is_english(page: str,
         assert other.is_file(), f"{other}: not published"
         left = english_notebook_comments(english, other, spelt_alike(language, page))
         assert_none_left(left, f"{folder}/{name}", "code comments")
-        long = [line for source in notebook_sources(other) for line in source.split("\n")
-                if len(line) > rikin_comments.CODE_COLUMNS]
+        long = long_code_lines(notebook_sources(other))
         assert not long, f"{folder}/{name}: {len(long)} code lines over 80 columns: {long[:3]}"
 
 

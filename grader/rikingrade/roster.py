@@ -390,11 +390,8 @@ def assignment_column(roster: Roster, wanted: str, exercise: str) -> tuple[str, 
             return some[0], ""
         if not cols or not some:
             return wanted, ""  # not in this export: used as written
-        return "", COLUMN_NOTE + f"--lms-column {wanted!r} fits {len(some)} columns of " + (
-            f"{roster.path}: "
-        ) + (
-            "; ".join(some)
-        )
+        return "", (f"{COLUMN_NOTE}--lms-column {wanted!r} fits {len(some)} columns of "
+                    f"{roster.path}: " + "; ".join(some))
     some = [c for c in cols if exercise.lower() in c.lower()]
     if len(some) == 1:
         return some[0], ""
@@ -402,8 +399,7 @@ def assignment_column(roster: Roster, wanted: str, exercise: str) -> tuple[str, 
         return "", ""
     listed = "; ".join(some or cols)
     return "", (
-        COLUMN_NOTE
-        + f"which column of {roster.path} is this assignment? "
+        f"{COLUMN_NOTE}which column of {roster.path} is this assignment? "
         + (f"{len(some)} fit" if some else "none holds " + repr(exercise))
         + f" ({listed}): pass --lms-column"
     )

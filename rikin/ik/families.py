@@ -32,6 +32,7 @@ import numpy as np
 
 from .._validate import FloatArray
 from ..errors import InputError
+from ..tolerances import ROUNDED_RIGHT_ANGLE
 from . import families6r
 from .anthropomorphic import Angular3RSolver, RRRGeometry
 from .axes import ZeroAxes, zero_axes
@@ -61,6 +62,11 @@ if TYPE_CHECKING:  # pragma: no cover
 #: absorbs the rounding of cos(pi / 2) and of the FK at q = 0.
 GEOMETRY_TOL = 1e-9
 
+#: The four-joint families' names (the book's words), and a reason several families give.
+ROLLED_SCARA = "four-axis SCARA (the tool turns about the vertical)"
+PITCHED = "four-axis articulated arm (a waist, then three parallel pitch axes)"
+_ONE_LINE = "axes 1 and 2 are the same line, so joints 1 and 2 do the same motion"
+
 #: The families, in the book's words, with the most solutions each has.
 FAMILIES = (
     ("planar 2R", "RR", 2),
@@ -74,8 +80,8 @@ FAMILIES = (
     ("cylindrical with a spherical wrist", "RPPRRR", 4),
     ("spherical with a spherical wrist (the Stanford arm)", "RRPRRR", 8),
     ("SCARA with a spherical wrist", "RRPRRR", 4),
-    ("four-axis SCARA (the tool turns about the vertical)", "RRPR, RRRP", 2),
-    ("four-axis articulated arm (a waist, then three parallel pitch axes)", "RRRR", 2),
+    (ROLLED_SCARA, "RRPR, RRRP", 2),
+    (PITCHED, "RRRR", 2),
     ("PPRRR of the notes (5 DOF)", "PPRRR", 2),
     ("RPRRR of the notes (5 DOF)", "RPRRR", 4),
     ("6R with a spherical wrist (Pieper)", "RRRRRR", 8),
@@ -136,6 +142,13 @@ def _parallel(u: FloatArray, v: FloatArray) -> bool:
     return float(np.linalg.norm(np.cross(u, v))) <= GEOMETRY_TOL
 
 
+def _same_line(ax: ZeroAxes, i: int, j: int, scale: float) -> bool:
+    """Whether the parallel axes ``i`` and ``j`` (0-based) are one line: the way from a
+    point of one to a point of the other has no part across them."""
+    off, w = ax.r[j] - ax.r[i], ax.w[i]
+    return float(np.linalg.norm(off - (off @ w) * w)) <= GEOMETRY_TOL * scale
+
+
 def _closest(ax: ZeroAxes, i: int, j: int) -> tuple[FloatArray, FloatArray, float]:
     """The closest points of axes ``i`` and ``j`` (not parallel) and their distance."""
     p1, d1, p2, d2 = ax.r[i], ax.w[i], ax.r[j], ax.w[j]
@@ -146,13 +159,6 @@ def _closest(ax: ZeroAxes, i: int, j: int) -> tuple[FloatArray, FloatArray, floa
     s2 = (float(d2 @ w0) - b * float(d1 @ w0)) / denom
     a, c = p1 + s1 * d1, p2 + s2 * d2
     return a, c, float(np.linalg.norm(a - c))
-
-
-#: A table's angle (twist, revolute offset, prismatic theta) this far or less from a
-#: multiple of 90 deg, but further than GEOMETRY_TOL, was most likely a right angle typed
-#: rounded: 1.571 for pi/2 or 3.142 for pi (3 decimals leave up to 5e-4 rad, 3.14 leaves
-#: 1.6e-3). A lean of 0.3 deg (5.2e-3 rad) is a lean.
-ROUNDED_RIGHT_ANGLE = 2e-3
 
 
 def _rounded_angles(arm: SerialArm) -> str:
@@ -213,17 +219,12 @@ def _recognise(arm: SerialArm) -> Family | str | None:
             "those: the families are " + ", ".join(f"{name} ({t})" for name, t, _ in FAMILIES))
 
 
-def _slides(arm: SerialArm) -> np.ndarray:
-    """Boolean mask ``(n,)`` of the prismatic joints."""
-    return np.array([not lk.is_revolute for lk in arm.links])
-
-
 def _positions_span(arm: SerialArm, ax: ZeroAxes, c_n: FloatArray) -> bool:
     """True when joints 1-3 move the point ``c_n`` (frame n) in three independent
     directions at one of a few random configurations (the position Jacobian's rank)."""
     rng = np.random.default_rng(0)
     q = rng.uniform(-np.pi, np.pi, size=(6, arm.n))
-    q[:, _slides(arm)] *= arm.scale
+    q[:, np.logical_not(arm.revolute)] *= arm.scale
     F = arm._flange._fk(q, frames=True)
     pts = F[:, arm.n, :3, :3] @ c_n + F[:, arm.n, :3, 3]
     idx = np.arange(3) if arm.convention == "standard" else np.arange(1, 4)
@@ -297,9 +298,8 @@ def _position_family(arm: SerialArm, ax: ZeroAxes, c0: FloatArray, what: str
         if not _parallel(w[2], w[0]):
             return (f"axes 1 and 2 are parallel but the slide (joint 3) is "
                     f"{_angle(w[2], w[0]):.4g} deg from them: a SCARA's quill moves along them")
-        across = (ax.r[1] - ax.r[0]) - ((ax.r[1] - ax.r[0]) @ w[0]) * w[0]
-        if float(np.linalg.norm(across)) <= GEOMETRY_TOL * arm.scale:
-            return "axes 1 and 2 are the same line, so joints 1 and 2 do the same motion"
+        if _same_line(ax, 0, 1, arm.scale):
+            return _ONE_LINE
         scara = Scara(ax, c0)
         if scara.L2 <= GEOMETRY_TOL * arm.scale:
             return f"{what} lies on axis 2, so joint 2 cannot move it"
@@ -362,12 +362,10 @@ def _rolled_scara(arm: SerialArm, ax: ZeroAxes) -> Family | str:
         if not _parallel(ax.w[j], ax.w[0]):
             return (f"{names[j]} (joint {j + 1}) is {_angle(ax.w[j], ax.w[0]):.4g} deg from "
                     "axis 1: a four-axis SCARA's axes and quill are all parallel")
-    for j, why in ((1, "axes 1 and 2 are the same line, so joints 1 and 2 do the same motion"),
-                   (roll, f"the roll axis (joint {roll + 1}) is axis 2's line, so joint 2 "
-                          "cannot move it")):
-        off = ax.r[j] - ax.r[j - 1 if j == 1 else 1]
-        if float(np.linalg.norm(off - (off @ ax.w[0]) * ax.w[0])) <= GEOMETRY_TOL * arm.scale:
-            return why
+    if _same_line(ax, 0, 1, arm.scale):
+        return _ONE_LINE
+    if _same_line(ax, 1, roll, arm.scale):
+        return f"the roll axis (joint {roll + 1}) is axis 2's line, so joint 2 cannot move it"
     solver = RolledScaraSolver(arm, ax)
     try:
         solver.check(arm)
@@ -379,10 +377,6 @@ def _rolled_scara(arm: SerialArm, ax: ZeroAxes) -> Family | str:
     return Family(ROLLED_SCARA, how, 2, solver)
 
 
-ROLLED_SCARA = "four-axis SCARA (the tool turns about the vertical)"
-PITCHED = "four-axis articulated arm (a waist, then three parallel pitch axes)"
-
-
 def _pitched(arm: SerialArm, ax: ZeroAxes) -> Family | str:
     """A four-axis articulated arm (axes 2-4 parallel, not parallel to axis 1, on three
     lines), or why not."""
@@ -392,10 +386,9 @@ def _pitched(arm: SerialArm, ax: ZeroAxes) -> Family | str:
                     "a four-axis articulated arm pitches about three parallel axes")
     if _parallel(ax.w[1], ax.w[0]):
         return "all four axes are parallel: a planar arm with one joint too many"
-    for i, j in ((1, 2), (2, 3)):
-        off = ax.r[j] - ax.r[i]
-        if float(np.linalg.norm(off - (off @ ax.w[1]) * ax.w[1])) <= GEOMETRY_TOL * arm.scale:
-            return (f"axes {i + 1} and {j + 1} are the same line, so joints {i + 1} and {j + 1} "
+    for i in (1, 2):
+        if _same_line(ax, i, i + 1, arm.scale):
+            return (f"axes {i + 1} and {i + 2} are the same line, so joints {i + 1} and {i + 2} "
                     "do the same motion")
     solver = PitchedArmSolver(arm, ax)
     try:

@@ -37,7 +37,7 @@ from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL
 from .api import ClosedForm
 from .axes import ZeroAxes, rotate, turn_angle, turn_between
 from .base import RawSolutions
-from .positioning import FIT_TOL, Scara
+from .positioning import Scara, finds_joints, fit_joints
 from .reach import _turn, rounding_note, rounding_size
 from .result import Branch
 
@@ -85,11 +85,9 @@ class PitchedArmSolver(ClosedForm):
         if arm.joint_types != "RRRR":
             raise InputError(f"{arm.name}: the four-axis articulated arm's solver needs an RRRR "
                              f"arm, got {arm.joint_types}")
-        q = np.random.default_rng(1).uniform(-np.pi, np.pi, size=(8, 4))
+        q = fit_joints(arm)
         raw = self.solve(arm, arm._flange._fk(q), None)
-        d = np.abs(np.remainder(raw.q - q[:, None, :] + np.pi, 2 * np.pi) - np.pi)
-        d = np.where(raw.valid[..., None], d, np.inf)
-        if not (d.max(axis=-1).min(axis=-1) <= FIT_TOL).all():
+        if not finds_joints(arm, q, raw.q, raw.valid):
             raise InputError(f"{arm.name}: rikin could not fit the four-axis articulated arm "
                              "to this table (it misses the joints that made a pose)")
 

@@ -381,18 +381,33 @@ def check_family(arm: SerialArm, family: PositionFamily, c_n: FloatArray, types:
     if arm.joint_types != types:
         raise InputError(f"{arm.name}: the {family.name} solver was fitted to a {types} arm, "
                          f"got {arm.joint_types}")
-    rng = np.random.default_rng(1)
-    q = rng.uniform(-np.pi, np.pi, size=(8, arm.n))
-    slides = np.array([not lk.is_revolute for lk in arm.links])
-    q[:, slides] *= arm.scale * rng.uniform(0.1, 1.0, size=(8, 1))
+    q = fit_joints(arm)
     F = arm._flange._fk(q)
     placed = family.place(F[:, :3, :3] @ c_n + F[:, :3, 3], None)
-    d = np.abs(placed.q - q[:, None, :3])
-    d = np.where(slides[:3], d / arm.scale, np.abs(np.remainder(d + np.pi, 2 * np.pi) - np.pi))
-    d = np.where(placed.valid[..., None], d, np.inf)
-    if not (d.max(axis=-1).min(axis=-1) <= FIT_TOL).all():
+    if not finds_joints(arm, q, placed.q, placed.valid):
         raise InputError(f"{arm.name}: its joints 1-3 are not the {family.name} this solver was "
                          "fitted to (it misses the joints that placed a point)")
+
+
+def fit_joints(arm: SerialArm) -> FloatArray:
+    """Eight seeded random joint vectors ``(8, n)`` of ``arm`` (DH joint values; a slide's
+    up to pi times the arm's size), at which a fitted solver is checked."""
+    rng = np.random.default_rng(1)
+    q = rng.uniform(-np.pi, np.pi, size=(8, arm.n))
+    q[:, np.logical_not(arm.revolute)] *= arm.scale * rng.uniform(0.1, 1.0, size=(8, 1))
+    return q
+
+
+def finds_joints(arm: SerialArm, q: FloatArray, found: FloatArray, valid: np.ndarray) -> bool:
+    """Whether each of the joint vectors ``q (N, n)`` has its first ``m`` joints among
+    ``found (N, k, m)`` (the valid slots, ``valid (N, k)``) within ``FIT_TOL`` (radians; a
+    slide's relative to the arm's size)."""
+    m = found.shape[-1]
+    d = np.abs(found - q[:, None, :m])
+    d = np.where(np.logical_not(arm.revolute[:m]), d / arm.scale,
+                 np.abs(np.remainder(d + np.pi, 2 * np.pi) - np.pi))
+    d = np.where(valid[..., None], d, np.inf)
+    return bool((d.max(axis=-1).min(axis=-1) <= FIT_TOL).all())
 
 
 #: How close (rad, or relative to the arm's size) a fitted family finds the joints.

@@ -37,7 +37,7 @@ from ..tolerances import REACH_TOL, ROUNDED_POSE_TOL
 from .api import ClosedForm
 from .axes import ZeroAxes, turn_between
 from .base import RawSolutions
-from .positioning import FIT_TOL, Scara
+from .positioning import Scara, finds_joints, fit_joints
 from .reach import _turn, rounding_note, rounding_size
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -64,8 +64,8 @@ class RolledScaraSolver(ClosedForm):
 
     def __init__(self, arm: SerialArm, ax: ZeroAxes) -> None:
         self.types = arm.joint_types
-        self.roll, slide = (3, 2) if self.types == "RRPR" else (2, 3)
-        order = [0, 1, slide]
+        self.roll, self.slide = (3, 2) if self.types == "RRPR" else (2, 3)
+        order = [0, 1, self.slide]
         F_n = ax.frames[-1]
         #: a point of the roll axis and its direction, in the flange frame (frame n)
         self.c_n = F_n[:3, :3].T @ (ax.r[self.roll] - F_n[:3, 3])
@@ -83,15 +83,9 @@ class RolledScaraSolver(ClosedForm):
         if arm.joint_types != self.types:
             raise InputError(f"{arm.name}: the four-axis SCARA solver was fitted to a "
                              f"{self.types} arm, got {arm.joint_types}")
-        rng = np.random.default_rng(1)
-        q = rng.uniform(-np.pi, np.pi, size=(8, 4))
-        slide = np.array([not lk.is_revolute for lk in arm.links])
-        q[:, slide] = arm.scale * rng.uniform(0.1, 1.0, size=(8, 1))
+        q = fit_joints(arm)
         raw = self.solve(arm, arm._flange._fk(q), None)
-        d = np.abs(raw.q - q[:, None, :])
-        d = np.where(slide, d / arm.scale, np.abs(np.remainder(d + np.pi, 2 * np.pi) - np.pi))
-        d = np.where(raw.valid[..., None], d, np.inf)
-        if not (d.max(axis=-1).min(axis=-1) <= FIT_TOL).all():
+        if not finds_joints(arm, q, raw.q, raw.valid):
             raise InputError(f"{arm.name}: rikin could not fit the four-axis SCARA to this "
                              "table (it misses the joints that made a pose)")
 
@@ -104,8 +98,7 @@ class RolledScaraSolver(ClosedForm):
         roll = s_roll * (psi[:, None] - placed.q[..., 0] - s2 * placed.q[..., 1])
         q = np.empty(placed.q.shape[:2] + (4,))
         q[..., :2] = placed.q[..., :2]
-        slide = 2 if self.roll == 3 else 3
-        q[..., slide] = placed.q[..., 2]
+        q[..., self.slide] = placed.q[..., 2]
         q[..., self.roll] = roll
         # a tool axis tilted from the arm's: no solution (a rounded tilt goes to
         # nearest_reachable), as the 5-DOF arms' wrist centre off their plane
